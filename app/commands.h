@@ -1,0 +1,12 @@
+#pragma once
+// One function per subcommand; each parses its own arguments (without the program and command names) and returns
+// the process exit status: 0 success, 1 runtime failure (bad file, ...), 2 usage error.
+
+#include <string>
+#include <vector>
+
+namespace vplab::app {
+
+using Args = std::vector<std::string>;
+
+}  // namespace vplab::app

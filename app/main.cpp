@@ -1,0 +1,52 @@
+// vplab: command-line entry. Thin: every subcommand is a function in app/cmd_*.cpp over the renderer library.
+
+#include "app/cli.h"
+#include "app/commands.h"
+
+#include <cstdio>
+#include <exception>
+#include <string>
+#include <vector>
+
+namespace {
+
+const std::vector<vplab::cli::Command>& commands() {
+  static const std::vector<vplab::cli::Command> list = {
+  };
+  return list;
+}
+
+void printUsage() {
+  std::printf("vplab - a rendering lab for many-light (virtual point light) methods\n\n");
+  std::printf("usage: vplab <command> [arguments]   (vplab <command> --help for its options)\n\ncommands:\n");
+  for (const auto& c : commands()) std::printf("  %-12s %s\n", c.name.c_str(), c.summary.c_str());
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  if (argc < 2) {
+    printUsage();
+    return 2;
+  }
+  std::string name = argv[1];
+  if (name == "--help" || name == "-h" || name == "help") {
+    printUsage();
+    return 0;
+  }
+  std::vector<std::string> args(argv + 2, argv + argc);
+  for (const auto& c : commands()) {
+    if (c.name != name) continue;
+    try {
+      return c.run(args);
+    } catch (const vplab::cli::CliError& e) {
+      std::fprintf(stderr, "vplab %s: %s\n", name.c_str(), e.what());
+      return 2;
+    } catch (const std::exception& e) {
+      std::fprintf(stderr, "vplab %s: error: %s\n", name.c_str(), e.what());
+      return 1;
+    }
+  }
+  std::fprintf(stderr, "vplab: unknown command '%s' (see vplab --help)\n", name.c_str());
+  return 2;
+}

@@ -1,0 +1,76 @@
+#include "app/settings_options.h"
+
+namespace vplab::cli {
+
+std::vector<OptionSpec> imageOptions() {
+  return {
+      {"size", "WxH", "image size in pixels (default 256x256)"},
+      {"seed", "S", "seed of all random sequences (default 1)"},
+      {"threads", "T", "worker threads, 0 = all cores (default 0)"},
+      {"exposure", "EV", "PNG exposure in stops (default 0)"},
+  };
+}
+
+std::vector<OptionSpec> referenceOptions() {
+  return {
+      {"spp", "N", "samples per pixel (default 64)"},
+      {"max-depth", "D", "maximum path length in bounces (default 32)"},
+      {"components", "all|direct|indirect", "radiance components to render (default all)"},
+  };
+}
+
+std::vector<OptionSpec> manyLightOptions() {
+  return {
+      {"vpls", "N", "number of VPLs (accepted ones with --reject; default 256)"},
+      {"bounces", "K", "maximum VPL bounce (default 4)"},
+      {"clamp", "b", "clamp bound b on the geometry term, 1/m^2, 'inf' = none (default inf)"},
+      {"vsl-radius", "r", "virtual spherical light radius in metres, 0 = point VPLs (default 0)"},
+      {"vsl-density", "", "derive each VSL radius from the local VPL density (scaled by --vsl-radius)"},
+      {"vsl-samples", "N", "cone/BRDF samples per VSL (default 8)"},
+      {"reject", "", "rejection of unimportant VPLs (Georgiev-Slusallek)"},
+      {"epsilon", "e", "rejection epsilon in [0,1] (default 0.1)"},
+      {"pilot-vpls", "N", "pilot VPLs for rejection (default 64)"},
+      {"sample-points", "M", "camera-visible points for rejection (default 256)"},
+      {"max-candidates", "F", "candidate cap as a multiple of --vpls (default 100)"},
+      {"ssbc", "0|1|2", "screen-space bias compensation steps (GL preview; default 0)"},
+      {"interleave", "k", "interleaved sampling k x k, 1 = off (GL preview; default 1)"},
+      {"shadow-map-size", "S", "VPL shadow-map resolution (GL preview; default 256)"},
+      {"shadow-bias", "B", "VPL shadow depth bias, fraction of the scene diagonal (default 0.002)"},
+      {"direct-samples", "K", "shadow-mapped area-light samples (GL preview; default 64)"},
+  };
+}
+
+void applySettingsOptions(const CommandLine& cl, Settings& s) {
+  cl.getSize("size", s.width, s.height);
+  if (cl.has("seed")) {
+    int seed = cl.getInt("seed", 1);
+    if (seed < 0) throw CliError("option --seed: must be >= 0");
+    s.seed = static_cast<uint32_t>(seed);
+  }
+  s.threads = cl.getInt("threads", s.threads);
+  s.exposure = cl.getFloat("exposure", s.exposure);
+  s.samplesPerPixel = cl.getInt("spp", s.samplesPerPixel);
+  s.maxDepth = cl.getInt("max-depth", s.maxDepth);
+  if (auto c = cl.value("components"); c && !parseComponents(*c, s.components))
+    throw CliError("option --components: '" + *c + "' is not all, direct or indirect");
+  s.vplCount = cl.getInt("vpls", s.vplCount);
+  s.vplMaxBounces = cl.getInt("bounces", s.vplMaxBounces);
+  s.clampBound = cl.getFloat("clamp", s.clampBound);
+  s.vslRadius = cl.getFloat("vsl-radius", s.vslRadius);
+  if (cl.has("vsl-density")) s.vslRadiusFromDensity = true;
+  s.vslSamples = cl.getInt("vsl-samples", s.vslSamples);
+  if (cl.has("reject")) s.rejection = true;
+  s.rejectionEpsilon = cl.getFloat("epsilon", s.rejectionEpsilon);
+  s.rejectionPilotVpls = cl.getInt("pilot-vpls", s.rejectionPilotVpls);
+  s.rejectionSamplePoints = cl.getInt("sample-points", s.rejectionSamplePoints);
+  s.rejectionMaxCandidateFactor = cl.getInt("max-candidates", s.rejectionMaxCandidateFactor);
+  s.ssbcSteps = cl.getInt("ssbc", s.ssbcSteps);
+  s.interleave = cl.getInt("interleave", s.interleave);
+  s.shadowMapSize = cl.getInt("shadow-map-size", s.shadowMapSize);
+  s.shadowBias = cl.getFloat("shadow-bias", s.shadowBias);
+  s.directLightSamples = cl.getInt("direct-samples", s.directLightSamples);
+  std::vector<std::string> problems = validateSettings(s);
+  if (!problems.empty()) throw CliError(problems.front());
+}
+
+}  // namespace vplab::cli

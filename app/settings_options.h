@@ -1,0 +1,19 @@
+#pragma once
+// The command-line spelling of Settings, shared by every subcommand that renders.
+
+#include "app/cli.h"
+#include "renderer/settings.h"
+
+namespace vplab::cli {
+
+/// Image, seed and thread options (--size, --seed, --threads, --exposure).
+std::vector<OptionSpec> imageOptions();
+/// Reference options (--spp, --max-depth, --components).
+std::vector<OptionSpec> referenceOptions();
+/// Many-light options (--vpls, --bounces, --clamp, --vsl-radius, --reject, --epsilon, ...; GL ones included).
+std::vector<OptionSpec> manyLightOptions();
+
+/// Copies every option that is present into settings, then validates; throws CliError naming the bad option.
+void applySettingsOptions(const CommandLine& cl, Settings& settings);
+
+}  // namespace vplab::cli

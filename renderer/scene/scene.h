@@ -1,0 +1,116 @@
+#pragma once
+// The whole world vplab renders: flattened world-space triangles, materials, lights and one camera.
+// glTF node transforms are baked at load time; there is no scene graph.
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace vplab {
+
+/// Linear-RGB texture; texels are stored linear (sRGB base-colour textures are decoded at load time).
+struct Texture {
+  std::string name;
+  int width = 0;
+  int height = 0;
+  std::vector<glm::vec3> texels;  ///< row-major, row 0 at v = 0 (glTF convention: uv (0,0) is the top-left)
+
+  /// Bilinear lookup with repeat wrapping (glTF's default sampler).
+  glm::vec3 sample(glm::vec2 uv) const;
+};
+
+/// glTF metallic-roughness material, reduced to one diffuse and one GGX lobe.
+struct Material {
+  std::string name;
+  glm::vec3 baseColor{1.0f};  ///< linear RGB factor, multiplied by the texture when there is one
+  int baseColorTexture = -1;  ///< index into Scene::textures, -1 for none
+  float metallic = 0.0f;      ///< [0, 1]
+  float roughness = 1.0f;     ///< perceptual roughness [0, 1]; GGX alpha = roughness^2
+  float specular = 1.0f;      ///< KHR_materials_specular specularFactor [0, 1]; 0 = pure Lambert dielectric
+  glm::vec3 emission{0.0f};   ///< emitted radiance (emissiveFactor * KHR_materials_emissive_strength), cd/m^2
+
+  bool isEmissive() const { return emission.r > 0.0f || emission.g > 0.0f || emission.b > 0.0f; }
+};
+
+/// KHR_lights_punctual light. Intensity is in candela as the extension defines; vplab renders in photometric
+/// units throughout (emissive radiance in cd/m^2), so no 683 lm/W factor is applied anywhere.
+struct PunctualLight {
+  enum class Type { Point, Spot };
+  std::string name;
+  Type type = Type::Point;
+  glm::vec3 position{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  ///< spot axis (world space, unit length)
+  glm::vec3 intensity{1.0f};               ///< colour * intensity, candela
+  float innerConeAngle = 0.0f;             ///< radians
+  float outerConeAngle = 0.7853981634f;    ///< radians (glTF default pi/4)
+
+  /// Radiant intensity toward a unit direction leaving the light (spot falloff as the extension defines).
+  glm::vec3 intensityToward(const glm::vec3& dirFromLight) const;
+};
+
+struct Camera {
+  glm::vec3 position{0.0f, 0.0f, 1.0f};
+  glm::vec3 forward{0.0f, 0.0f, -1.0f};  ///< unit view direction
+  glm::vec3 up{0.0f, 1.0f, 0.0f};        ///< unit, orthogonal to forward
+  float yfov = 0.6911f;                  ///< vertical field of view, radians
+  float znear = 0.01f;
+  float zfar = 1000.0f;
+  bool fromFile = false;  ///< false when vplab framed the scene bounds itself
+
+  glm::vec3 right() const { return glm::normalize(glm::cross(forward, up)); }
+  /// World-space direction through film point ndc in [-1,1]^2 (+y up) for an image of the given aspect.
+  glm::vec3 rayDirection(glm::vec2 ndc, float aspect) const;
+};
+
+struct Bounds {
+  glm::vec3 lower{std::numeric_limits<float>::max()};
+  glm::vec3 upper{-std::numeric_limits<float>::max()};
+  void extend(const glm::vec3& p) {
+    lower = glm::min(lower, p);
+    upper = glm::max(upper, p);
+  }
+  bool valid() const { return lower.x <= upper.x; }
+  glm::vec3 center() const { return 0.5f * (lower + upper); }
+  glm::vec3 extent() const { return upper - lower; }
+  float diagonal() const { return valid() ? glm::length(extent()) : 0.0f; }
+};
+
+struct Scene {
+  std::string sourcePath;
+
+  // Per-vertex, world space.
+  std::vector<glm::vec3> positions;
+  std::vector<glm::vec3> normals;  ///< unit; face normals where the file had none
+  std::vector<glm::vec2> uvs;      ///< TEXCOORD_0, zero where the file had none
+
+  // Per triangle.
+  std::vector<glm::uvec3> triangles;
+  std::vector<uint32_t> triangleMaterials;  ///< index into materials
+
+  std::vector<Material> materials;
+  std::vector<Texture> textures;
+
+  std::vector<uint32_t> emissiveTriangles;  ///< triangles whose material emits: the area lights
+  std::vector<PunctualLight> punctualLights;
+
+  Camera camera;
+  Bounds bounds;
+
+  std::vector<std::string> warnings;      ///< non-fatal problems found while loading
+  std::size_t degenerateTrianglesDropped = 0;
+
+  bool hasLights() const { return !emissiveTriangles.empty() || !punctualLights.empty(); }
+  const Material& materialOf(uint32_t triangle) const { return materials[triangleMaterials[triangle]]; }
+  glm::vec3 geometricNormal(uint32_t triangle) const;  ///< unit, from the winding order
+  float triangleArea(uint32_t triangle) const;
+  /// Base colour at a surface point (factor times texture).
+  glm::vec3 baseColorAt(uint32_t material, glm::vec2 uv) const;
+
+  /// Recomputes bounds and emissiveTriangles from the geometry and materials (loaders and builders call it last).
+  void finalize();
+};
+
+}  // namespace vplab

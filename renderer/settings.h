@@ -1,0 +1,105 @@
+#pragma once
+// Every tunable number of vplab in one place. One Settings value drives the GL preview and the Embree pass, so both
+// render the same thing; the editor, the CLI and the tests all go through validateSettings().
+
+#include <cstdint>
+#include <limits>
+#include <string>
+#include <vector>
+
+namespace vplab {
+
+/// What the offline pass renders.
+enum class Method {
+  Reference,  ///< path-traced reference (Embree)
+  Vpl,        ///< instant radiosity with exact visibility and the bounded geometry term G_b
+  VplKK,      ///< Vpl plus Kollig-Keller path-traced bias compensation (unbiased)
+  Vsl,        ///< virtual spherical lights of radius vslRadius
+};
+
+/// Which part of the radiance an image holds. VPL methods approximate only the indirect part.
+enum class Components { All, Direct, Indirect };
+
+inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
+
+struct Settings {
+  // --- image and sampling ----------------------------------------------------------------------------------
+  /// Image width in pixels [1, 16384]. Default 256.
+  int width = 256;
+  /// Image height in pixels [1, 16384]. Default 256.
+  int height = 256;
+  /// Seed of every random and quasi-random sequence. Same seed, scene and settings => same image. Default 1.
+  uint32_t seed = 1;
+  /// Worker threads for CPU passes; 0 = all cores. [0, 1024]. Default 0.
+  int threads = 0;
+  /// Display exposure in stops (PNG and preview tonemapping only, never the linear images). [-20, 20]. Default 0.
+  float exposure = 0.0f;
+
+  // --- path-traced reference ---------------------------------------------------------------------------------
+  /// Samples per pixel of the reference and of the stochastic VPL variants [1, 1<<20]. Default 64.
+  int samplesPerPixel = 64;
+  /// Maximum path length in bounces for the reference (1 = direct light only) [1, 1024]. Default 32.
+  int maxDepth = 32;
+  /// Radiance components written by the offline pass. Default All.
+  Components components = Components::All;
+
+  // --- VPL generation (MANYLIGHTS.md section 2) -------------------------------------------------------------
+  /// Number of VPLs to generate (accepted VPLs when rejection is on) [0, 1<<20]. Default 256.
+  int vplCount = 256;
+  /// Maximum VPL bounce index: VPLs are stored at bounces 1..vplMaxBounces [1, 64]. Default 4.
+  int vplMaxBounces = 4;
+
+  // --- rejection of unimportant VPLs, Georgiev & Slusallek 2010 (section 3) --------------------------------
+  /// Enables rejection sampling of VPL candidates. Default off.
+  bool rejection = false;
+  /// epsilon in p_i = min(Phi_i / Phi_v + epsilon, 1) [0, 1]. 0 rejects VPLs that miss every sample point.
+  /// Default 0.1.
+  float rejectionEpsilon = 0.1f;
+  /// Pilot VPLs that estimate Phi_v [1, 65536]. Default 64.
+  int rejectionPilotVpls = 64;
+  /// Camera-visible sample points the importance is measured at [1, 65536]. Default 256.
+  int rejectionSamplePoints = 256;
+  /// Cap on candidates traced, as a multiple of vplCount [1, 10000]; reaching it is reported. Default 100.
+  int rejectionMaxCandidateFactor = 100;
+
+  // --- bounded geometry term (section 4) and bias compensation (sections 5, 6) ------------------------------
+  /// Clamp bound b on G = cos1 cos2 / d^2, in 1/m^2 [0, inf]; inf = no clamp. Default inf.
+  float clampBound = kInfinity;
+  /// Screen-space bias compensation steps in the GL preview (Novak et al. 2011) [0, 2]. Default 0.
+  int ssbcSteps = 0;
+
+  // --- virtual spherical lights, Hasan et al. 2009 (section 7) ----------------------------------------------
+  /// VSL radius r in scene units (metres) [0, inf); 0 = point VPLs. Default 0.
+  float vslRadius = 0.0f;
+  /// When on, each VSL's radius is derived from the local VPL density (vslRadius then scales it). Default off.
+  bool vslRadiusFromDensity = false;
+  /// Cone samples per VSL and shading point (half from the cone, half from the BRDF, combined by MIS) [1, 256].
+  /// Default 8.
+  int vslSamples = 8;
+
+  // --- GL preview (section 8) -------------------------------------------------------------------------------
+  /// Shadow-mapped samples on area lights for the preview's direct light [1, 4096]. Default 64.
+  int directLightSamples = 64;
+  /// Interleaved sampling: VPLs split into k x k subsets, k = 1 is off [1, 8]. Default 1.
+  int interleave = 1;
+  /// Resolution of each VPL's shadow map, in texels per side [16, 2048]. Default 256.
+  int shadowMapSize = 256;
+  /// Depth bias of VPL shadow lookups, as a fraction of the scene diagonal [0, 0.1]. Default 0.002.
+  float shadowBias = 0.002f;
+};
+
+/// Checks every field against its documented range. Returns one message per problem (field name, value, range);
+/// an empty list means the settings are usable. Never modifies the settings.
+std::vector<std::string> validateSettings(const Settings& settings);
+
+/// Throws std::invalid_argument with all problems joined when validateSettings() finds any.
+void requireValidSettings(const Settings& settings);
+
+const char* toString(Method method);
+const char* toString(Components components);
+/// Parses "reference", "vpl", "vpl-kk", "vsl"; returns false on anything else.
+bool parseMethod(const std::string& text, Method& out);
+/// Parses "all", "direct", "indirect"; returns false on anything else.
+bool parseComponents(const std::string& text, Components& out);
+
+}  // namespace vplab

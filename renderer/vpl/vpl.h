@@ -1,0 +1,40 @@
+#pragma once
+// Virtual point lights: the value both the GL preview and the Embree pass consume unchanged.
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace vplab {
+
+/// One VPL: light that arrived at a surface point after `bounce` reflections and will be reflected from there.
+/// It carries indirect light only (bounce >= 1); its contribution at x1 is f(x1) G V f(x2) flux, where f(x2) is
+/// evaluated from the stored incoming direction (MANYLIGHTS.md section 1).
+struct Vpl {
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f, 0.0f, 1.0f};    ///< unit shading normal at the VPL
+  glm::vec3 incoming{0.0f, 0.0f, 1.0f};  ///< unit direction from the VPL back toward where the light came from
+  glm::vec3 flux{0.0f};                  ///< path throughput alpha (already divided by the path count and p_accept)
+  glm::vec2 uv{0.0f};                    ///< texture coordinates, so f(x2) sees the textured base colour
+  uint32_t material = 0;                 ///< index into Scene::materials
+  uint32_t bounce = 1;                   ///< number of surface interactions since the light, >= 1
+  float radius = 0.0f;                   ///< VSL radius for this light (0 = point VPL)
+};
+
+struct VplStats {
+  uint64_t pathsTraced = 0;         ///< light paths started (N_paths in the flux normalisation)
+  uint64_t candidates = 0;          ///< VPL candidates produced before rejection
+  uint64_t accepted = 0;            ///< VPLs kept
+  double acceptanceRate = 1.0;      ///< accepted / candidates
+  bool candidateCapReached = false; ///< rejection stopped at Settings::rejectionMaxCandidateFactor
+  double generationSeconds = 0.0;   ///< wall time of generateVpls, pilot included
+};
+
+struct VplSet {
+  std::vector<Vpl> vpls;
+  std::vector<Vpl> rejected;  ///< rejected candidates (kept for display and teaching only)
+  VplStats stats;
+};
+
+}  // namespace vplab
