@@ -1,0 +1,163 @@
+#include "renderer/offline/light_sampler.h"
+
+#include "renderer/core/sampling.h"
+
+#include <algorithm>
+#include <cmath>
+
+namespace vplab {
+
+namespace {
+
+glm::vec3 pointOnTriangle(const Scene& scene, uint32_t triangle, glm::vec2 u) {
+  glm::vec2 b = sampleUniformTriangle(u);
+  const glm::uvec3& t = scene.triangles[triangle];
+  return b.x * scene.positions[t.x] + b.y * scene.positions[t.y] + (1.0f - b.x - b.y) * scene.positions[t.z];
+}
+
+/// Flux of a punctual light: 4 pi I for a point light; for a spot, the integral of the glTF falloff over the cone
+/// approximated by the solid angle of the mid cone (used only to choose lights, so the choice stays unbiased).
+glm::vec3 punctualPower(const PunctualLight& l) {
+  if (l.type == PunctualLight::Type::Point) return 4.0f * kPi * l.intensity;
+  float mid = 0.5f * (l.innerConeAngle + l.outerConeAngle);
+  return 2.0f * kPi * (1.0f - std::cos(mid)) * l.intensity;
+}
+
+float selectionWeight(const glm::vec3& power) {
+  float w = luminance(power);
+  return w > 0.0f ? w : (power.r + power.g + power.b) / 3.0f;
+}
+
+}  // namespace
+
+LightSampler::LightSampler(const Scene& scene) : scene_(scene), triangleToLight_(scene.triangles.size(), -1) {
+  for (uint32_t tri : scene.emissiveTriangles) {
+    // A one-sided Lambertian emitter of radiance L and area A emits pi A L.
+    glm::vec3 power = kPi * scene.triangleArea(tri) * scene.materialOf(tri).emission;
+    float w = selectionWeight(power);
+    if (!(w > 0.0f)) continue;
+    triangleToLight_[tri] = static_cast<int32_t>(lights_.size());
+    lights_.push_back({false, tri, w});
+    totalPower_ += power;
+  }
+  for (uint32_t i = 0; i < scene.punctualLights.size(); ++i) {
+    glm::vec3 power = punctualPower(scene.punctualLights[i]);
+    float w = selectionWeight(power);
+    if (!(w > 0.0f)) continue;
+    lights_.push_back({true, i, w});
+    totalPower_ += power;
+  }
+  double sum = 0.0;
+  for (const LightRef& l : lights_) sum += l.power;
+  if (!(sum > 0.0)) {
+    lights_.clear();
+    return;
+  }
+  double running = 0.0;
+  cdf_.reserve(lights_.size());
+  for (const LightRef& l : lights_) {
+    running += l.power;
+    cdf_.push_back(static_cast<float>(running / sum));
+  }
+  cdf_.back() = 1.0f;
+}
+
+std::size_t LightSampler::pick(float u) const {
+  // CDF inversion (not an alias table): neighbouring u pick the same light, which keeps QMC strata coherent.
+  auto it = std::upper_bound(cdf_.begin(), cdf_.end(), u);
+  return std::min<std::size_t>(static_cast<std::size_t>(it - cdf_.begin()), cdf_.size() - 1);
+}
+
+LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2 uPoint) const {
+  LightSampleLi s;
+  if (empty()) return s;
+  std::size_t li = pick(uLight);
+  float pLight = cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0f);
+  const LightRef& light = lights_[li];
+
+  if (light.punctual) {
+    const PunctualLight& pl = scene_.punctualLights[light.index];
+    glm::vec3 d = pl.position - x;
+    float dist2 = glm::dot(d, d);
+    if (!(dist2 > 0.0f)) return s;
+    s.distance = std::sqrt(dist2);
+    s.wi = d / s.distance;
+    s.position = pl.position;
+    s.radiance = pl.intensityToward(-s.wi) / dist2;
+    s.pdf = pLight;
+    s.isDelta = true;
+    return s;
+  }
+
+  // Uniform point on the triangle: pdf_A = 1/A, turned into solid angle by d^2 / cos_light.
+  s.position = pointOnTriangle(scene_, light.index, uPoint);
+  s.normal = scene_.geometricNormal(light.index);
+  glm::vec3 d = s.position - x;
+  float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return LightSampleLi{};
+  s.distance = std::sqrt(dist2);
+  s.wi = d / s.distance;
+  float cosLight = -glm::dot(s.normal, s.wi);
+  if (cosLight <= 0.0f) return LightSampleLi{};  // back of a one-sided emitter
+  s.radiance = scene_.materialOf(light.index).emission;
+  s.pdf = pLight * dist2 / (cosLight * scene_.triangleArea(light.index));
+  return s;
+}
+
+float LightSampler::pdfLi(const glm::vec3& x, uint32_t triangle, const glm::vec3& y, const glm::vec3& ny) const {
+  if (triangle >= triangleToLight_.size()) return 0.0f;
+  int32_t li = triangleToLight_[triangle];
+  if (li < 0) return 0.0f;
+  float pLight = cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0f);
+  glm::vec3 d = y - x;
+  float dist2 = glm::dot(d, d);
+  float cosLight = -glm::dot(ny, d) / std::sqrt(dist2);
+  if (!(cosLight > 0.0f)) return 0.0f;
+  return pLight * dist2 / (cosLight * scene_.triangleArea(triangle));
+}
+
+glm::vec3 LightSampler::emittedRadiance(uint32_t triangle, const glm::vec3& emitterNormal, const glm::vec3& w) const {
+  if (glm::dot(emitterNormal, w) <= 0.0f) return glm::vec3(0.0f);
+  return scene_.materialOf(triangle).emission;
+}
+
+EmissionSample LightSampler::sampleEmission(float uLight, glm::vec2 uPoint, glm::vec2 uDirection) const {
+  EmissionSample s;
+  if (empty()) return s;
+  std::size_t li = pick(uLight);
+  float pLight = cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0f);
+  const LightRef& light = lights_[li];
+
+  if (light.punctual) {
+    const PunctualLight& pl = scene_.punctualLights[light.index];
+    s.position = pl.position;
+    if (pl.type == PunctualLight::Type::Point) {
+      // Uniform sphere: pdf_dir = 1 / (4 pi).
+      float z = 1.0f - 2.0f * uDirection.x;
+      float r = std::sqrt(std::max(0.0f, 1.0f - z * z));
+      float phi = 2.0f * kPi * uDirection.y;
+      s.direction = {r * std::cos(phi), r * std::sin(phi), z};
+      s.weight = pl.intensity * (4.0f * kPi) / pLight;
+    } else {
+      // Uniform inside the outer cone; the falloff goes into the weight.
+      float cosOuter = std::cos(pl.outerConeAngle);
+      s.direction = Frame(pl.direction).toWorld(sampleUniformCone(uDirection, cosOuter));
+      s.weight = pl.intensityToward(s.direction) / (uniformConePdf(cosOuter) * pLight);
+    }
+    s.valid = true;
+    return s;
+  }
+
+  // Area light: uniform point (pdf_A = 1/A), cosine-weighted direction (pdf = cos/pi):
+  // alpha_0 = Le cos / (p_light pdf_A pdf_dir) = Le pi A / p_light.
+  s.position = pointOnTriangle(scene_, light.index, uPoint);
+  s.normal = scene_.geometricNormal(light.index);
+  glm::vec3 local = sampleCosineHemisphere(uDirection);
+  if (!(local.z > 0.0f)) return EmissionSample{};
+  s.direction = glm::normalize(Frame(s.normal).toWorld(local));
+  s.weight = scene_.materialOf(light.index).emission * (kPi * scene_.triangleArea(light.index)) / pLight;
+  s.valid = true;
+  return s;
+}
+
+}  // namespace vplab

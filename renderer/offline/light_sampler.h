@@ -1,0 +1,73 @@
+#pragma once
+// Sampling the scene's lights: emissive triangles (one-sided area lights) and KHR_lights_punctual lights, chosen in
+// proportion to their power. Used for next-event estimation (sampleLi / pdfLi) and for light tracing when VPLs are
+// generated (sampleEmission, MANYLIGHTS.md section 2).
+
+#include "renderer/scene/scene.h"
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <vector>
+
+namespace vplab {
+
+/// A light sample seen from a receiving point x.
+struct LightSampleLi {
+  glm::vec3 position{0.0f};  ///< point on the light
+  glm::vec3 normal{0.0f};    ///< emitter normal (zero for punctual lights)
+  glm::vec3 wi{0.0f};        ///< unit direction from x toward the light
+  float distance = 0.0f;
+  glm::vec3 radiance{0.0f};  ///< incident radiance Le (area) or intensity / d^2 (punctual), before dividing by pdf
+  float pdf = 0.0f;          ///< solid-angle pdf including the light choice; for delta lights the choice probability
+  bool isDelta = false;
+  bool valid() const { return pdf > 0.0f; }
+};
+
+/// A point and direction leaving a light, for light tracing.
+struct EmissionSample {
+  glm::vec3 position{0.0f};
+  glm::vec3 normal{0.0f};     ///< emitter normal (zero for punctual lights)
+  glm::vec3 direction{0.0f};  ///< unit
+  /// Le cos / (p_light pdf_A pdf_dir) for area lights, I(dir) / (p_light pdf_dir) for punctual lights: the initial
+  /// path throughput alpha_0 before dividing by the number of paths.
+  glm::vec3 weight{0.0f};
+  bool valid = false;
+};
+
+class LightSampler {
+ public:
+  explicit LightSampler(const Scene& scene);
+
+  bool empty() const { return cdf_.empty(); }
+  std::size_t lightCount() const { return lights_.size(); }
+  /// Total emitted power (luminance-weighted RGB average of every light's flux), for statistics.
+  glm::vec3 totalPower() const { return totalPower_; }
+
+  /// Next-event estimation: a point on a light chosen by power (uLight), uniform on its area (uPoint).
+  LightSampleLi sampleLi(const glm::vec3& x, float uLight, glm::vec2 uPoint) const;
+  /// Solid-angle pdf with which sampleLi() returns point y with normal ny on emissive `triangle` as seen from x.
+  float pdfLi(const glm::vec3& x, uint32_t triangle, const glm::vec3& y, const glm::vec3& ny) const;
+  /// Radiance leaving an emissive triangle toward w (zero on its back side).
+  glm::vec3 emittedRadiance(uint32_t triangle, const glm::vec3& emitterNormal, const glm::vec3& w) const;
+
+  /// Light tracing: light by power, point uniform on the area, direction cosine-weighted (area) or uniform over the
+  /// sphere / spot cone (punctual).
+  EmissionSample sampleEmission(float uLight, glm::vec2 uPoint, glm::vec2 uDirection) const;
+
+ private:
+  struct LightRef {
+    bool punctual = false;
+    uint32_t index = 0;  ///< triangle index or punctual light index
+    float power = 0.0f;  ///< selection weight (luminance of the flux)
+  };
+  std::size_t pick(float u) const;
+
+  const Scene& scene_;
+  std::vector<LightRef> lights_;
+  std::vector<float> cdf_;                     ///< normalised, cdf_.back() == 1
+  std::vector<int32_t> triangleToLight_;       ///< scene triangle -> index in lights_ (-1 if not emissive)
+  glm::vec3 totalPower_{0.0f};
+};
+
+}  // namespace vplab
