@@ -1,0 +1,76 @@
+#include "renderer/offline/progressive.h"
+
+#include <atomic>
+#include <chrono>
+#include <cmath>
+
+namespace vplab {
+
+glm::vec3 cameraRayDirection(const Camera& camera, float x, float y, int width, int height) {
+  glm::vec2 ndc(2.0f * x / static_cast<float>(width) - 1.0f, 1.0f - 2.0f * y / static_cast<float>(height));
+  return camera.rayDirection(ndc, static_cast<float>(width) / static_cast<float>(height));
+}
+
+ProgressiveResult renderProgressive(const ProgressiveOptions& o, const PixelEstimator& estimator,
+                                    RenderControl* control) {
+  auto start = std::chrono::steady_clock::now();
+  ProgressiveResult result;
+  result.image = Image(o.width, o.height);
+  if (o.width <= 0 || o.height <= 0 || o.samplesPerPixel <= 0) return result;
+
+  // Sums in double so that thousands of samples do not lose the low bits.
+  std::vector<glm::dvec3> sum(static_cast<std::size_t>(o.width) * o.height, glm::dvec3(0.0));
+  const int perPass = std::max(1, o.samplesPerPass);
+  const int64_t pixels = static_cast<int64_t>(o.width) * o.height;
+  // Rows are the work items: big enough to amortise scheduling, small enough to balance two cores.
+  const int64_t rowsPerItem = 1;
+  const int64_t items = (o.height + rowsPerItem - 1) / rowsPerItem;
+  const int totalPasses = (o.samplesPerPixel + perPass - 1) / perPass;
+
+  int taken = 0;
+  std::vector<glm::dvec3> passSum(sum.size());
+  for (int pass = 0; pass < totalPasses; ++pass) {
+    const int first = taken;
+    const int count = std::min(perPass, o.samplesPerPixel - taken);
+    std::atomic<int64_t> itemsDone{0};
+    // A pass is added to the running sum only when it completes, so a cancelled render stays an unbiased mean.
+    parallelFor(items, o.threads, [&](int64_t item, int) {
+      if (control && control->cancelled()) return;
+      int y0 = static_cast<int>(item * rowsPerItem);
+      int y1 = std::min<int>(o.height, y0 + static_cast<int>(rowsPerItem));
+      for (int y = y0; y < y1; ++y)
+        for (int x = 0; x < o.width; ++x) {
+          glm::dvec3 acc(0.0);
+          uint64_t pixelIndex = static_cast<uint64_t>(y) * o.width + x;
+          for (int s = first; s < first + count; ++s) {
+            Rng rng(hashKey(o.seed, pixelIndex, static_cast<uint64_t>(s)));
+            glm::vec3 L = estimator(x, y, static_cast<uint32_t>(s), rng);
+            if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)) acc += glm::dvec3(L);
+          }
+          passSum[pixelIndex] = acc;
+        }
+      int64_t done = itemsDone.fetch_add(1) + 1;
+      if (control && control->onProgress && (done % 16 == 0 || done == items))
+        control->onProgress((static_cast<float>(pass) + static_cast<float>(done) / items) / totalPasses);
+    });
+    if (control && control->cancelled()) {
+      result.cancelled = true;
+      break;
+    }
+    for (int64_t i = 0; i < pixels; ++i) sum[i] += passSum[i];
+    taken += count;
+    if (o.onPass) {
+      Image mean(o.width, o.height);
+      for (int64_t i = 0; i < pixels; ++i) mean.pixels[i] = glm::vec3(sum[i] / static_cast<double>(taken));
+      o.onPass(mean, taken);
+    }
+  }
+
+  result.samplesPerPixel = taken;
+  if (taken > 0)
+    for (int64_t i = 0; i < pixels; ++i) result.image.pixels[i] = glm::vec3(sum[i] / static_cast<double>(taken));
+  result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return result;
+}
+
+}  // namespace vplab

@@ -1,0 +1,44 @@
+#pragma once
+// Progressive rendering over all cores, shared by the reference and every CPU VPL method: each pass adds samples to
+// every pixel, the running mean can be shown after any pass, and the result does not depend on the thread count
+// because each sample draws its random numbers from a stream keyed by (seed, pixel, sample index).
+
+#include "renderer/core/parallel.h"
+#include "renderer/core/sampling.h"
+#include "renderer/image/image.h"
+#include "renderer/scene/scene.h"
+
+#include <functional>
+
+namespace vplab {
+
+/// Radiance estimate for one camera sample through pixel (x, y); rng is private to this (pixel, sample).
+using PixelEstimator = std::function<glm::vec3(int x, int y, uint32_t sampleIndex, Rng& rng)>;
+
+struct ProgressiveOptions {
+  int width = 0;
+  int height = 0;
+  int samplesPerPixel = 1;
+  uint32_t seed = 1;
+  int threads = 0;          ///< 0 = all cores
+  int samplesPerPass = 1;   ///< samples added to every pixel per pass
+  /// Called after each pass with the running mean and the samples per pixel so far (from the calling thread).
+  std::function<void(const Image& mean, int samplesSoFar)> onPass;
+};
+
+struct ProgressiveResult {
+  Image image;             ///< mean of the samples taken
+  int samplesPerPixel = 0; ///< samples actually taken (fewer when cancelled)
+  double seconds = 0.0;
+  bool cancelled = false;
+};
+
+/// Runs the estimator samplesPerPixel times per pixel. Non-finite samples are dropped (and counted in the
+/// progress line by callers that care); a cancelled render returns the passes completed so far.
+ProgressiveResult renderProgressive(const ProgressiveOptions& options, const PixelEstimator& estimator,
+                                    RenderControl* control = nullptr);
+
+/// Primary ray direction through a film position (x, y) in pixels, (0,0) the top-left corner of the image.
+glm::vec3 cameraRayDirection(const Camera& camera, float x, float y, int width, int height);
+
+}  // namespace vplab
