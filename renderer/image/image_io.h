@@ -1,0 +1,43 @@
+#pragma once
+// Reading and writing images by file extension: OpenEXR (.exr, 32-bit float), PFM (.pfm) and PNG (.png, 8-bit sRGB).
+// EXR and PFM keep linear radiance exactly; PNG is a display format, so writing tonemaps (exposure, clamp, sRGB) and
+// reading decodes sRGB back to linear. Failures throw ImageIoError whose message starts with the file name.
+
+#include <cstdint>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "renderer/image/image.h"
+#include "renderer/image/tonemap.h"
+
+namespace vplab {
+
+struct ImageIoError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+enum class ImageFormat { Exr, Pfm, Png };
+
+/// The format named by the extension (case-insensitive); throws ImageIoError for anything else.
+ImageFormat imageFormatFromPath(const std::string& path);
+
+/// Reads an EXR (RGB or RGBA float/half channels; alpha dropped), PFM (colour "PF" or grey "Pf", either
+/// byte order) or PNG (8 or 16 bits, grey or colour, sRGB decoded to linear) into a linear image.
+Image readImage(const std::string& path);
+
+/// Writes by extension. exposure is in stops and only affects PNG (EXR and PFM store the radiance unchanged);
+/// NaN/Inf pixels become magenta in a PNG and are stored as they are in EXR/PFM.
+void writeImage(const std::string& path, const Image& image, float exposure = 0.0f);
+
+Image readExr(const std::string& path);
+Image readPfm(const std::string& path);
+Image readPng(const std::string& path);
+void writeExr(const std::string& path, const Image& image);
+/// Little-endian PFM (scale -1), rows stored bottom-up as the format requires.
+void writePfm(const std::string& path, const Image& image);
+void writePng(const std::string& path, const Image& image, float exposure);
+/// Writes already display-encoded 8-bit RGB rows (top row first), e.g. a heatmap.
+void writePngRgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb);
+
+}  // namespace vplab

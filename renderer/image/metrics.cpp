@@ -1,0 +1,94 @@
+#include "renderer/image/metrics.h"
+
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+
+namespace vplab {
+
+namespace {
+
+void requireSameSize(const Image& image, const Image& reference) {
+  if (image.width != reference.width || image.height != reference.height)
+    throw std::invalid_argument("image size " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                                " differs from reference size " + std::to_string(reference.width) + "x" +
+                                std::to_string(reference.height));
+}
+
+bool anyNegative(glm::vec3 v) {
+  return v.x < 0.0f || v.y < 0.0f || v.z < 0.0f;
+}
+
+double ratio(double numerator, double denominator) {
+  if (denominator != 0.0) return numerator / denominator;
+  return numerator == 0.0 ? 1.0 : std::numeric_limits<double>::infinity();
+}
+
+}  // namespace
+
+bool isFinite(glm::vec3 v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+ImageMetrics compareImages(const Image& image, const Image& reference) {
+  requireSameSize(image, reference);
+  ImageMetrics m;
+  // Sums in double: a 1080p image has 6M terms, and float accumulation would lose the small relMSE contributions.
+  double squared = 0.0, relative = 0.0;
+  glm::dvec3 sumImage(0.0), sumReference(0.0);
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    glm::vec3 a = image.pixels[i], r = reference.pixels[i];
+    bool finiteA = isFinite(a), finiteR = isFinite(r);
+    if (!finiteA) ++m.nonFinitePixels;
+    if (!finiteR) ++m.nonFiniteReferencePixels;
+    if (finiteA && anyNegative(a)) ++m.negativePixels;
+    if (finiteR && anyNegative(r)) ++m.negativeReferencePixels;
+    if (!finiteA || !finiteR) continue;
+    ++m.comparedPixels;
+    for (int c = 0; c < 3; ++c) {
+      double d = static_cast<double>(a[c]) - static_cast<double>(r[c]);
+      double rc = r[c];
+      squared += d * d;
+      relative += d * d / (rc * rc + kRelMseEpsilon);
+    }
+    sumImage += glm::dvec3(a);
+    sumReference += glm::dvec3(r);
+  }
+  if (m.comparedPixels == 0) return m;
+  double n = static_cast<double>(m.comparedPixels);
+  m.rmse = std::sqrt(squared / (3.0 * n));
+  m.relMse = relative / (3.0 * n);
+  m.meanImage = sumImage / n;
+  m.meanReference = sumReference / n;
+  for (int c = 0; c < 3; ++c) m.energyRatio[c] = ratio(m.meanImage[c], m.meanReference[c]);
+  m.energyRatioOverall =
+      ratio(m.meanImage.x + m.meanImage.y + m.meanImage.z, m.meanReference.x + m.meanReference.y + m.meanReference.z);
+  return m;
+}
+
+Image relativeErrorImage(const Image& image, const Image& reference) {
+  requireSameSize(image, reference);
+  Image out(image.width, image.height);
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    glm::vec3 a = image.pixels[i], r = reference.pixels[i];
+    if (!isFinite(a) || !isFinite(r)) {
+      out.pixels[i] = glm::vec3(nan);
+      continue;
+    }
+    glm::vec3 d = a - r;
+    out.pixels[i] = d * d / (r * r + static_cast<float>(kRelMseEpsilon));
+  }
+  return out;
+}
+
+Image signedDifferenceImage(const Image& image, const Image& reference) {
+  requireSameSize(image, reference);
+  Image out(image.width, image.height);
+  // Non-finite inputs propagate as NaN/Inf on their own, which the heatmap marks.
+  for (std::size_t i = 0; i < image.size(); ++i) out.pixels[i] = image.pixels[i] - reference.pixels[i];
+  return out;
+}
+
+}  // namespace vplab
