@@ -1,0 +1,751 @@
+#include "renderer/scene/gltf_loader.h"
+
+#include <stb/stb_image.h>
+#include <tiny_gltf.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+#include <glm/gtc/quaternion.hpp>
+#include <glm/gtc/type_ptr.hpp>
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <iterator>
+#include <sstream>
+
+namespace vplab {
+namespace {
+
+constexpr int kModePoints = 0;
+constexpr int kModeTriangles = 4;
+constexpr int kModeTriangleStrip = 5;
+constexpr int kModeTriangleFan = 6;
+
+std::string firstLine(const std::string& text) {
+  std::istringstream in(text);
+  std::string line;
+  while (std::getline(in, line))
+    if (line.find_first_not_of(" \t\r") != std::string::npos) return line;
+  return "unknown error";
+}
+
+std::string directoryOf(const std::string& path) {
+  std::size_t slash = path.find_last_of('/');
+  return slash == std::string::npos ? std::string(".") : path.substr(0, slash);
+}
+
+bool endsWith(const std::string& s, const std::string& suffix) {
+  if (s.size() < suffix.size()) return false;
+  return std::equal(suffix.rbegin(), suffix.rend(), s.rbegin(),
+                    [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
+}
+
+bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+/// Image bytes captured by the custom image loader. Decoding is deferred until the loader has validated the
+/// references itself, so a missing or corrupt image degrades to a warning instead of failing the whole file.
+struct CapturedImages {
+  std::vector<std::vector<unsigned char>> bytes;  ///< per image index; empty when nothing was read
+};
+
+bool captureImage(tinygltf::Image* image, const int imageIndex, std::string*, std::string*, int, int,
+                  const unsigned char* bytes, int size, void* user) {
+  // Images in a bufferView are read later from the validated buffer: tinygltf hands us a pointer computed from an
+  // unchecked byteOffset here, so it must not be dereferenced.
+  if (image->bufferView >= 0 || imageIndex < 0 || size <= 0 || bytes == nullptr) return true;
+  auto* captured = static_cast<CapturedImages*>(user);
+  if (captured->bytes.size() <= static_cast<std::size_t>(imageIndex))
+    captured->bytes.resize(static_cast<std::size_t>(imageIndex) + 1);
+  captured->bytes[static_cast<std::size_t>(imageIndex)].assign(bytes, bytes + size);
+  return true;
+}
+
+float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+
+/// A validated window onto an accessor's bytes.
+struct AccessorView {
+  const unsigned char* base = nullptr;  ///< nullptr: no bufferView, every element reads as zero (glTF 3.6.2.3)
+  std::size_t stride = 0;
+  std::size_t count = 0;
+  int componentType = 0;
+  int components = 0;
+  bool normalized = false;
+};
+
+class Loader {
+ public:
+  Loader(std::string file, const tinygltf::Model& model, CapturedImages& images, Scene& scene)
+      : file_(std::move(file)), model_(model), images_(images), scene_(scene) {}
+
+  void run();
+
+ private:
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw SceneError(file_ + ": " + where + ": " + what);
+  }
+  void warn(const std::string& where, const std::string& what) { scene_.warnings.push_back(where + ": " + what); }
+
+  AccessorView view(int accessorIndex, const std::string& where, const std::vector<int>& types);
+  std::vector<glm::vec3> readVec3(int accessorIndex, const std::string& where);
+  std::vector<glm::vec2> readUv(int accessorIndex, const std::string& where);
+  std::vector<uint32_t> readIndices(int accessorIndex, const std::string& where);
+
+  glm::mat4 localTransform(int nodeIndex) const;
+  void visitNode(int nodeIndex, const glm::mat4& world);
+  void addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& world);
+  uint32_t materialIndex(int gltfMaterial, const std::string& where);
+  int textureIndex(int gltfTexture, const std::string& where);
+  void addLight(int nodeIndex, const glm::mat4& world);
+  void addCamera(int nodeIndex, const glm::mat4& world);
+  void frameBounds();
+  void readAssetExtras();
+
+  std::string file_;
+  const tinygltf::Model& model_;
+  CapturedImages& images_;
+  Scene& scene_;
+  std::vector<int> materialMap_;  ///< glTF material -> Scene material, -1 until first use
+  int defaultMaterial_ = -1;
+  std::vector<int> imageTextures_;  ///< glTF image -> Scene texture, -1 unloadable, -2 not tried yet
+  bool haveCamera_ = false;
+};
+
+AccessorView Loader::view(int accessorIndex, const std::string& where, const std::vector<int>& types) {
+  if (accessorIndex < 0 || static_cast<std::size_t>(accessorIndex) >= model_.accessors.size())
+    fail(where, "accessor " + std::to_string(accessorIndex) + " out of range (" +
+                    std::to_string(model_.accessors.size()) + " accessors)");
+  const tinygltf::Accessor& a = model_.accessors[static_cast<std::size_t>(accessorIndex)];
+  std::string at = where + " (accessors[" + std::to_string(accessorIndex) + "])";
+  if (std::find(types.begin(), types.end(), a.type) == types.end())
+    fail(at, "unexpected accessor type " + std::to_string(a.type));
+  if (a.sparse.isSparse) fail(at, "sparse accessors are not supported");
+  AccessorView v;
+  v.componentType = a.componentType;
+  v.components = tinygltf::GetNumComponentsInType(static_cast<uint32_t>(a.type));
+  v.count = a.count;
+  v.normalized = a.normalized;
+  int componentSize = tinygltf::GetComponentSizeInBytes(static_cast<uint32_t>(a.componentType));
+  if (componentSize <= 0 || v.components <= 0) fail(at, "invalid componentType " + std::to_string(a.componentType));
+  std::size_t elementSize = static_cast<std::size_t>(componentSize) * static_cast<std::size_t>(v.components);
+  if (a.bufferView < 0) return v;  // all zeros
+  if (static_cast<std::size_t>(a.bufferView) >= model_.bufferViews.size())
+    fail(at, "bufferView " + std::to_string(a.bufferView) + " out of range (" +
+                 std::to_string(model_.bufferViews.size()) + " bufferViews)");
+  const tinygltf::BufferView& bv = model_.bufferViews[static_cast<std::size_t>(a.bufferView)];
+  std::string bvAt = "bufferViews[" + std::to_string(a.bufferView) + "]";
+  if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= model_.buffers.size())
+    fail(bvAt, "buffer " + std::to_string(bv.buffer) + " out of range (" + std::to_string(model_.buffers.size()) +
+                   " buffers)");
+  const tinygltf::Buffer& buffer = model_.buffers[static_cast<std::size_t>(bv.buffer)];
+  // Sizes are compared by subtraction so that huge offsets in a hostile file cannot overflow.
+  if (bv.byteOffset > buffer.data.size() || bv.byteLength > buffer.data.size() - bv.byteOffset)
+    fail(bvAt, "bytes [" + std::to_string(bv.byteOffset) + ", " + std::to_string(bv.byteOffset + bv.byteLength) +
+                   ") exceed buffers[" + std::to_string(bv.buffer) + "] (" + std::to_string(buffer.data.size()) +
+                   " bytes)");
+  v.stride = bv.byteStride == 0 ? elementSize : bv.byteStride;
+  if (v.stride < elementSize) fail(bvAt, "byteStride " + std::to_string(bv.byteStride) + " smaller than an element");
+  if (v.count > 0) {
+    std::size_t needed = a.byteOffset;
+    bool overflow = (v.count - 1) > (std::numeric_limits<std::size_t>::max() - elementSize) / v.stride;
+    if (!overflow) needed += (v.count - 1) * v.stride + elementSize;
+    if (overflow || a.byteOffset > bv.byteLength || needed > bv.byteLength)
+      fail(at, std::to_string(v.count) + " elements from byteOffset " + std::to_string(a.byteOffset) +
+                   " exceed bufferViews[" + std::to_string(a.bufferView) + "] (" + std::to_string(bv.byteLength) +
+                   " bytes)");
+  }
+  v.base = buffer.data.data() + bv.byteOffset + a.byteOffset;
+  return v;
+}
+
+/// Component c of element i as a float, applying the normalisation rules of glTF 3.11 for integer types.
+float readComponent(const AccessorView& v, std::size_t i, int c) {
+  if (v.base == nullptr) return 0.0f;
+  const unsigned char* p = v.base + i * v.stride;
+  switch (v.componentType) {
+    case TINYGLTF_COMPONENT_TYPE_FLOAT: {
+      float f;
+      std::memcpy(&f, p + 4 * c, 4);
+      return f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE: {
+      float f = static_cast<float>(p[c]);
+      return v.normalized ? f / 255.0f : f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_BYTE: {
+      float f = static_cast<float>(static_cast<int8_t>(p[c]));
+      return v.normalized ? std::max(f / 127.0f, -1.0f) : f;
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT: {
+      uint16_t u;
+      std::memcpy(&u, p + 2 * c, 2);
+      return v.normalized ? static_cast<float>(u) / 65535.0f : static_cast<float>(u);
+    }
+    case TINYGLTF_COMPONENT_TYPE_SHORT: {
+      int16_t s;
+      std::memcpy(&s, p + 2 * c, 2);
+      return v.normalized ? std::max(static_cast<float>(s) / 32767.0f, -1.0f) : static_cast<float>(s);
+    }
+    case TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT: {
+      uint32_t u;
+      std::memcpy(&u, p + 4 * c, 4);
+      return static_cast<float>(u);
+    }
+    default: return 0.0f;
+  }
+}
+
+std::vector<glm::vec3> Loader::readVec3(int accessorIndex, const std::string& where) {
+  AccessorView v = view(accessorIndex, where, {TINYGLTF_TYPE_VEC3});
+  if (v.componentType != TINYGLTF_COMPONENT_TYPE_FLOAT)
+    fail(where, "componentType " + std::to_string(v.componentType) + " is not FLOAT");
+  std::vector<glm::vec3> out(v.count);
+  for (std::size_t i = 0; i < v.count; ++i)
+    out[i] = {readComponent(v, i, 0), readComponent(v, i, 1), readComponent(v, i, 2)};
+  return out;
+}
+
+std::vector<glm::vec2> Loader::readUv(int accessorIndex, const std::string& where) {
+  AccessorView v = view(accessorIndex, where, {TINYGLTF_TYPE_VEC2});
+  bool ok = v.componentType == TINYGLTF_COMPONENT_TYPE_FLOAT ||
+            (v.normalized && (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE ||
+                              v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT));
+  if (!ok) fail(where, "componentType " + std::to_string(v.componentType) + " is not FLOAT or normalized u8/u16");
+  std::vector<glm::vec2> out(v.count);
+  for (std::size_t i = 0; i < v.count; ++i) {
+    out[i] = {readComponent(v, i, 0), readComponent(v, i, 1)};
+    if (!std::isfinite(out[i].x) || !std::isfinite(out[i].y))
+      fail(where, "element " + std::to_string(i) + " is not finite");
+  }
+  return out;
+}
+
+std::vector<uint32_t> Loader::readIndices(int accessorIndex, const std::string& where) {
+  AccessorView v = view(accessorIndex, where, {TINYGLTF_TYPE_SCALAR});
+  if (v.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE &&
+      v.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT &&
+      v.componentType != TINYGLTF_COMPONENT_TYPE_UNSIGNED_INT)
+    fail(where, "componentType " + std::to_string(v.componentType) + " is not an unsigned integer type");
+  std::vector<uint32_t> out(v.count);
+  for (std::size_t i = 0; i < v.count; ++i) {
+    if (v.base == nullptr) {
+      out[i] = 0;
+      continue;
+    }
+    const unsigned char* p = v.base + i * v.stride;
+    if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_BYTE) {
+      out[i] = p[0];
+    } else if (v.componentType == TINYGLTF_COMPONENT_TYPE_UNSIGNED_SHORT) {
+      uint16_t u;
+      std::memcpy(&u, p, 2);
+      out[i] = u;
+    } else {
+      std::memcpy(&out[i], p, 4);
+    }
+  }
+  return out;
+}
+
+glm::mat4 Loader::localTransform(int nodeIndex) const {
+  const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(nodeIndex)];
+  std::string at = "nodes[" + std::to_string(nodeIndex) + "]";
+  auto allFinite = [](const std::vector<double>& v) {
+    return std::all_of(v.begin(), v.end(), [](double d) { return std::isfinite(d); });
+  };
+  if (!node.matrix.empty()) {
+    if (node.matrix.size() != 16 || !allFinite(node.matrix)) fail(at + ".matrix", "needs 16 finite numbers");
+    glm::mat4 m;
+    for (int i = 0; i < 16; ++i) glm::value_ptr(m)[i] = static_cast<float>(node.matrix[static_cast<std::size_t>(i)]);
+    return m;  // glTF matrices are column-major, as glm's storage
+  }
+  glm::mat4 m(1.0f);
+  if (!node.translation.empty()) {
+    if (node.translation.size() != 3 || !allFinite(node.translation))
+      fail(at + ".translation", "needs 3 finite numbers");
+    m = glm::translate(m, glm::vec3(node.translation[0], node.translation[1], node.translation[2]));
+  }
+  if (!node.rotation.empty()) {
+    if (node.rotation.size() != 4 || !allFinite(node.rotation)) fail(at + ".rotation", "needs 4 finite numbers");
+    // glTF stores quaternions as (x, y, z, w); glm's constructor takes w first.
+    glm::quat q(static_cast<float>(node.rotation[3]), static_cast<float>(node.rotation[0]),
+                static_cast<float>(node.rotation[1]), static_cast<float>(node.rotation[2]));
+    float len = glm::length(q);
+    if (!(len > 0.0f)) fail(at + ".rotation", "zero quaternion");
+    m = m * glm::mat4_cast(q / len);
+  }
+  if (!node.scale.empty()) {
+    if (node.scale.size() != 3 || !allFinite(node.scale)) fail(at + ".scale", "needs 3 finite numbers");
+    m = glm::scale(m, glm::vec3(node.scale[0], node.scale[1], node.scale[2]));
+  }
+  return m;
+}
+
+void Loader::run() {
+  materialMap_.assign(model_.materials.size(), -1);
+  imageTextures_.assign(model_.images.size(), -2);
+  readAssetExtras();
+
+  // Roots: the default scene's nodes; without scenes, every node that is nobody's child.
+  std::vector<int> roots;
+  if (!model_.scenes.empty()) {
+    int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
+    if (static_cast<std::size_t>(s) >= model_.scenes.size())
+      fail("scene", "scene " + std::to_string(s) + " out of range (" + std::to_string(model_.scenes.size()) +
+                        " scenes)");
+    roots = model_.scenes[static_cast<std::size_t>(s)].nodes;
+    for (std::size_t i = 0; i < roots.size(); ++i)
+      if (roots[i] < 0 || static_cast<std::size_t>(roots[i]) >= model_.nodes.size())
+        fail("scenes[" + std::to_string(s) + "].nodes[" + std::to_string(i) + "]",
+             "node " + std::to_string(roots[i]) + " out of range (" + std::to_string(model_.nodes.size()) + " nodes)");
+  } else {
+    std::vector<bool> isChild(model_.nodes.size(), false);
+    for (const tinygltf::Node& n : model_.nodes)
+      for (int c : n.children)
+        if (c >= 0 && static_cast<std::size_t>(c) < isChild.size()) isChild[static_cast<std::size_t>(c)] = true;
+    for (std::size_t i = 0; i < model_.nodes.size(); ++i)
+      if (!isChild[i]) roots.push_back(static_cast<int>(i));
+  }
+
+  // Depth-first in document order with an explicit stack, so deep hierarchies cannot overflow the call stack; a
+  // node reached twice means a cycle or a shared child, both invalid glTF (3.5.2).
+  std::vector<bool> visited(model_.nodes.size(), false);
+  std::vector<std::pair<int, glm::mat4>> stack;
+  for (auto it = roots.rbegin(); it != roots.rend(); ++it) stack.emplace_back(*it, glm::mat4(1.0f));
+  while (!stack.empty()) {
+    auto [nodeIndex, parent] = stack.back();
+    stack.pop_back();
+    std::string at = "nodes[" + std::to_string(nodeIndex) + "]";
+    if (visited[static_cast<std::size_t>(nodeIndex)]) fail(at, "reached twice (cycle or shared node in the hierarchy)");
+    visited[static_cast<std::size_t>(nodeIndex)] = true;
+    glm::mat4 world = parent * localTransform(nodeIndex);
+    visitNode(nodeIndex, world);
+    const std::vector<int>& children = model_.nodes[static_cast<std::size_t>(nodeIndex)].children;
+    for (std::size_t k = children.size(); k-- > 0;) {
+      int c = children[k];
+      if (c < 0 || static_cast<std::size_t>(c) >= model_.nodes.size())
+        fail(at + ".children[" + std::to_string(k) + "]",
+             "node " + std::to_string(c) + " out of range (" + std::to_string(model_.nodes.size()) + " nodes)");
+      stack.emplace_back(c, world);
+    }
+  }
+
+  if (scene_.triangles.empty()) fail("meshes", "no triangles to render");
+  scene_.finalize();
+  if (!haveCamera_) frameBounds();
+  if (!scene_.hasLights()) scene_.warnings.push_back("no lights: the image will be black");
+}
+
+void Loader::visitNode(int nodeIndex, const glm::mat4& world) {
+  const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(nodeIndex)];
+  std::string at = "nodes[" + std::to_string(nodeIndex) + "]";
+  if (node.mesh >= 0) {
+    if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
+      fail(at + ".mesh", "mesh " + std::to_string(node.mesh) + " out of range (" +
+                             std::to_string(model_.meshes.size()) + " meshes)");
+    const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(node.mesh)];
+    for (std::size_t p = 0; p < mesh.primitives.size(); ++p) addPrimitive(node.mesh, static_cast<int>(p), world);
+  }
+  if (node.camera >= 0) {
+    if (static_cast<std::size_t>(node.camera) >= model_.cameras.size())
+      fail(at + ".camera", "camera " + std::to_string(node.camera) + " out of range (" +
+                               std::to_string(model_.cameras.size()) + " cameras)");
+    addCamera(nodeIndex, world);
+  }
+  auto ext = node.extensions.find("KHR_lights_punctual");
+  if (ext != node.extensions.end()) addLight(nodeIndex, world);
+}
+
+void Loader::addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& world) {
+  const tinygltf::Primitive& prim =
+      model_.meshes[static_cast<std::size_t>(meshIndex)].primitives[static_cast<std::size_t>(primitiveIndex)];
+  std::string at = "meshes[" + std::to_string(meshIndex) + "].primitives[" + std::to_string(primitiveIndex) + "]";
+  int mode = prim.mode < 0 ? kModeTriangles : prim.mode;
+  if (mode < kModeTriangles || mode > kModeTriangleFan) {
+    static const char* names[] = {"POINTS", "LINES", "LINE_LOOP", "LINE_STRIP"};
+    std::string name = mode >= kModePoints && mode < kModeTriangles ? names[mode] : std::to_string(mode);
+    warn(at, "mode " + name + " is not triangles; primitive skipped");
+    return;
+  }
+
+  auto attribute = [&](const char* name) {
+    auto it = prim.attributes.find(name);
+    return it == prim.attributes.end() ? -1 : it->second;
+  };
+  int posAccessor = attribute("POSITION");
+  if (posAccessor < 0) fail(at + ".attributes", "no POSITION");
+  std::vector<glm::vec3> positions = readVec3(posAccessor, at + ".attributes.POSITION");
+  for (std::size_t i = 0; i < positions.size(); ++i)
+    if (!finite(positions[i]))
+      fail(at + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite");
+  const std::size_t vertexCount = positions.size();
+
+  std::vector<glm::vec3> normals;
+  if (int a = attribute("NORMAL"); a >= 0) {
+    normals = readVec3(a, at + ".attributes.NORMAL");
+    if (normals.size() != vertexCount)
+      fail(at + ".attributes.NORMAL", std::to_string(normals.size()) + " elements, POSITION has " +
+                                          std::to_string(vertexCount));
+  }
+  std::vector<glm::vec2> uvs;
+  if (int a = attribute("TEXCOORD_0"); a >= 0) {
+    uvs = readUv(a, at + ".attributes.TEXCOORD_0");
+    if (uvs.size() != vertexCount)
+      fail(at + ".attributes.TEXCOORD_0", std::to_string(uvs.size()) + " elements, POSITION has " +
+                                              std::to_string(vertexCount));
+  }
+
+  std::vector<uint32_t> indices;
+  if (prim.indices >= 0) {
+    indices = readIndices(prim.indices, at + ".indices");
+    for (std::size_t i = 0; i < indices.size(); ++i)
+      if (indices[i] >= vertexCount)
+        fail(at + ".indices", "index " + std::to_string(indices[i]) + " at element " + std::to_string(i) +
+                                  " out of range (" + std::to_string(vertexCount) + " vertices)");
+  } else {
+    indices.resize(vertexCount);
+    for (std::size_t i = 0; i < vertexCount; ++i) indices[i] = static_cast<uint32_t>(i);
+  }
+
+  // Strips and fans become lists, keeping every triangle's orientation consistent with the first (glTF 3.7.2.1).
+  std::vector<glm::uvec3> tris;
+  if (mode == kModeTriangles) {
+    if (indices.size() % 3 != 0)
+      warn(at, std::to_string(indices.size() % 3) + " trailing indices ignored (count not a multiple of 3)");
+    for (std::size_t i = 0; i + 2 < indices.size(); i += 3) tris.emplace_back(indices[i], indices[i + 1], indices[i + 2]);
+  } else if (mode == kModeTriangleStrip) {
+    for (std::size_t i = 0; i + 2 < indices.size(); ++i)
+      tris.push_back(i % 2 == 0 ? glm::uvec3(indices[i], indices[i + 1], indices[i + 2])
+                                : glm::uvec3(indices[i + 1], indices[i], indices[i + 2]));
+  } else {
+    for (std::size_t i = 1; i + 1 < indices.size(); ++i) tris.emplace_back(indices[i], indices[i + 1], indices[0]);
+  }
+
+  uint32_t material = materialIndex(prim.material, at + ".material");
+
+  // Positions move with the world matrix, normals with its inverse transpose; a mirroring transform (negative
+  // determinant) turns counter-clockwise faces clockwise, so winding is flipped back.
+  glm::mat3 linear(world);
+  glm::mat3 normalMatrix = glm::transpose(glm::inverse(linear));
+  bool mirrored = glm::determinant(linear) < 0.0f;
+  std::vector<glm::vec3> worldPos(vertexCount);
+  for (std::size_t i = 0; i < vertexCount; ++i) {
+    worldPos[i] = glm::vec3(world * glm::vec4(positions[i], 1.0f));
+    if (!finite(worldPos[i]))
+      fail(at + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite in world space");
+  }
+  bool haveNormals = !normals.empty();
+  std::vector<glm::vec3> worldNormal(haveNormals ? vertexCount : 0);
+  for (std::size_t i = 0; haveNormals && i < vertexCount; ++i) {
+    glm::vec3 n = normalMatrix * normals[i];
+    float len = glm::length(n);
+    if (!(len > 0.0f) || !std::isfinite(len)) {
+      warn(at + ".attributes.NORMAL", "element " + std::to_string(i) + " is zero or not finite; face normals used");
+      haveNormals = false;
+      break;
+    }
+    worldNormal[i] = n / len;
+  }
+
+  const uint32_t base = static_cast<uint32_t>(scene_.positions.size());
+  if (haveNormals) {
+    scene_.positions.insert(scene_.positions.end(), worldPos.begin(), worldPos.end());
+    scene_.normals.insert(scene_.normals.end(), worldNormal.begin(), worldNormal.end());
+    if (uvs.empty())
+      scene_.uvs.resize(scene_.positions.size(), glm::vec2(0.0f));
+    else
+      scene_.uvs.insert(scene_.uvs.end(), uvs.begin(), uvs.end());
+  }
+  for (glm::uvec3 t : tris) {
+    const glm::vec3 &p0 = worldPos[t.x], &p1 = worldPos[t.y], &p2 = worldPos[t.z];
+    glm::vec3 e1 = p1 - p0, e2 = p2 - p0;
+    glm::vec3 n = glm::cross(e1, e2);
+    float len = glm::length(n);
+    // Zero area, or so thin that its normal is numerically meaningless: no renderer can use it.
+    if (!(len > 1e-7f * glm::length(e1) * glm::length(e2)) || !(len > 0.0f)) {
+      ++scene_.degenerateTrianglesDropped;
+      continue;
+    }
+    if (mirrored) {
+      std::swap(t.y, t.z);
+      n = -n;
+    }
+    if (haveNormals) {
+      // Scene::geometricNormal() must lie on the shading normals' side: swap two corners when it does not.
+      glm::vec3 summed = worldNormal[t.x] + worldNormal[t.y] + worldNormal[t.z];
+      if (glm::dot(n, summed) < 0.0f) std::swap(t.y, t.z);
+      scene_.triangles.emplace_back(base + t.x, base + t.y, base + t.z);
+    } else {
+      // Flat shading: three vertices of its own per triangle carrying the face normal.
+      uint32_t first = static_cast<uint32_t>(scene_.positions.size());
+      glm::vec3 fn = n / len;
+      for (uint32_t corner : {t.x, t.y, t.z}) {
+        scene_.positions.push_back(worldPos[corner]);
+        scene_.normals.push_back(fn);
+        scene_.uvs.push_back(uvs.empty() ? glm::vec2(0.0f) : uvs[corner]);
+      }
+      scene_.triangles.emplace_back(first, first + 1, first + 2);
+    }
+    scene_.triangleMaterials.push_back(material);
+  }
+}
+
+uint32_t Loader::materialIndex(int gltfMaterial, const std::string& where) {
+  if (gltfMaterial < 0) {
+    if (defaultMaterial_ < 0) {
+      Material m;
+      m.name = "default";
+      defaultMaterial_ = static_cast<int>(scene_.materials.size());
+      scene_.materials.push_back(m);
+    }
+    return static_cast<uint32_t>(defaultMaterial_);
+  }
+  if (static_cast<std::size_t>(gltfMaterial) >= model_.materials.size())
+    fail(where, "material " + std::to_string(gltfMaterial) + " out of range (" +
+                    std::to_string(model_.materials.size()) + " materials)");
+  int& mapped = materialMap_[static_cast<std::size_t>(gltfMaterial)];
+  if (mapped >= 0) return static_cast<uint32_t>(mapped);
+
+  const tinygltf::Material& g = model_.materials[static_cast<std::size_t>(gltfMaterial)];
+  std::string at = "materials[" + std::to_string(gltfMaterial) + "]";
+  auto num = [&](const std::vector<double>& v, std::size_t n, const std::string& field) {
+    if (v.size() < n) fail(at + "." + field, "needs " + std::to_string(n) + " numbers");
+    for (std::size_t i = 0; i < n; ++i)
+      if (!std::isfinite(v[i])) fail(at + "." + field, "is not finite");
+  };
+  Material m;
+  m.name = g.name.empty() ? "material" + std::to_string(gltfMaterial) : g.name;
+  const auto& pbr = g.pbrMetallicRoughness;
+  num(pbr.baseColorFactor, 3, "pbrMetallicRoughness.baseColorFactor");
+  m.baseColor = glm::clamp(glm::vec3(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]), 0.0f,
+                           1.0f);
+  if (!std::isfinite(pbr.metallicFactor) || !std::isfinite(pbr.roughnessFactor))
+    fail(at + ".pbrMetallicRoughness", "metallicFactor or roughnessFactor is not finite");
+  m.metallic = std::clamp(static_cast<float>(pbr.metallicFactor), 0.0f, 1.0f);
+  m.roughness = std::clamp(static_cast<float>(pbr.roughnessFactor), 0.0f, 1.0f);
+  if (pbr.baseColorTexture.index >= 0) {
+    std::string texAt = at + ".pbrMetallicRoughness.baseColorTexture";
+    if (pbr.baseColorTexture.texCoord != 0) warn(texAt, "texCoord other than 0 not supported; TEXCOORD_0 used");
+    m.baseColorTexture = textureIndex(pbr.baseColorTexture.index, texAt);
+  }
+  if (pbr.metallicRoughnessTexture.index >= 0)
+    warn(at + ".pbrMetallicRoughness.metallicRoughnessTexture", "ignored; the factors are used");
+  if (g.emissiveTexture.index >= 0) warn(at + ".emissiveTexture", "ignored; emissiveFactor is used");
+
+  // Emitted radiance = emissiveFactor x KHR_materials_emissive_strength (default 1).
+  num(g.emissiveFactor, 3, "emissiveFactor");
+  glm::vec3 emissive(g.emissiveFactor[0], g.emissiveFactor[1], g.emissiveFactor[2]);
+  float strength = 1.0f;
+  auto extNumber = [&](const char* ext, const char* key, float fallback) {
+    auto it = g.extensions.find(ext);
+    if (it == g.extensions.end() || !it->second.IsObject() || !it->second.Has(key)) return fallback;
+    const tinygltf::Value& v = it->second.Get(key);
+    if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || v.GetNumberAsDouble() < 0.0)
+      fail(at + ".extensions." + ext + "." + key, "is not a finite non-negative number");
+    return static_cast<float>(v.GetNumberAsDouble());
+  };
+  strength = extNumber("KHR_materials_emissive_strength", "emissiveStrength", 1.0f);
+  m.emission = glm::max(emissive, glm::vec3(0.0f)) * strength;
+  m.specular = std::clamp(extNumber("KHR_materials_specular", "specularFactor", 1.0f), 0.0f, 1.0f);
+
+  mapped = static_cast<int>(scene_.materials.size());
+  scene_.materials.push_back(m);
+  return static_cast<uint32_t>(mapped);
+}
+
+int Loader::textureIndex(int gltfTexture, const std::string& where) {
+  if (static_cast<std::size_t>(gltfTexture) >= model_.textures.size())
+    fail(where, "texture " + std::to_string(gltfTexture) + " out of range (" +
+                    std::to_string(model_.textures.size()) + " textures)");
+  int source = model_.textures[static_cast<std::size_t>(gltfTexture)].source;
+  std::string texAt = "textures[" + std::to_string(gltfTexture) + "]";
+  if (source < 0) {
+    warn(where, texAt + " has no image source; the factor is used alone");
+    return -1;
+  }
+  if (static_cast<std::size_t>(source) >= model_.images.size())
+    fail(texAt + ".source", "image " + std::to_string(source) + " out of range (" +
+                                std::to_string(model_.images.size()) + " images)");
+  int& cached = imageTextures_[static_cast<std::size_t>(source)];
+  if (cached != -2) return cached;
+
+  const tinygltf::Image& image = model_.images[static_cast<std::size_t>(source)];
+  std::string imgAt = "images[" + std::to_string(source) + "]";
+  std::string label = image.uri.empty() ? (image.name.empty() ? imgAt : image.name) : image.uri;
+  const unsigned char* bytes = nullptr;
+  std::size_t size = 0;
+  if (image.bufferView >= 0) {
+    // Same range checks as for accessors: the bufferView must lie inside its buffer.
+    if (static_cast<std::size_t>(image.bufferView) >= model_.bufferViews.size())
+      fail(imgAt + ".bufferView", "bufferView " + std::to_string(image.bufferView) + " out of range");
+    const tinygltf::BufferView& bv = model_.bufferViews[static_cast<std::size_t>(image.bufferView)];
+    if (bv.buffer < 0 || static_cast<std::size_t>(bv.buffer) >= model_.buffers.size())
+      fail("bufferViews[" + std::to_string(image.bufferView) + "]", "buffer out of range");
+    const std::vector<unsigned char>& data = model_.buffers[static_cast<std::size_t>(bv.buffer)].data;
+    if (bv.byteOffset > data.size() || bv.byteLength > data.size() - bv.byteOffset)
+      fail("bufferViews[" + std::to_string(image.bufferView) + "]", "exceeds its buffer");
+    bytes = data.data() + bv.byteOffset;
+    size = bv.byteLength;
+  } else if (static_cast<std::size_t>(source) < images_.bytes.size()) {
+    bytes = images_.bytes[static_cast<std::size_t>(source)].data();
+    size = images_.bytes[static_cast<std::size_t>(source)].size();
+  }
+  if (size == 0 || size > static_cast<std::size_t>(std::numeric_limits<int>::max())) {
+    warn(where, "image '" + label + "' could not be read; the factor is used alone");
+    cached = -1;
+    return cached;
+  }
+  int w = 0, h = 0, channels = 0;
+  unsigned char* pixels = stbi_load_from_memory(bytes, static_cast<int>(size), &w, &h, &channels, 3);
+  if (pixels == nullptr) {
+    const char* reason = stbi_failure_reason();
+    warn(where, "image '" + label + "' could not be decoded (" + (reason ? reason : "unknown") +
+                    "); the factor is used alone");
+    cached = -1;
+    return cached;
+  }
+  // Base-colour textures are sRGB-encoded (glTF 3.9.2); shading needs linear values.
+  std::array<float, 256> lut;
+  for (int i = 0; i < 256; ++i) lut[static_cast<std::size_t>(i)] = srgbToLinear(static_cast<float>(i) / 255.0f);
+  Texture tex;
+  tex.name = label;
+  tex.width = w;
+  tex.height = h;
+  tex.texels.resize(static_cast<std::size_t>(w) * static_cast<std::size_t>(h));
+  for (std::size_t i = 0; i < tex.texels.size(); ++i)
+    tex.texels[i] = {lut[pixels[3 * i]], lut[pixels[3 * i + 1]], lut[pixels[3 * i + 2]]};
+  stbi_image_free(pixels);
+  cached = static_cast<int>(scene_.textures.size());
+  scene_.textures.push_back(std::move(tex));
+  return cached;
+}
+
+void Loader::addLight(int nodeIndex, const glm::mat4& world) {
+  const tinygltf::Value& ext = model_.nodes[static_cast<std::size_t>(nodeIndex)].extensions.at("KHR_lights_punctual");
+  std::string at = "nodes[" + std::to_string(nodeIndex) + "].extensions.KHR_lights_punctual";
+  if (!ext.IsObject() || !ext.Has("light") || !ext.Get("light").IsNumber()) fail(at, "no light index");
+  int index = ext.Get("light").GetNumberAsInt();
+  if (index < 0 || static_cast<std::size_t>(index) >= model_.lights.size())
+    fail(at + ".light", "light " + std::to_string(index) + " out of range (" + std::to_string(model_.lights.size()) +
+                            " lights)");
+  const tinygltf::Light& g = model_.lights[static_cast<std::size_t>(index)];
+  std::string lightAt = "extensions.KHR_lights_punctual.lights[" + std::to_string(index) + "]";
+  PunctualLight l;
+  l.name = g.name.empty() ? "light" + std::to_string(index) : g.name;
+  if (g.type == "point") {
+    l.type = PunctualLight::Type::Point;
+  } else if (g.type == "spot") {
+    l.type = PunctualLight::Type::Spot;
+    l.innerConeAngle = static_cast<float>(g.spot.innerConeAngle);
+    l.outerConeAngle = static_cast<float>(g.spot.outerConeAngle);
+    if (!(l.innerConeAngle >= 0.0f && l.innerConeAngle < l.outerConeAngle && l.outerConeAngle <= 0.5f * kPiF))
+      fail(lightAt + ".spot", "needs 0 <= innerConeAngle < outerConeAngle <= pi/2");
+  } else {
+    warn(lightAt, "type '" + g.type + "' not supported; light skipped");
+    return;
+  }
+  glm::vec3 color(1.0f);
+  if (!g.color.empty()) {
+    if (g.color.size() != 3) fail(lightAt + ".color", "needs 3 numbers");
+    color = glm::vec3(g.color[0], g.color[1], g.color[2]);
+  }
+  l.intensity = color * static_cast<float>(g.intensity);
+  if (!finite(l.intensity) || l.intensity.r < 0.0f || l.intensity.g < 0.0f || l.intensity.b < 0.0f)
+    fail(lightAt, "intensity or color is negative or not finite");
+  // Punctual lights sit at their node's origin and shine down its local -Z (KHR_lights_punctual).
+  l.position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  glm::vec3 dir = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);
+  if (!finite(l.position) || !(glm::length(dir) > 0.0f)) fail("nodes[" + std::to_string(nodeIndex) + "]",
+                                                               "degenerate transform for a light");
+  l.direction = glm::normalize(dir);
+  scene_.punctualLights.push_back(l);
+}
+
+void Loader::addCamera(int nodeIndex, const glm::mat4& world) {
+  const tinygltf::Camera& g = model_.cameras[static_cast<std::size_t>(model_.nodes[static_cast<std::size_t>(nodeIndex)].camera)];
+  if (haveCamera_) return;
+  if (g.type != "perspective") {
+    warn("nodes[" + std::to_string(nodeIndex) + "].camera", "'" + g.type + "' camera ignored (perspective only)");
+    return;
+  }
+  std::string at = "cameras[" + std::to_string(model_.nodes[static_cast<std::size_t>(nodeIndex)].camera) + "]";
+  // glTF cameras look down their local -Z with +Y up.
+  glm::mat3 r(world);
+  glm::vec3 forward = r * glm::vec3(0.0f, 0.0f, -1.0f);
+  glm::vec3 up = r * glm::vec3(0.0f, 1.0f, 0.0f);
+  if (!(glm::length(forward) > 0.0f) || !(glm::length(glm::cross(forward, up)) > 0.0f))
+    fail("nodes[" + std::to_string(nodeIndex) + "]", "degenerate transform for a camera");
+  Camera c;
+  c.position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  c.forward = glm::normalize(forward);
+  c.up = glm::normalize(up - glm::dot(up, c.forward) * c.forward);
+  c.yfov = static_cast<float>(g.perspective.yfov);
+  if (!(c.yfov > 0.0f && c.yfov < kPiF)) fail(at + ".perspective.yfov", "must lie in (0, pi)");
+  if (g.perspective.znear > 0.0) c.znear = static_cast<float>(g.perspective.znear);
+  if (g.perspective.zfar > g.perspective.znear) c.zfar = static_cast<float>(g.perspective.zfar);
+  c.fromFile = true;
+  scene_.camera = c;
+  haveCamera_ = true;
+}
+
+void Loader::frameBounds() {
+  // Look down -Z at the bounding sphere from far enough that it fits the vertical field of view.
+  Camera c;
+  float radius = std::max(0.5f * scene_.bounds.diagonal(), 1e-3f);
+  float distance = radius / std::sin(0.5f * c.yfov);
+  c.position = scene_.bounds.center() + glm::vec3(0.0f, 0.0f, distance);
+  c.znear = std::max(1e-4f, 0.01f * (distance - radius));
+  c.zfar = 2.0f * (distance + radius);
+  c.fromFile = false;
+  scene_.camera = c;
+}
+
+void Loader::readAssetExtras() {
+  const tinygltf::Value& extras = model_.asset.extras;
+  if (!extras.IsObject()) return;
+  for (const std::string& key : extras.Keys()) {
+    const tinygltf::Value& v = extras.Get(key);
+    if (v.IsNumber()) scene_.assetExtras[key] = v.GetNumberAsDouble();
+  }
+}
+
+}  // namespace
+
+Scene loadScene(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw SceneError(path + ": cannot open file");
+  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  if (in.bad()) throw SceneError(path + ": read error");
+  if (bytes.size() > std::numeric_limits<uint32_t>::max()) throw SceneError(path + ": larger than 4 GiB");
+
+  bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
+  if (!binary && endsWith(path, ".glb")) throw SceneError(path + ": not a binary glTF file (no 'glTF' magic)");
+  if (binary) {
+    // The GLB header's total length must match what is on disk (glTF 4.4.2): a short file is truncated.
+    if (bytes.size() < 20) throw SceneError(path + ": truncated .glb (" + std::to_string(bytes.size()) + " bytes)");
+    uint32_t length = 0;
+    std::memcpy(&length, bytes.data() + 8, 4);
+    if (length > bytes.size())
+      throw SceneError(path + ": truncated .glb (header says " + std::to_string(length) + " bytes, file has " +
+                       std::to_string(bytes.size()) + ")");
+  }
+
+  tinygltf::TinyGLTF gltf;
+  CapturedImages images;
+  gltf.SetImageLoader(&captureImage, &images);
+  tinygltf::Model model;
+  std::string err, warn;
+  std::string baseDir = directoryOf(path);
+  bool ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
+                                               static_cast<unsigned int>(bytes.size()), baseDir)
+                   : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                              static_cast<unsigned int>(bytes.size()), baseDir);
+  if (!ok) throw SceneError(path + ": not a valid glTF file: " + firstLine(err));
+
+  Scene scene;
+  scene.sourcePath = path;
+  Loader(path, model, images, scene).run();
+  return scene;
+}
+
+}  // namespace vplab

@@ -1,0 +1,23 @@
+#pragma once
+// glTF 2.0 (.gltf and .glb) to Scene: node transforms baked into world space, materials reduced to vplab's
+// metallic-roughness model, KHR_lights_punctual lights and the first perspective camera.
+
+#include "renderer/scene/scene.h"
+
+#include <stdexcept>
+#include <string>
+
+namespace vplab {
+
+/// A file that cannot be turned into a Scene. The message is one line: the file, then the glTF path of the problem,
+/// e.g. `two.gltf: meshes[2].primitives[0].indices: accessor 7 out of range`.
+struct SceneError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+/// Loads a glTF 2.0 file (.gltf with external or embedded buffers, or .glb). Every reference and accessor range is
+/// validated here; malformed input throws SceneError, never crashes. Non-fatal problems (skipped non-triangle
+/// primitives, unloadable textures, no lights) end up in Scene::warnings. The returned scene is finalized.
+Scene loadScene(const std::string& path);
+
+}  // namespace vplab
