@@ -1,0 +1,226 @@
+#include "renderer/gl/resources.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <string>
+
+namespace vplab {
+
+namespace {
+
+GLenum internalFormat(TextureFormat f) {
+  switch (f) {
+    case TextureFormat::Rgba32F: return GL_RGBA32F;
+    case TextureFormat::Rgba16F: return GL_RGBA16F;
+    case TextureFormat::Rg32F: return GL_RG32F;
+    case TextureFormat::R32F: return GL_R32F;
+    case TextureFormat::Rgba8: return GL_RGBA8;
+    case TextureFormat::Depth32F: return GL_DEPTH_COMPONENT32F;
+  }
+  return GL_RGBA32F;
+}
+
+GLuint createName(GlObject::Kind kind, GLenum target = 0) {
+  GLuint id = 0;
+  switch (kind) {
+    case GlObject::Kind::Texture: glCreateTextures(target, 1, &id); break;
+    case GlObject::Kind::Framebuffer: glCreateFramebuffers(1, &id); break;
+    case GlObject::Kind::Buffer: glCreateBuffers(1, &id); break;
+    case GlObject::Kind::VertexArray: glCreateVertexArrays(1, &id); break;
+    case GlObject::Kind::Query: glCreateQueries(target, 1, &id); break;
+  }
+  if (!id) throw GlError("could not create a GL object (is a context current?)");
+  return id;
+}
+
+std::vector<glm::vec4> flipRows(const std::vector<glm::vec4>& raw, int width, int height) {
+  std::vector<glm::vec4> out(raw.size());
+  for (int y = 0; y < height; ++y)
+    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(height - 1 - y) * width, width,
+                out.begin() + static_cast<std::ptrdiff_t>(y) * width);
+  return out;
+}
+
+Image toImage(const std::vector<glm::vec4>& rgba, int width, int height) {
+  Image image(width, height);
+  for (std::size_t i = 0; i < rgba.size(); ++i) image.pixels[i] = glm::vec3(rgba[i]);
+  return image;
+}
+
+}  // namespace
+
+void GlObject::reset() {
+  if (!id_) return;
+  GLuint id = id_;
+  switch (kind_) {
+    case Kind::Texture: glDeleteTextures(1, &id); break;
+    case Kind::Framebuffer: glDeleteFramebuffers(1, &id); break;
+    case Kind::Buffer: glDeleteBuffers(1, &id); break;
+    case Kind::VertexArray: glDeleteVertexArrays(1, &id); break;
+    case Kind::Query: glDeleteQueries(1, &id); break;
+  }
+  id_ = 0;
+}
+
+GlTexture::GlTexture(int width, int height, TextureFormat format, int levels, int layers, bool linear)
+    : width_(width), height_(height), layers_(layers), format_(format) {
+  assert(width > 0 && height > 0 && layers >= 0);
+  int full = 1 + static_cast<int>(std::floor(std::log2(static_cast<float>(std::max(width, height)))));
+  levels_ = levels <= 0 ? full : std::min(levels, full);
+  object_ = GlObject(GlObject::Kind::Texture, createName(GlObject::Kind::Texture,
+                                                         layers > 0 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D));
+  if (layers > 0)
+    glTextureStorage3D(id(), levels_, internalFormat(format), width, height, layers);
+  else
+    glTextureStorage2D(id(), levels_, internalFormat(format), width, height);
+  setLinearFiltering(linear, levels_ > 1);
+  setRepeat(false);
+}
+
+void GlTexture::bind(int unit) const { glBindTextureUnit(static_cast<GLuint>(unit), id()); }
+
+void GlTexture::uploadRgb(const std::vector<glm::vec3>& texels) {
+  assert(layers_ == 0 && texels.size() == static_cast<std::size_t>(width_) * height_);
+  glTextureSubImage2D(id(), 0, 0, 0, width_, height_, GL_RGB, GL_FLOAT, texels.data());
+}
+
+void GlTexture::generateMipmaps() { glGenerateTextureMipmap(id()); }
+
+void GlTexture::setDepthCompare(bool on) {
+  glTextureParameteri(id(), GL_TEXTURE_COMPARE_MODE, on ? GL_COMPARE_REF_TO_TEXTURE : GL_NONE);
+  glTextureParameteri(id(), GL_TEXTURE_COMPARE_FUNC, GL_LEQUAL);
+}
+
+void GlTexture::setLinearFiltering(bool linear, bool mipmaps) {
+  GLint minFilter = linear ? (mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR)
+                           : (mipmaps ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
+  glTextureParameteri(id(), GL_TEXTURE_MIN_FILTER, minFilter);
+  glTextureParameteri(id(), GL_TEXTURE_MAG_FILTER, linear ? GL_LINEAR : GL_NEAREST);
+}
+
+void GlTexture::setRepeat(bool repeat) {
+  GLint wrap = repeat ? GL_REPEAT : GL_CLAMP_TO_EDGE;
+  glTextureParameteri(id(), GL_TEXTURE_WRAP_S, wrap);
+  glTextureParameteri(id(), GL_TEXTURE_WRAP_T, wrap);
+}
+
+GlFramebuffer::GlFramebuffer() : object_(GlObject::Kind::Framebuffer, createName(GlObject::Kind::Framebuffer)) {}
+
+void GlFramebuffer::attachColor(int index, const GlTexture& texture, int level, int layer) {
+  GLenum attachment = GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index);
+  if (texture.layers() > 0 && layer >= 0)
+    glNamedFramebufferTextureLayer(id(), attachment, texture.id(), level, layer);
+  else
+    glNamedFramebufferTexture(id(), attachment, texture.id(), level);
+}
+
+void GlFramebuffer::attachDepth(const GlTexture& texture, int level, int layer) {
+  if (texture.layers() > 0 && layer >= 0)
+    glNamedFramebufferTextureLayer(id(), GL_DEPTH_ATTACHMENT, texture.id(), level, layer);
+  else
+    glNamedFramebufferTexture(id(), GL_DEPTH_ATTACHMENT, texture.id(), level);
+}
+
+void GlFramebuffer::finalize(int colorCount) {
+  std::vector<GLenum> buffers;
+  for (int i = 0; i < colorCount; ++i) buffers.push_back(GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(i));
+  if (colorCount > 0)
+    glNamedFramebufferDrawBuffers(id(), colorCount, buffers.data());
+  else
+    glNamedFramebufferDrawBuffer(id(), GL_NONE);
+  GLenum status = glCheckNamedFramebufferStatus(id(), GL_FRAMEBUFFER);
+  if (status != GL_FRAMEBUFFER_COMPLETE)
+    throw GlError("incomplete framebuffer (status 0x" + std::to_string(status) + ")");
+}
+
+void GlFramebuffer::bind(int width, int height) const {
+  glBindFramebuffer(GL_FRAMEBUFFER, id());
+  glViewport(0, 0, width, height);
+}
+
+void GlFramebuffer::clearColor(int index, glm::vec4 value) const {
+  glClearNamedFramebufferfv(id(), GL_COLOR, index, &value[0]);
+}
+
+void GlFramebuffer::clearDepth(float value) const { glClearNamedFramebufferfv(id(), GL_DEPTH, 0, &value); }
+
+GlBuffer::GlBuffer(std::size_t bytes, const void* data) { assign(data, bytes); }
+
+void GlBuffer::assign(const void* data, std::size_t bytes) {
+  // Zero-sized buffers cannot be bound as SSBOs: keep at least 16 bytes.
+  std::size_t size = std::max<std::size_t>(bytes, 16);
+  if (!object_ || size != size_) {
+    object_ = GlObject(GlObject::Kind::Buffer, createName(GlObject::Kind::Buffer));
+    glNamedBufferData(id(), static_cast<GLsizeiptr>(size), nullptr, GL_DYNAMIC_DRAW);
+    size_ = size;
+  }
+  if (data && bytes) upload(data, bytes);
+}
+
+void GlBuffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
+  assert(offset + bytes <= size_);
+  glNamedBufferSubData(id(), static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), data);
+}
+
+void GlBuffer::bindStorage(int binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id()); }
+void GlBuffer::bindUniform(int binding) const { glBindBufferBase(GL_UNIFORM_BUFFER, binding, id()); }
+
+GlVertexArray::GlVertexArray() : object_(GlObject::Kind::VertexArray, createName(GlObject::Kind::VertexArray)) {}
+void GlVertexArray::bind() const { glBindVertexArray(object_.id()); }
+
+GlTimerQuery::GlTimerQuery() : object_(GlObject::Kind::Query, createName(GlObject::Kind::Query, GL_TIME_ELAPSED)) {}
+void GlTimerQuery::begin() { glBeginQuery(GL_TIME_ELAPSED, object_.id()); }
+void GlTimerQuery::end() {
+  glEndQuery(GL_TIME_ELAPSED);
+  ran_ = true;
+}
+double GlTimerQuery::resultMs() const {
+  if (!ran_) return 0.0;
+  GLuint64 ns = 0;
+  glGetQueryObjectui64v(object_.id(), GL_QUERY_RESULT, &ns);
+  return static_cast<double>(ns) * 1e-6;
+}
+
+void drawProceduralTriangles(int vertexCount, int instances) {
+  // Core profile draws need a bound vertex array even without attributes; its owner (a pass) keeps it alive.
+  GLint bound = 0;
+  glGetIntegerv(GL_VERTEX_ARRAY_BINDING, &bound);
+  if (!bound) throw GlError("drawProceduralTriangles: no vertex array bound (bind a GlVertexArray first)");
+  glDrawArraysInstanced(GL_TRIANGLES, 0, vertexCount, instances);
+}
+
+std::vector<glm::vec4> readFramebufferRgba(const GlFramebuffer& framebuffer, int index, int width, int height) {
+  std::vector<glm::vec4> raw(static_cast<std::size_t>(width) * height);
+  glNamedFramebufferReadBuffer(framebuffer.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer.id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadnPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
+                raw.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  return flipRows(raw, width, height);
+}
+
+Image readFramebuffer(const GlFramebuffer& framebuffer, int index, int width, int height) {
+  return toImage(readFramebufferRgba(framebuffer, index, width, height), width, height);
+}
+
+Image readTexture(const GlTexture& texture, int level) {
+  int w = std::max(1, texture.width() >> level), h = std::max(1, texture.height() >> level);
+  std::vector<glm::vec4> raw(static_cast<std::size_t>(w) * h);
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glGetTextureImage(texture.id(), level, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
+                    raw.data());
+  return toImage(flipRows(raw, w, h), w, h);
+}
+
+void checkGlError(const char* what) {
+  GLenum e = glGetError();
+  if (e != GL_NO_ERROR) throw GlError(std::string(what) + ": GL error 0x" + std::to_string(e));
+}
+
+void glFinishAll() { glFinish(); }
+
+}  // namespace vplab

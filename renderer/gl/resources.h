@@ -1,0 +1,153 @@
+#pragma once
+// Small RAII owners of GL objects (DSA, GL 4.5) and FBO readback into vplab::Image. Names only: no GL types leak
+// into this header, so callers do not need the loader. Every function needs a current context.
+
+#include "renderer/gl/context.h"
+#include "renderer/image/image.h"
+
+#include <glm/glm.hpp>
+
+#include <cstddef>
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+namespace vplab {
+
+enum class TextureFormat { Rgba32F, Rgba16F, Rg32F, R32F, Rgba8, Depth32F };
+
+/// Owns one GL name and deletes it with the matching glDelete* call.
+class GlObject {
+ public:
+  enum class Kind { Texture, Framebuffer, Buffer, VertexArray, Query };
+  GlObject() = default;
+  GlObject(Kind kind, uint32_t id) : kind_(kind), id_(id) {}
+  ~GlObject() { reset(); }
+  GlObject(GlObject&& o) noexcept : kind_(o.kind_), id_(std::exchange(o.id_, 0u)) {}
+  GlObject& operator=(GlObject&& o) noexcept {
+    if (this != &o) {
+      reset();
+      kind_ = o.kind_;
+      id_ = std::exchange(o.id_, 0u);
+    }
+    return *this;
+  }
+  GlObject(const GlObject&) = delete;
+  GlObject& operator=(const GlObject&) = delete;
+
+  uint32_t id() const { return id_; }
+  explicit operator bool() const { return id_ != 0; }
+  void reset();
+
+ private:
+  Kind kind_ = Kind::Texture;
+  uint32_t id_ = 0;
+};
+
+/// A 2D texture or 2D texture array (layers > 0) with immutable storage.
+class GlTexture {
+ public:
+  GlTexture() = default;
+  /// levels = 0 allocates the full mip chain. Filtering is nearest (G-buffers, depth) unless linear is set.
+  GlTexture(int width, int height, TextureFormat format, int levels = 1, int layers = 0, bool linear = false);
+  uint32_t id() const { return object_.id(); }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  int levels() const { return levels_; }
+  int layers() const { return layers_; }
+  TextureFormat format() const { return format_; }
+  explicit operator bool() const { return static_cast<bool>(object_); }
+
+  void bind(int unit) const;
+  /// Uploads RGB float texels (row 0 first) into level 0 of a 2D texture.
+  void uploadRgb(const std::vector<glm::vec3>& texels);
+  void generateMipmaps();
+  /// Sets depth-comparison sampling (sampler2DShadow / sampler2DArrayShadow).
+  void setDepthCompare(bool on);
+  void setLinearFiltering(bool linear, bool mipmaps = false);
+  void setRepeat(bool repeat);
+
+ private:
+  GlObject object_;
+  int width_ = 0, height_ = 0, levels_ = 1, layers_ = 0;
+  TextureFormat format_ = TextureFormat::Rgba32F;
+};
+
+/// A framebuffer object over textures it does not own.
+class GlFramebuffer {
+ public:
+  GlFramebuffer();
+  /// Attaches level `level` (and `layer` of an array, -1 = all layers, layered rendering) as colour `index`.
+  void attachColor(int index, const GlTexture& texture, int level = 0, int layer = -1);
+  void attachDepth(const GlTexture& texture, int level = 0, int layer = -1);
+  /// Sets glNamedFramebufferDrawBuffers to colour attachments 0..count-1 and checks completeness (throws GlError).
+  void finalize(int colorCount);
+  /// Binds for drawing and sets the viewport.
+  void bind(int width, int height) const;
+  void clearColor(int index, glm::vec4 value) const;
+  void clearDepth(float value = 1.0f) const;
+  uint32_t id() const { return object_.id(); }
+
+ private:
+  GlObject object_;
+};
+
+/// A buffer object (SSBO, UBO) with dynamic storage.
+class GlBuffer {
+ public:
+  GlBuffer() = default;
+  explicit GlBuffer(std::size_t bytes, const void* data = nullptr);
+  void upload(const void* data, std::size_t bytes, std::size_t offset = 0);
+  /// Reallocates when the size changes.
+  void assign(const void* data, std::size_t bytes);
+  void bindStorage(int binding) const;
+  void bindUniform(int binding) const;
+  std::size_t size() const { return size_; }
+  uint32_t id() const { return object_.id(); }
+
+ private:
+  GlObject object_;
+  std::size_t size_ = 0;
+};
+
+/// An empty vertex array: every vplab pass fetches its vertices from SSBOs or gl_VertexID.
+class GlVertexArray {
+ public:
+  GlVertexArray();
+  void bind() const;
+
+ private:
+  GlObject object_;
+};
+
+/// GL_TIME_ELAPSED query; result() waits for the GPU.
+class GlTimerQuery {
+ public:
+  GlTimerQuery();
+  void begin();
+  void end();
+  /// Milliseconds of GPU time between begin() and end(); 0 when never run.
+  double resultMs() const;
+
+ private:
+  GlObject object_;
+  bool ran_ = false;
+};
+
+/// Draws `vertexCount` vertices as triangles with no attributes (the shader builds them from gl_VertexID).
+void drawProceduralTriangles(int vertexCount, int instances = 1);
+
+/// Reads colour attachment `index` of `framebuffer` (RGBA32F) into an Image (alpha dropped), flipping rows so that
+/// row 0 is the top of the picture.
+Image readFramebuffer(const GlFramebuffer& framebuffer, int index, int width, int height);
+/// Same, with alpha kept (row 0 at the top).
+std::vector<glm::vec4> readFramebufferRgba(const GlFramebuffer& framebuffer, int index, int width, int height);
+/// Reads level `level` of a 2D colour texture (RGBA32F), rows flipped so that row 0 is the top.
+Image readTexture(const GlTexture& texture, int level = 0);
+
+/// Throws GlError with `what` when glGetError reports an error (use at pass boundaries, not per call).
+void checkGlError(const char* what);
+/// glFinish: waits for all submitted work (timing and readback boundaries).
+void glFinishAll();
+
+}  // namespace vplab
