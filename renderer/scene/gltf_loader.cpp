@@ -1,5 +1,7 @@
 #include "renderer/scene/gltf_loader.h"
 
+#include "renderer/core/sampling.h"
+
 #include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
@@ -13,6 +15,7 @@
 #include <cstring>
 #include <fstream>
 #include <iterator>
+#include <limits>
 #include <sstream>
 
 namespace vplab {
@@ -638,7 +641,7 @@ void Loader::addLight(int nodeIndex, const glm::mat4& world) {
     l.type = PunctualLight::Type::Spot;
     l.innerConeAngle = static_cast<float>(g.spot.innerConeAngle);
     l.outerConeAngle = static_cast<float>(g.spot.outerConeAngle);
-    if (!(l.innerConeAngle >= 0.0f && l.innerConeAngle < l.outerConeAngle && l.outerConeAngle <= 0.5f * kPiF))
+    if (!(l.innerConeAngle >= 0.0f && l.innerConeAngle < l.outerConeAngle && l.outerConeAngle <= 0.5f * kPi))
       fail(lightAt + ".spot", "needs 0 <= innerConeAngle < outerConeAngle <= pi/2");
   } else {
     warn(lightAt, "type '" + g.type + "' not supported; light skipped");
@@ -680,7 +683,7 @@ void Loader::addCamera(int nodeIndex, const glm::mat4& world) {
   c.forward = glm::normalize(forward);
   c.up = glm::normalize(up - glm::dot(up, c.forward) * c.forward);
   c.yfov = static_cast<float>(g.perspective.yfov);
-  if (!(c.yfov > 0.0f && c.yfov < kPiF)) fail(at + ".perspective.yfov", "must lie in (0, pi)");
+  if (!(c.yfov > 0.0f && c.yfov < kPi)) fail(at + ".perspective.yfov", "must lie in (0, pi)");
   if (g.perspective.znear > 0.0) c.znear = static_cast<float>(g.perspective.znear);
   if (g.perspective.zfar > g.perspective.znear) c.zfar = static_cast<float>(g.perspective.zfar);
   c.fromFile = true;

@@ -6,6 +6,7 @@
 
 #include <cstdint>
 #include <limits>
+#include <map>
 #include <string>
 #include <vector>
 
@@ -100,6 +101,9 @@ struct Scene {
   Bounds bounds;
 
   std::vector<std::string> warnings;      ///< non-fatal problems found while loading
+  /// Numeric members of the file's asset.extras: facts a generated scene records for its tests (e.g. the furnace's
+  /// "albedo" and "expectedRadiance").
+  std::map<std::string, double> assetExtras;
   std::size_t degenerateTrianglesDropped = 0;
 
   bool hasLights() const { return !emissiveTriangles.empty() || !punctualLights.empty(); }
