@@ -68,7 +68,8 @@ int textWidth(const std::string& text) {
 // quad's pixel rectangle rasterises the text without a GL context.
 void drawText(Canvas& canvas, int x, int y, const std::string& text, Rgb8 color) {
   std::string copy = text;
-  std::vector<char> vertices(copy.size() * 300 + 64);
+  // A glyph is at most a few dozen 64-byte quads; a short buffer would silently drop the last characters.
+  std::vector<char> vertices(copy.size() * 2048 + 64);
   int quads = stb_easy_font_print(static_cast<float>(x), static_cast<float>(y), copy.data(), nullptr, vertices.data(),
                                   static_cast<int>(vertices.size()));
   constexpr std::size_t kVertexBytes = 16;
