@@ -1,0 +1,149 @@
+#include "renderer/offline/path_tracer.h"
+
+#include "renderer/offline/direct_light.h"
+#include "renderer/scene/brdf_params.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <vector>
+
+namespace vplab {
+
+namespace {
+
+bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+
+}  // namespace
+
+glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& lights, const glm::vec3& origin,
+                            const glm::vec3& direction, int maxDepth, Components components, Rng& rng,
+                            ReferenceStats* stats) {
+  const Scene& scene = embree.scene();
+  const bool wantDirect = components != Components::Indirect;
+  const bool wantIndirect = components != Components::Direct;
+  // A Direct-only render never needs vertices past the first reflection.
+  const int lastBounce = wantIndirect ? maxDepth : std::min(maxDepth, 1);
+
+  uint64_t shadowRays = 0, bounceRays = 0;
+  glm::vec3 radiance(0.0f);
+  glm::vec3 throughput(1.0f);
+  glm::vec3 dir = direction;
+
+  // Primary ray; emission seen directly belongs to the Direct component (zero reflections).
+  std::optional<SurfaceHit> hit = embree.intersect(origin, dir);
+  if (hit && wantDirect) radiance += lights.emittedRadiance(hit->triangle, hit->geometricNormal, -dir);
+
+  // Vertex `bounce` is the bounce-th reflection: light leaving it toward the camera has been reflected `bounce`
+  // times, so bounce 1 feeds Direct and bounces >= 2 feed Indirect.
+  for (int bounce = 1; hit && bounce <= lastBounce; ++bounce) {
+    const glm::vec3 wo = -dir;
+    // One-sided surfaces: the back of a surface reflects nothing (and the path ends there).
+    if (!facesDirection(*hit, wo)) break;
+    const bool count = bounce == 1 ? wantDirect : wantIndirect;
+    BrdfParams brdf = brdfParamsAt(scene, hit->material, hit->uv);
+
+    // Next-event estimation with MIS (Veach 1997, eq. 9.13, power heuristic): the light-sampling strategy.
+    // When this bounce is not wanted its three random numbers are still drawn, so the stream (and every later
+    // vertex) does not depend on the components asked for.
+    if (count) {
+      radiance += throughput * sampleLightDirect(embree, lights, *hit, wo, brdf, rng, &shadowRays);
+    } else {
+      rng.next1D();
+      rng.next2D();
+    }
+
+    // BRDF sampling: the next direction of the walk, and the second MIS strategy for the next vertex's emission.
+    glm::vec3 u(rng.next1D(), rng.next1D(), rng.next1D());
+    BrdfSample bs = sampleBrdf(brdf, hit->shadingNormal, wo, u);
+    if (!bs.valid() || !facesDirection(*hit, bs.wi)) break;
+    float cosI = glm::dot(hit->shadingNormal, bs.wi);
+    if (cosI <= 0.0f) break;
+    // Path throughput update: beta *= f cos / pdf (the Monte Carlo estimator of the rendering equation).
+    throughput *= bs.f * (cosI / bs.pdf);
+    if (!finite3(throughput)) break;
+
+    glm::vec3 next = embree.offsetOrigin(hit->position, hit->geometricNormal, bs.wi);
+    std::optional<SurfaceHit> nextHit = embree.intersect(next, bs.wi);
+    ++bounceRays;
+    if (!nextHit) break;
+    // Emission found by the BRDF-sampled ray, MIS-weighted against the light pdf next-event estimation used at this
+    // vertex: it has been reflected `bounce` times, like the NEE term above.
+    if (count) radiance += throughput * misWeightedEmission(lights, hit->position, *nextHit, bs.wi, bs.pdf);
+
+    // Russian roulette on the throughput (Arvo & Kirk 1990): survive with probability q, divide by q to stay
+    // unbiased. The draw happens at every bounce past the start so the stream stays component-independent.
+    if (bounce >= kRussianRouletteStartBounce) {
+      float uRr = rng.next1D();
+      float q = std::min(0.95f, std::max({throughput.r, throughput.g, throughput.b}));
+      if (!(q > 0.0f) || uRr >= q) break;
+      throughput /= q;
+    }
+    dir = bs.wi;
+    hit = nextHit;
+  }
+
+  if (stats) {
+    stats->cameraRays += 1;
+    stats->bounceRays += bounceRays;
+    stats->shadowRays += shadowRays;
+  }
+  return finite3(radiance) ? radiance : glm::vec3(0.0f);
+}
+
+ProgressiveResult renderReference(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
+                                  const Settings& settings, RenderControl* control,
+                                  std::function<void(const Image& mean, int samplesSoFar)> onPass,
+                                  ReferenceStats* stats) {
+  assert(&embree.scene() == &scene && "the BVH must be built from the scene being rendered");
+  requireValidSettings(settings);
+
+  ProgressiveOptions options;
+  options.width = settings.width;
+  options.height = settings.height;
+  options.samplesPerPixel = settings.samplesPerPixel;
+  options.seed = settings.seed;
+  options.threads = settings.threads;
+  // About 32 passes: frequent enough to watch, few enough that the per-pass bookkeeping stays negligible.
+  options.samplesPerPass = std::clamp(settings.samplesPerPixel / 32, 1, 16);
+  options.onPass = std::move(onPass);
+
+  if (lights.empty()) {
+    // Nothing emits: the exact answer is black, no need to trace anything.
+    ProgressiveResult black;
+    black.image = Image(settings.width, settings.height);
+    black.samplesPerPixel = settings.samplesPerPixel;
+    if (control && control->onProgress) control->onProgress(1.0f);
+    if (options.onPass) options.onPass(black.image, black.samplesPerPixel);
+    return black;
+  }
+
+  // Per-pixel counters: a row is handled by one thread at a time, so no atomics and no shared cache lines.
+  std::vector<ReferenceStats> perPixel(stats ? static_cast<std::size_t>(settings.width) * settings.height : 0);
+  const Camera& camera = scene.camera;
+  const int maxDepth = settings.maxDepth;
+  const Components components = settings.components;
+  const int width = settings.width, height = settings.height;
+
+  PixelEstimator estimator = [&](int x, int y, uint32_t, Rng& rng) {
+    // Box pixel filter: a uniformly jittered position inside the pixel.
+    glm::vec2 jitter = rng.next2D();
+    glm::vec3 dir = cameraRayDirection(camera, static_cast<float>(x) + jitter.x, static_cast<float>(y) + jitter.y,
+                                       width, height);
+    ReferenceStats* s = stats ? &perPixel[static_cast<std::size_t>(y) * width + x] : nullptr;
+    return referenceRadiance(embree, lights, camera.position, dir, maxDepth, components, rng, s);
+  };
+  ProgressiveResult result = renderProgressive(options, estimator, control);
+
+  if (stats) {
+    *stats = ReferenceStats{};
+    for (const ReferenceStats& p : perPixel) {
+      stats->cameraRays += p.cameraRays;
+      stats->bounceRays += p.bounceRays;
+      stats->shadowRays += p.shadowRays;
+    }
+  }
+  return result;
+}
+
+}  // namespace vplab

@@ -1,0 +1,44 @@
+#pragma once
+// The path-traced reference (MANYLIGHTS.md section 10): the ground truth every many-light method is measured
+// against. Unidirectional path tracing with next-event estimation and MIS against BRDF sampling at every vertex,
+// Russian roulette on the throughput, one-sided emitters and a box pixel filter.
+
+#include "renderer/core/parallel.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/progressive.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+
+#include <cstdint>
+#include <functional>
+
+namespace vplab {
+
+/// Bounce after which Russian roulette may end a path (earlier bounces carry most of the energy).
+inline constexpr int kRussianRouletteStartBounce = 3;
+
+/// What a reference render traced, for rays/s figures.
+struct ReferenceStats {
+  uint64_t cameraRays = 0;
+  uint64_t bounceRays = 0;  ///< closest-hit rays after BRDF sampling
+  uint64_t shadowRays = 0;
+  uint64_t totalRays() const { return cameraRays + bounceRays + shadowRays; }
+};
+
+/// Radiance arriving at the camera along one primary ray, restricted to `components`: Direct is emission seen
+/// directly plus light after exactly one reflection; Indirect is every path with two or more reflections.
+/// The random numbers drawn do not depend on `components`, so Direct + Indirect equals All sample by sample.
+glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& lights, const glm::vec3& origin,
+                            const glm::vec3& direction, int maxDepth, Components components, Rng& rng,
+                            ReferenceStats* stats = nullptr);
+
+/// Renders settings.width x settings.height at settings.samplesPerPixel (seed, threads, maxDepth, components from
+/// settings). onPass (may be empty) sees the running mean after each progressive pass. With no lights the image is
+/// black and nothing is traced. stats, when given, receives the ray counts of everything traced.
+ProgressiveResult renderReference(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
+                                  const Settings& settings, RenderControl* control = nullptr,
+                                  std::function<void(const Image& mean, int samplesSoFar)> onPass = {},
+                                  ReferenceStats* stats = nullptr);
+
+}  // namespace vplab
