@@ -1,0 +1,107 @@
+#include "renderer/invalidation.h"
+
+namespace vplab {
+
+Staleness& Staleness::operator|=(const Staleness& o) {
+  vpls |= o.vpls;
+  vplShadowMaps |= o.vplShadowMaps;
+  lightShadowMaps |= o.lightShadowMaps;
+  gather |= o.gather;
+  ssbc |= o.ssbc;
+  tonemap |= o.tonemap;
+  offline |= o.offline;
+  return *this;
+}
+
+Staleness Staleness::all() { return {true, true, true, true, true, true, true}; }
+
+Staleness Staleness::propagated() const {
+  Staleness s = *this;
+  s.vplShadowMaps |= s.vpls;
+  s.gather |= s.vpls || s.vplShadowMaps || s.lightShadowMaps;
+  s.ssbc |= s.gather;
+  s.tonemap |= s.ssbc;
+  return s;
+}
+
+std::string toString(const Staleness& s) {
+  std::string out;
+  auto add = [&](bool on, const char* name) {
+    if (!on) return;
+    if (!out.empty()) out += ' ';
+    out += name;
+  };
+  add(s.vpls, "vpls");
+  add(s.vplShadowMaps, "vplShadowMaps");
+  add(s.lightShadowMaps, "lightShadowMaps");
+  add(s.gather, "gather");
+  add(s.ssbc, "ssbc");
+  add(s.tonemap, "tonemap");
+  add(s.offline, "offline");
+  return out.empty() ? "nothing" : out;
+}
+
+Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method method) {
+  Staleness s;
+  const bool usesVpls = method != Method::Reference;
+
+  // Image size: every per-pixel buffer, and the rejection sample points are pixels of that image.
+  if (a.width != b.width || a.height != b.height) {
+    s.gather = s.offline = true;
+    s.vpls |= a.rejection || b.rejection;
+  }
+  // The seed drives the VPL sequence, the light sample points and the offline sample streams.
+  if (a.seed != b.seed) s.vpls = s.lightShadowMaps = s.offline = true;
+  if (a.exposure != b.exposure) s.tonemap = true;
+
+  // Reference-only parameters; the VPL methods also take samplesPerPixel (KK and VSL are stochastic).
+  if (a.samplesPerPixel != b.samplesPerPixel || a.maxDepth != b.maxDepth) s.offline = true;
+  if (a.components != b.components) s.gather = s.offline = true;
+
+  // VPL generation (MANYLIGHTS.md section 2) and rejection (section 3). The rejection parameters only matter while
+  // rejection is on in either state.
+  bool vplsChanged = a.vplCount != b.vplCount || a.vplMaxBounces != b.vplMaxBounces || a.rejection != b.rejection;
+  if (a.rejection || b.rejection)
+    vplsChanged |= a.rejectionEpsilon != b.rejectionEpsilon || a.rejectionPilotVpls != b.rejectionPilotVpls ||
+                   a.rejectionSamplePoints != b.rejectionSamplePoints ||
+                   a.rejectionMaxCandidateFactor != b.rejectionMaxCandidateFactor;
+  if (vplsChanged) {
+    s.vpls = true;
+    s.offline |= usesVpls;
+  }
+
+  // The bound b acts in the gather only (section 4): VPLs and shadow maps stay. KK compensation (section 5) also
+  // depends on b through its region, so both VPL methods go stale; the VSL method does not clamp.
+  if (a.clampBound != b.clampBound) {
+    s.gather = true;
+    s.offline |= method == Method::Vpl || method == Method::VplKK;
+  }
+  if (a.ssbcSteps != b.ssbcSteps) s.ssbc = true;
+
+  // VSLs (section 7) change the gather integral, not the VPL positions.
+  if (a.vslRadius != b.vslRadius || a.vslRadiusFromDensity != b.vslRadiusFromDensity ||
+      a.vslSamples != b.vslSamples) {
+    s.gather = true;
+    s.offline |= method == Method::Vsl;
+  }
+
+  // Preview-only parameters (section 8).
+  if (a.directLightSamples != b.directLightSamples) s.lightShadowMaps = true;
+  if (a.interleave != b.interleave || a.shadowBias != b.shadowBias) s.gather = true;
+  if (a.shadowMapSize != b.shadowMapSize) s.vplShadowMaps = true;
+  return s.propagated();
+}
+
+Staleness staleAfterCameraMove() {
+  Staleness s;
+  s.gather = s.offline = true;
+  return s.propagated();
+}
+
+Staleness staleAfterLightEdit() {
+  Staleness s;
+  s.vpls = s.lightShadowMaps = s.offline = true;
+  return s.propagated();
+}
+
+}  // namespace vplab

@@ -1,0 +1,63 @@
+#pragma once
+// Which work a change makes stale (DESIGN.md "Performance model": never re-do work that a parameter did not
+// invalidate). Pure logic over Settings values, no GL: the editor asks it after every edit and re-runs exactly the
+// stages it names; the tests check it against the dependency list below.
+//
+// Stage dependencies:
+//   VPL generation    <- scene, lights, seed, vplCount, vplMaxBounces, rejection (+ its parameters while it is on;
+//                        with rejection on also the image size, since the importance sample points are pixels)
+//   VPL shadow maps   <- the VPLs, shadowMapSize
+//   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points)
+//   gather            <- the camera, image size, VPLs and both shadow-map sets, clampBound, VSL parameters,
+//                        interleave, shadowBias, components
+//   SSBC              <- the gather, ssbcSteps
+//   tonemap           <- SSBC, exposure
+//   offline result    <- scene, lights, camera, image size, seed, and the parameters of the offline method: the
+//                        reference ignores every VPL parameter; the VPL methods read the VPLs and clampBound; the VSL
+//                        method reads the VSL parameters. Exposure, threads and the preview-only parameters never
+//                        touch it (results do not depend on the thread count).
+
+#include "renderer/settings.h"
+
+#include <string>
+
+namespace vplab {
+
+struct Staleness {
+  bool vpls = false;             ///< VPL generation (and rejection) must run again
+  bool vplShadowMaps = false;    ///< one shadow map per VPL must be re-rendered
+  bool lightShadowMaps = false;  ///< the shadow maps of the direct-light samples must be re-rendered
+  bool gather = false;           ///< G-buffer and per-pixel VPL gather (interleaved blur included)
+  bool ssbc = false;             ///< screen-space bias compensation steps
+  bool tonemap = false;          ///< display transform only
+  bool offline = false;          ///< the Embree result no longer matches what the preview shows
+
+  bool any() const { return vpls || vplShadowMaps || lightShadowMaps || gather || ssbc || tonemap || offline; }
+  bool anyPreview() const { return vpls || vplShadowMaps || lightShadowMaps || gather || ssbc || tonemap; }
+  Staleness& operator|=(const Staleness& o);
+  friend Staleness operator|(Staleness a, const Staleness& b) { return a |= b; }
+  bool operator==(const Staleness&) const = default;
+
+  /// Everything (a new scene).
+  static Staleness all();
+  /// Adds the stages downstream of every stage already set (VPLs -> VPL shadow maps -> gather -> SSBC -> tonemap).
+  Staleness propagated() const;
+};
+
+/// Human-readable list, e.g. "vpls vplShadowMaps gather ssbc tonemap offline", or "nothing".
+std::string toString(const Staleness& staleness);
+
+/// What changing `before` into `after` makes stale, for an offline pass that renders `offlineMethod`. Downstream
+/// stages are included (the result is propagated()).
+Staleness staleAfterSettingsChange(const Settings& before, const Settings& after, Method offlineMethod);
+
+/// A camera move (orbit, pan, zoom, fly): never the VPLs nor any shadow map. With rejection on, the VPLs keep the
+/// importance measured from the camera they were generated for; a new camera only changes which VPLs would be
+/// preferred, not the correctness of the estimate (rejection stays unbiased for epsilon > 0).
+Staleness staleAfterCameraMove();
+
+/// A punctual light moved or changed intensity: the VPLs are regenerated (same seed, so they move coherently), and
+/// so is everything downstream, including the light shadow maps.
+Staleness staleAfterLightEdit();
+
+}  // namespace vplab

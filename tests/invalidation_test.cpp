@@ -1,0 +1,109 @@
+#include "renderer/invalidation.h"
+
+#include <gtest/gtest.h>
+
+#include <functional>
+
+namespace vplab {
+namespace {
+
+Staleness change(const std::function<void(Settings&)>& edit, Method method = Method::Vpl) {
+  Settings before;
+  Settings after = before;
+  edit(after);
+  return staleAfterSettingsChange(before, after, method);
+}
+
+TEST(Invalidation, NoChangeInvalidatesNothing) {
+  Settings s;
+  EXPECT_FALSE(staleAfterSettingsChange(s, s, Method::Vpl).any());
+  EXPECT_EQ(toString(Staleness{}), "nothing");
+}
+
+TEST(Invalidation, ClampBoundKeepsVplsAndShadowMaps) {
+  Staleness s = change([](Settings& x) { x.clampBound = 0.5f; });
+  EXPECT_FALSE(s.vpls);
+  EXPECT_FALSE(s.vplShadowMaps);
+  EXPECT_FALSE(s.lightShadowMaps);
+  EXPECT_TRUE(s.gather && s.ssbc && s.tonemap);
+  EXPECT_TRUE(s.offline);
+  // The path-traced reference does not depend on b, so the chart's errors stay measured against it.
+  EXPECT_FALSE(change([](Settings& x) { x.clampBound = 0.5f; }, Method::Reference).offline);
+  EXPECT_FALSE(change([](Settings& x) { x.clampBound = 0.5f; }, Method::Vsl).offline);
+}
+
+TEST(Invalidation, VplParametersRegenerateEverythingDownstream) {
+  for (auto edit : std::vector<std::function<void(Settings&)>>{
+           [](Settings& x) { x.vplCount = 64; }, [](Settings& x) { x.vplMaxBounces = 2; },
+           [](Settings& x) { x.seed = 9; }, [](Settings& x) { x.rejection = true; }}) {
+    Staleness s = change(edit);
+    EXPECT_TRUE(s.vpls && s.vplShadowMaps && s.gather && s.ssbc && s.tonemap && s.offline) << toString(s);
+  }
+  EXPECT_FALSE(change([](Settings& x) { x.vplCount = 64; }, Method::Reference).offline);
+}
+
+TEST(Invalidation, RejectionParametersMatterOnlyWhileRejectionIsOn) {
+  EXPECT_FALSE(change([](Settings& x) { x.rejectionEpsilon = 0.3f; }).any());
+  Settings on;
+  on.rejection = true;
+  Settings after = on;
+  after.rejectionEpsilon = 0.3f;
+  EXPECT_TRUE(staleAfterSettingsChange(on, after, Method::Vpl).vpls);
+  // With rejection on the importance is measured at pixels, so a new image size means new VPLs.
+  after = on;
+  after.width = 128;
+  EXPECT_TRUE(staleAfterSettingsChange(on, after, Method::Vpl).vpls);
+  EXPECT_FALSE(change([](Settings& x) { x.width = 128; }).vpls);
+}
+
+TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
+  Staleness ssbc = change([](Settings& x) { x.ssbcSteps = 2; });
+  EXPECT_EQ(toString(ssbc), "ssbc tonemap");
+  Staleness exposure = change([](Settings& x) { x.exposure = 1.0f; });
+  EXPECT_EQ(toString(exposure), "tonemap");
+  Staleness interleave = change([](Settings& x) { x.interleave = 4; });
+  EXPECT_EQ(toString(interleave), "gather ssbc tonemap");
+  Staleness mapSize = change([](Settings& x) { x.shadowMapSize = 128; });
+  EXPECT_EQ(toString(mapSize), "vplShadowMaps gather ssbc tonemap");
+  Staleness bias = change([](Settings& x) { x.shadowBias = 0.01f; });
+  EXPECT_EQ(toString(bias), "gather ssbc tonemap");
+  Staleness direct = change([](Settings& x) { x.directLightSamples = 16; });
+  EXPECT_EQ(toString(direct), "lightShadowMaps gather ssbc tonemap");
+  EXPECT_FALSE(change([](Settings& x) { x.threads = 1; }).any());
+}
+
+TEST(Invalidation, VslParametersAffectTheGatherAndTheVslMethodOnly) {
+  Staleness s = change([](Settings& x) { x.vslRadius = 0.05f; }, Method::Vsl);
+  EXPECT_FALSE(s.vpls);
+  EXPECT_TRUE(s.gather && s.offline);
+  EXPECT_FALSE(change([](Settings& x) { x.vslRadius = 0.05f; }, Method::Vpl).offline);
+}
+
+TEST(Invalidation, ReferenceParametersTouchOnlyTheOfflineResult) {
+  EXPECT_EQ(toString(change([](Settings& x) { x.samplesPerPixel = 8; }, Method::Reference)), "offline");
+  EXPECT_EQ(toString(change([](Settings& x) { x.maxDepth = 3; }, Method::Reference)), "offline");
+}
+
+TEST(Invalidation, CameraMoveKeepsVplsAndShadowMaps) {
+  Staleness s = staleAfterCameraMove();
+  EXPECT_FALSE(s.vpls || s.vplShadowMaps || s.lightShadowMaps);
+  EXPECT_TRUE(s.gather && s.ssbc && s.tonemap && s.offline);
+}
+
+TEST(Invalidation, LightEditRegeneratesVplsAndShadowMaps) {
+  Staleness s = staleAfterLightEdit();
+  EXPECT_EQ(s, Staleness::all());
+}
+
+TEST(Invalidation, PropagationFollowsThePipeline) {
+  Staleness s;
+  s.vpls = true;
+  Staleness p = s.propagated();
+  EXPECT_TRUE(p.vplShadowMaps && p.gather && p.ssbc && p.tonemap);
+  EXPECT_FALSE(p.lightShadowMaps || p.offline);
+  Staleness merged = Staleness{} | staleAfterCameraMove();
+  EXPECT_EQ(merged, staleAfterCameraMove());
+}
+
+}  // namespace
+}  // namespace vplab
