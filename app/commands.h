@@ -9,4 +9,9 @@ namespace vplab::app {
 
 using Args = std::vector<std::string>;
 
+/// vplab info <scene>: counts, bounds, lights, materials, camera and load warnings.
+int cmdInfo(const Args& args);
+/// vplab compare: error metrics (and a heatmap) of an image against a reference.
+int cmdCompare(const Args& args);
+
 }  // namespace vplab::app

@@ -12,6 +12,9 @@ namespace {
 
 const std::vector<vplab::cli::Command>& commands() {
   static const std::vector<vplab::cli::Command> list = {
+      {"info", "print what a glTF scene contains (counts, lights, materials, camera, warnings)", vplab::app::cmdInfo},
+      {"compare", "error metrics of an image against a reference (rmse, relmse, energy ratio), heatmap",
+       vplab::app::cmdCompare},
   };
   return list;
 }

@@ -1,0 +1,88 @@
+// vplab info <scene>: what the loader made of a glTF file (counts, bounds, lights, materials, camera, warnings).
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "renderer/core/sampling.h"
+#include "renderer/scene/gltf_loader.h"
+
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+namespace vplab::app {
+namespace {
+
+std::string vec(const glm::vec3& v) {
+  char buf[96];
+  std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", v.x, v.y, v.z);
+  return buf;
+}
+
+}  // namespace
+
+int cmdInfo(const Args& args) {
+  cli::CommandLine cl("vplab info <scene.gltf|scene.glb>", {});
+  if (!cl.parse(args)) {
+    std::printf("%s", cl.help().c_str());
+    std::printf("Prints counts, bounds, lights, materials, camera and load warnings of a glTF scene.\n");
+    return 0;
+  }
+  cl.requirePositional(1, 1, "one scene file");
+  Scene scene = loadScene(cl.positional()[0]);
+
+  std::printf("scene      %s\n", scene.sourcePath.c_str());
+  std::printf("vertices   %zu\n", scene.positions.size());
+  std::printf("triangles  %zu\n", scene.triangles.size());
+  std::printf("materials  %zu\n", scene.materials.size());
+  std::printf("textures   %zu\n", scene.textures.size());
+  std::printf("emissive triangles  %zu\n", scene.emissiveTriangles.size());
+  std::printf("punctual lights     %zu\n", scene.punctualLights.size());
+  std::printf("degenerate triangles dropped  %zu\n", scene.degenerateTrianglesDropped);
+  std::printf("bounds     %s .. %s  (extent %s, diagonal %.4g)\n", vec(scene.bounds.lower).c_str(),
+              vec(scene.bounds.upper).c_str(), vec(scene.bounds.extent()).c_str(), scene.bounds.diagonal());
+
+  // A Lambertian emitter of radiance L and area A emits pi * L * A from its front side.
+  std::map<uint32_t, std::pair<std::size_t, glm::vec3>> emitters;
+  for (uint32_t t : scene.emissiveTriangles) {
+    auto& e = emitters[scene.triangleMaterials[t]];
+    ++e.first;
+    e.second += kPi * scene.materialOf(t).emission * scene.triangleArea(t);
+  }
+  std::printf("area lights (per material):\n");
+  if (emitters.empty()) std::printf("  none\n");
+  for (const auto& [material, e] : emitters)
+    std::printf("  %-20s %zu triangles, radiance %s, power %s\n", scene.materials[material].name.c_str(), e.first,
+                vec(scene.materials[material].emission).c_str(), vec(e.second).c_str());
+  std::printf("punctual lights:\n");
+  if (scene.punctualLights.empty()) std::printf("  none\n");
+  for (const PunctualLight& l : scene.punctualLights) {
+    bool spot = l.type == PunctualLight::Type::Spot;
+    std::printf("  %-20s %s at %s, intensity %s cd", l.name.c_str(), spot ? "spot " : "point", vec(l.position).c_str(),
+                vec(l.intensity).c_str());
+    if (spot)
+      std::printf(", direction %s, cone %.1f..%.1f deg", vec(l.direction).c_str(), l.innerConeAngle * 180.0f / kPi,
+                  l.outerConeAngle * 180.0f / kPi);
+    std::printf("\n");
+  }
+
+  std::printf("materials:\n");
+  for (const Material& m : scene.materials) {
+    std::printf("  %-20s base %s", m.name.c_str(), vec(m.baseColor).c_str());
+    if (m.baseColorTexture >= 0)
+      std::printf(" x texture '%s'", scene.textures[static_cast<std::size_t>(m.baseColorTexture)].name.c_str());
+    std::printf(", metallic %.3g, roughness %.3g, specular %.3g", m.metallic, m.roughness, m.specular);
+    if (m.isEmissive()) std::printf(", emission %s", vec(m.emission).c_str());
+    std::printf("\n");
+  }
+
+  const Camera& c = scene.camera;
+  std::printf("camera     %s: position %s, forward %s, up %s, yfov %.2f deg\n",
+              c.fromFile ? "from file" : "automatic (framing the bounds)", vec(c.position).c_str(),
+              vec(c.forward).c_str(), vec(c.up).c_str(), c.yfov * 180.0f / kPi);
+  for (const auto& [key, value] : scene.assetExtras) std::printf("extras     %s = %.6g\n", key.c_str(), value);
+  std::printf("warnings   %zu\n", scene.warnings.size());
+  for (const std::string& w : scene.warnings) std::printf("  %s\n", w.c_str());
+  return 0;
+}
+
+}  // namespace vplab::app

@@ -1,0 +1,409 @@
+#!/usr/bin/env python3
+"""Writes vplab's scene set, assets/scenes/<name>.gltf: small glTF 2.0 files with the buffer embedded as a base64 data
+URI, a camera, and named nodes and materials. Standard library only; the output is byte-for-byte deterministic.
+
+Usage: python3 scripts/make_scenes.py [--out DIR]
+The facts (Cornell box data, reflectances, emission) come from the project's scene notes; see docs/scenes.md.
+"""
+
+import argparse
+import base64
+import json
+import math
+import os
+import struct
+
+# --- small vector helpers ------------------------------------------------------------------------------------------
+
+
+def sub(a, b):
+    return (a[0] - b[0], a[1] - b[1], a[2] - b[2])
+
+
+def add(a, b):
+    return (a[0] + b[0], a[1] + b[1], a[2] + b[2])
+
+
+def scale(a, s):
+    return (a[0] * s, a[1] * s, a[2] * s)
+
+
+def dot(a, b):
+    return a[0] * b[0] + a[1] * b[1] + a[2] * b[2]
+
+
+def cross(a, b):
+    return (a[1] * b[2] - a[2] * b[1], a[2] * b[0] - a[0] * b[2], a[0] * b[1] - a[1] * b[0])
+
+
+def normalize(a):
+    n = math.sqrt(dot(a, a))
+    return (a[0] / n, a[1] / n, a[2] / n)
+
+
+def newell_normal(quad):
+    """Unit normal of a (possibly slightly non-planar) polygon, following its vertex order (Newell's method)."""
+    n = [0.0, 0.0, 0.0]
+    for i, p in enumerate(quad):
+        q = quad[(i + 1) % len(quad)]
+        n[0] += (p[1] - q[1]) * (p[2] + q[2])
+        n[1] += (p[2] - q[2]) * (p[0] + q[0])
+        n[2] += (p[0] - q[0]) * (p[1] + q[1])
+    return normalize(tuple(n))
+
+
+def orient(quad, wanted):
+    """Returns the quad in the vertex order whose counter-clockwise normal points along `wanted`."""
+    return quad if dot(newell_normal(quad), wanted) > 0.0 else list(reversed(quad))
+
+
+def r6(x):
+    """Rounds to 6 decimals (micrometres for positions) so that the JSON text is stable and short."""
+    v = round(x, 6)
+    return 0.0 if v == 0.0 else v
+
+
+# --- glTF writer ---------------------------------------------------------------------------------------------------
+
+
+class Gltf:
+    def __init__(self, name, extras):
+        self.name = name
+        self.extras = extras
+        self.buffer = bytearray()
+        self.views = []
+        self.accessors = []
+        self.meshes = []
+        self.nodes = []
+        self.materials = []
+        self.material_index = {}
+        self.cameras = []
+        self.extensions_used = set()
+
+    def _view(self, data, target):
+        while len(self.buffer) % 4:
+            self.buffer.append(0)
+        self.views.append({"buffer": 0, "byteOffset": len(self.buffer), "byteLength": len(data), "target": target})
+        self.buffer.extend(data)
+        return len(self.views) - 1
+
+    def _accessor(self, view, component_type, count, type_, extra=None):
+        a = {"bufferView": view, "componentType": component_type, "count": count, "type": type_}
+        if extra:
+            a.update(extra)
+        self.accessors.append(a)
+        return len(self.accessors) - 1
+
+    def material(self, name, base_color, metallic=0.0, roughness=1.0, specular=None, emission=None):
+        """Adds a material once; `emission` is radiance, written as a normalised emissiveFactor times
+        KHR_materials_emissive_strength so that factors stay in [0, 1] as glTF requires."""
+        if name in self.material_index:
+            return self.material_index[name]
+        m = {
+            "name": name,
+            "pbrMetallicRoughness": {
+                "baseColorFactor": [r6(c) for c in base_color] + [1.0],
+                "metallicFactor": metallic,
+                "roughnessFactor": roughness,
+            },
+        }
+        ext = {}
+        if specular is not None:
+            ext["KHR_materials_specular"] = {"specularFactor": specular}
+        if emission is not None:
+            peak = max(emission)
+            m["emissiveFactor"] = [r6(c / peak) for c in emission]
+            if peak != 1.0:
+                ext["KHR_materials_emissive_strength"] = {"emissiveStrength": peak}
+        if ext:
+            m["extensions"] = ext
+            self.extensions_used.update(ext.keys())
+        self.materials.append(m)
+        self.material_index[name] = len(self.materials) - 1
+        return self.material_index[name]
+
+    def mesh_node(self, name, quads, material):
+        """One node + mesh of quads (each quad already oriented); per-quad Newell normals, u16 indices."""
+        positions, normals, indices = [], [], []
+        for quad in quads:
+            n = newell_normal(quad)
+            base = len(positions)
+            for p in quad:
+                positions.append(tuple(r6(c) for c in p))
+                normals.append(tuple(r6(c) for c in n))
+            indices += [base, base + 1, base + 2, base, base + 2, base + 3]
+        pos_view = self._view(b"".join(struct.pack("<3f", *p) for p in positions), 34962)
+        nrm_view = self._view(b"".join(struct.pack("<3f", *n) for n in normals), 34962)
+        idx_view = self._view(struct.pack("<%dH" % len(indices), *indices), 34963)
+        # Bounds from the float32 values actually stored, as the spec requires for POSITION.
+        stored = [struct.unpack("<3f", struct.pack("<3f", *p)) for p in positions]
+        lo = [min(p[i] for p in stored) for i in range(3)]
+        hi = [max(p[i] for p in stored) for i in range(3)]
+        pos = self._accessor(pos_view, 5126, len(positions), "VEC3", {"min": lo, "max": hi})
+        nrm = self._accessor(nrm_view, 5126, len(normals), "VEC3")
+        idx = self._accessor(idx_view, 5123, len(indices), "SCALAR")
+        self.meshes.append({"name": name, "primitives": [
+            {"attributes": {"POSITION": pos, "NORMAL": nrm}, "indices": idx, "material": material, "mode": 4}]})
+        self.nodes.append({"name": name, "mesh": len(self.meshes) - 1})
+
+    def camera_node(self, name, position, target, yfov, znear=0.01, zfar=100.0):
+        """A perspective camera at `position` looking at `target` (+y up), written as a node matrix: glTF cameras
+        look down their local -Z."""
+        forward = normalize(sub(target, position))
+        right = normalize(cross(forward, (0.0, 1.0, 0.0)))
+        up = cross(right, forward)
+        back = scale(forward, -1.0)
+        matrix = [*right, 0.0, *up, 0.0, *back, 0.0, *position, 1.0]
+        self.cameras.append({"name": name, "type": "perspective",
+                             "perspective": {"aspectRatio": 1.0, "yfov": yfov, "znear": znear, "zfar": zfar}})
+        self.nodes.append({"name": name, "camera": len(self.cameras) - 1, "matrix": [r6(v) for v in matrix]})
+
+    def camera_node_rotated(self, name, position, rotation_xyzw, yfov, znear=0.01, zfar=100.0):
+        self.cameras.append({"name": name, "type": "perspective",
+                             "perspective": {"aspectRatio": 1.0, "yfov": yfov, "znear": znear, "zfar": zfar}})
+        self.nodes.append({"name": name, "camera": len(self.cameras) - 1, "translation": [r6(v) for v in position],
+                           "rotation": list(rotation_xyzw)})
+
+    def to_json(self):
+        uri = "data:application/octet-stream;base64," + base64.b64encode(bytes(self.buffer)).decode("ascii")
+        doc = {
+            "asset": {"version": "2.0", "generator": "vplab scripts/make_scenes.py", "extras": self.extras},
+            "scene": 0,
+            "scenes": [{"name": self.name, "nodes": list(range(len(self.nodes)))}],
+            "nodes": self.nodes,
+            "meshes": self.meshes,
+            "materials": self.materials,
+            "cameras": self.cameras,
+            "accessors": self.accessors,
+            "bufferViews": self.views,
+            "buffers": [{"byteLength": len(self.buffer), "uri": uri}],
+        }
+        if self.extensions_used:
+            doc["extensionsUsed"] = sorted(self.extensions_used)
+        return json.dumps(doc, indent=1, sort_keys=False) + "\n"
+
+
+# --- Cornell box (official measured data, millimetres in the table, metres in the file) ---------------------------
+
+MM = 0.001
+WHITE = (0.738, 0.736, 0.737)
+RED = (0.475, 0.045, 0.049)
+GREEN = (0.087, 0.399, 0.084)
+LIGHT_RADIANCE = (17.26, 11.43, 3.06)
+BOX_CENTRE = (278.0 * MM, 274.4 * MM, 279.6 * MM)
+CEILING_Y = 548.8 * MM
+
+
+def mm(points):
+    return [tuple(c * MM for c in p) for p in points]
+
+
+WALLS = {
+    "floor": mm([(552.8, 0, 0), (0, 0, 0), (0, 0, 559.2), (549.6, 0, 559.2)]),
+    "ceiling": mm([(556, 548.8, 0), (556, 548.8, 559.2), (0, 548.8, 559.2), (0, 548.8, 0)]),
+    "back-wall": mm([(549.6, 0, 559.2), (0, 0, 559.2), (0, 548.8, 559.2), (556, 548.8, 559.2)]),
+    "right-wall": mm([(0, 0, 559.2), (0, 0, 0), (0, 548.8, 0), (0, 548.8, 559.2)]),
+    "left-wall": mm([(552.8, 0, 0), (549.6, 0, 559.2), (556, 548.8, 559.2), (556, 548.8, 0)]),
+}
+WALL_COLOURS = {"floor": "white", "ceiling": "white", "back-wall": "white", "right-wall": "green", "left-wall": "red"}
+LIGHT_QUAD = [(343, 548.8, 227), (343, 548.8, 332), (213, 548.8, 332), (213, 548.8, 227)]
+SHORT_BLOCK = [
+    [(130, 165, 65), (82, 165, 225), (240, 165, 272), (290, 165, 114)],
+    [(290, 0, 114), (290, 165, 114), (240, 165, 272), (240, 0, 272)],
+    [(130, 0, 65), (130, 165, 65), (290, 165, 114), (290, 0, 114)],
+    [(82, 0, 225), (82, 165, 225), (130, 165, 65), (130, 0, 65)],
+    [(240, 0, 272), (240, 165, 272), (82, 165, 225), (82, 0, 225)],
+]
+TALL_BLOCK = [
+    [(423, 330, 247), (265, 330, 296), (314, 330, 456), (472, 330, 406)],
+    [(423, 0, 247), (423, 330, 247), (472, 330, 406), (472, 0, 406)],
+    [(472, 0, 406), (472, 330, 406), (314, 330, 456), (314, 0, 456)],
+    [(314, 0, 456), (314, 330, 456), (265, 330, 296), (265, 0, 296)],
+    [(265, 0, 296), (265, 330, 296), (423, 330, 247), (423, 0, 247)],
+]
+
+
+def centroid(points):
+    s = (0.0, 0.0, 0.0)
+    for p in points:
+        s = add(s, p)
+    return scale(s, 1.0 / len(points))
+
+
+def block_quads(faces):
+    """Block faces oriented outward: away from the block's centroid (mid-height)."""
+    faces = [mm(f) for f in faces]
+    top = faces[0]
+    c = centroid(top)
+    c = (c[0], c[1] * 0.5, c[2])
+    return [orient(f, sub(centroid(f), c)) for f in faces]
+
+
+def cornell(name, variant):
+    extras = {"units": "metres", "source": "Cornell Program of Computer Graphics, Cornell Box data",
+              "triangles": 32, "emissiveTriangles": 2, "lightRadianceR": LIGHT_RADIANCE[0],
+              "lightRadianceG": LIGHT_RADIANCE[1], "lightRadianceB": LIGHT_RADIANCE[2]}
+    g = Gltf(name, extras)
+    # The measured materials are pure Lambert: no specular lobe at all.
+    mats = {
+        "white": g.material("white", WHITE, 0.0, 1.0, specular=0.0),
+        "red": g.material("red", RED, 0.0, 1.0, specular=0.0),
+        "green": g.material("green", GREEN, 0.0, 1.0, specular=0.0),
+    }
+    light = g.material("light", (0.78, 0.78, 0.78), 0.0, 1.0, specular=0.0, emission=LIGHT_RADIANCE)
+    for wall, quad in WALLS.items():
+        material = mats[WALL_COLOURS[wall]]
+        if variant == "glossy" and wall == "floor":
+            # A metallic GGX floor tinted like the white paint: glossy interreflections, what VSLs are for.
+            material = g.material("glossy-floor", WHITE, 1.0, 0.25)
+        g.mesh_node(wall, [orient(quad, sub(BOX_CENTRE, centroid(quad)))], material)
+    g.mesh_node("short-block", block_quads(SHORT_BLOCK), mats["white"])
+    tall = mats["white"]
+    if variant == "glossy":
+        tall = g.material("glossy-block", WHITE, 0.0, 0.2, specular=1.0)
+    g.mesh_node("tall-block", block_quads(TALL_BLOCK), tall)
+
+    if variant == "indirect":
+        # Lowered 10 cm and turned to face the ceiling: the camera sees no surface lit directly except the ceiling.
+        y, facing = CEILING_Y - 0.0005 - 0.1, (0.0, 1.0, 0.0)
+    else:
+        y, facing = CEILING_Y - 0.0005, (0.0, -1.0, 0.0)
+    quad = [(p[0] * MM, y, p[2] * MM) for p in LIGHT_QUAD]
+    g.mesh_node("light", [orient(quad, facing)], light)
+
+    # Official camera: (278, 273, -800) mm looking +z, 35 mm lens on a 25 mm film. Rotating the glTF camera
+    # (which looks down -Z) by pi about +Y makes it look down +Z.
+    g.camera_node_rotated("camera", (0.278, 0.273, -0.8), [0.0, 1.0, 0.0, 0.0], 2.0 * math.atan(12.5 / 35.0))
+    return g
+
+
+# --- furnace --------------------------------------------------------------------------------------------------------
+
+FURNACE_ALBEDO = 0.5
+FURNACE_EMISSION = 1.0
+
+
+def furnace():
+    extras = {"albedo": FURNACE_ALBEDO, "emission": FURNACE_EMISSION,
+              "expectedRadiance": FURNACE_EMISSION / (1.0 - FURNACE_ALBEDO), "units": "metres"}
+    g = Gltf("furnace", extras)
+    m = g.material("furnace-wall", (FURNACE_ALBEDO,) * 3, 0.0, 1.0, specular=0.0, emission=(FURNACE_EMISSION,) * 3)
+    # Cube [-1, 1]^3, each face split 2 x 2 so the mesh has interior edges and T-free creases at every corner.
+    n = 2
+    for axis, axis_name in enumerate("xyz"):
+        u_axis, v_axis = (axis + 1) % 3, (axis + 2) % 3
+        for sign, sign_name in ((-1.0, "neg"), (1.0, "pos")):
+            quads = []
+            for i in range(n):
+                for j in range(n):
+                    u0, u1 = -1.0 + 2.0 * i / n, -1.0 + 2.0 * (i + 1) / n
+                    v0, v1 = -1.0 + 2.0 * j / n, -1.0 + 2.0 * (j + 1) / n
+                    quad = []
+                    for u, v in ((u0, v0), (u1, v0), (u1, v1), (u0, v1)):
+                        p = [0.0, 0.0, 0.0]
+                        p[axis], p[u_axis], p[v_axis] = sign, u, v
+                        quad.append(tuple(p))
+                    inward = [0.0, 0.0, 0.0]
+                    inward[axis] = -sign
+                    quads.append(orient(quad, tuple(inward)))
+            g.mesh_node("wall-%s%s" % (sign_name, axis_name), quads, m)
+    # Inside, looking into the (-1, -1, -1) corner: three creases meet in the middle of the picture.
+    g.camera_node("camera", (0.5, 0.4, 0.6), (-1.0, -1.0, -1.0), math.radians(70.0))
+    return g
+
+
+# --- two rooms ------------------------------------------------------------------------------------------------------
+
+ROOM_W, ROOM_H, ROOM_D = 4.0, 2.5, 4.0  # per-room interior size in x, y, z (metres)
+WALL_T = 0.1                             # thickness of the shared wall
+DOOR_Z0, DOOR_Z1, DOOR_H = 1.5, 2.5, 2.0  # door opening in the shared wall
+TWO_ROOMS_RADIANCE = 10.0
+
+
+def box_quad(axis, value, a0, a1, b0, b1, inward):
+    """Axis-aligned rectangle at coordinate `value` on `axis`, spanning [a0, a1] x [b0, b1] on the other two axes
+    (in cyclic order), facing `inward` (+1 or -1 along the axis)."""
+    ua, va = (axis + 1) % 3, (axis + 2) % 3
+    quad = []
+    for a, b in ((a0, b0), (a1, b0), (a1, b1), (a0, b1)):
+        p = [0.0, 0.0, 0.0]
+        p[axis], p[ua], p[va] = value, a, b
+        quad.append(tuple(p))
+    n = [0.0, 0.0, 0.0]
+    n[axis] = inward
+    return orient(quad, tuple(n))
+
+
+def wall_with_door(x, facing):
+    """The shared wall's face at x, facing +x or -x, as three quads around the door opening.
+    Axis 0 (x): the other two in cyclic order are y (a) and z (b)."""
+    return [
+        box_quad(0, x, 0.0, ROOM_H, 0.0, DOOR_Z0, facing),
+        box_quad(0, x, 0.0, ROOM_H, DOOR_Z1, ROOM_D, facing),
+        box_quad(0, x, DOOR_H, ROOM_H, DOOR_Z0, DOOR_Z1, facing),
+    ]
+
+
+def two_rooms():
+    extras = {"units": "metres", "lightRadiance": TWO_ROOMS_RADIANCE, "roomAMaxX": ROOM_W,
+              "roomBMinX": ROOM_W + WALL_T}
+    g = Gltf("two-rooms", extras)
+    white = g.material("white", (0.75, 0.75, 0.75), 0.0, 1.0, specular=0.0)
+    light = g.material("ceiling-light", (0.75, 0.75, 0.75), 0.0, 1.0, specular=0.0,
+                       emission=(TWO_ROOMS_RADIANCE,) * 3)
+    xa0, xa1 = 0.0, ROOM_W
+    xb0, xb1 = ROOM_W + WALL_T, 2.0 * ROOM_W + WALL_T
+    for room, x0, x1 in (("room-a", xa0, xa1), ("room-b", xb0, xb1)):
+        # Axis 1 (y): other axes z (a), x (b). Axis 2 (z): other axes x (a), y (b).
+        quads = [
+            box_quad(1, 0.0, 0.0, ROOM_D, x0, x1, 1.0),       # floor
+            box_quad(1, ROOM_H, 0.0, ROOM_D, x0, x1, -1.0),   # ceiling
+            box_quad(2, 0.0, x0, x1, 0.0, ROOM_H, 1.0),       # near wall (z = 0)
+            box_quad(2, ROOM_D, x0, x1, 0.0, ROOM_H, -1.0),   # far wall (z = depth)
+        ]
+        if room == "room-a":
+            quads.append(box_quad(0, x0, 0.0, ROOM_H, 0.0, ROOM_D, 1.0))  # outer wall
+            quads += wall_with_door(x1, -1.0)
+        else:
+            quads.append(box_quad(0, x1, 0.0, ROOM_H, 0.0, ROOM_D, -1.0))
+            quads += wall_with_door(x0, 1.0)
+        g.mesh_node(room, quads, white)
+    # The door's reveal: the shared wall's thickness, facing into the opening.
+    jambs = [
+        box_quad(2, DOOR_Z0, xa1, xb0, 0.0, DOOR_H, 1.0),
+        box_quad(2, DOOR_Z1, xa1, xb0, 0.0, DOOR_H, -1.0),
+        box_quad(1, DOOR_H, DOOR_Z0, DOOR_Z1, xa1, xb0, -1.0),
+    ]
+    g.mesh_node("door-reveal", jambs, white)
+    # A 1 m^2 panel 0.5 mm below room A's ceiling, facing down.
+    cx, cz, half = 0.5 * ROOM_W, 0.5 * ROOM_D, 0.5
+    g.mesh_node("ceiling-light", [box_quad(1, ROOM_H - 0.0005, cz - half, cz + half, cx - half, cx + half, -1.0)],
+                light)
+    # In room B's far corner, looking at the door.
+    g.camera_node("camera", (xb1 - 0.4, 1.5, ROOM_D - 0.4), (xa1, 1.0, 0.5 * (DOOR_Z0 + DOOR_Z1)), math.radians(60.0))
+    return g
+
+
+def main():
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
+    parser.add_argument("--out", default=os.path.join(root, "assets", "scenes"))
+    args = parser.parse_args()
+    os.makedirs(args.out, exist_ok=True)
+    scenes = {
+        "cornell-box": cornell("cornell-box", "plain"),
+        "cornell-glossy": cornell("cornell-glossy", "glossy"),
+        "cornell-indirect": cornell("cornell-indirect", "indirect"),
+        "furnace": furnace(),
+        "two-rooms": two_rooms(),
+    }
+    for name, g in scenes.items():
+        text = g.to_json()
+        path = os.path.join(args.out, name + ".gltf")
+        with open(path, "w", encoding="ascii", newline="\n") as f:
+            f.write(text)
+        print("%-18s %6d bytes  %s" % (name, len(text), path))
+
+
+if __name__ == "__main__":
+    main()
