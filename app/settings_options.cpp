@@ -1,9 +1,12 @@
 #include "app/settings_options.h"
 
+#include "renderer/settings_json.h"
+
 namespace vplab::cli {
 
 std::vector<OptionSpec> imageOptions() {
   return {
+      {"settings", "F.json", "settings file (keys as Settings members); other options override it"},
       {"size", "WxH", "image size in pixels (default 256x256)"},
       {"seed", "S", "seed of all random sequences (default 1)"},
       {"threads", "T", "worker threads, 0 = all cores (default 0)"},
@@ -41,6 +44,13 @@ std::vector<OptionSpec> manyLightOptions() {
 }
 
 void applySettingsOptions(const CommandLine& cl, Settings& s) {
+  if (auto file = cl.value("settings")) {
+    try {
+      loadSettingsFile(*file, s);
+    } catch (const SettingsJsonError& e) {
+      throw CliError(std::string("option --settings: ") + e.what());
+    }
+  }
   cl.getSize("size", s.width, s.height);
   if (cl.has("seed")) {
     int seed = cl.getInt("seed", 1);

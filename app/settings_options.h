@@ -6,14 +6,15 @@
 
 namespace vplab::cli {
 
-/// Image, seed and thread options (--size, --seed, --threads, --exposure).
+/// Image, seed and thread options (--settings, --size, --seed, --threads, --exposure).
 std::vector<OptionSpec> imageOptions();
 /// Reference options (--spp, --max-depth, --components).
 std::vector<OptionSpec> referenceOptions();
 /// Many-light options (--vpls, --bounces, --clamp, --vsl-radius, --reject, --epsilon, ...; GL ones included).
 std::vector<OptionSpec> manyLightOptions();
 
-/// Copies every option that is present into settings, then validates; throws CliError naming the bad option.
+/// Loads --settings first, then copies every other option that is present into settings (so they override the
+/// file), then validates; throws CliError naming the bad option or key.
 void applySettingsOptions(const CommandLine& cl, Settings& settings);
 
 }  // namespace vplab::cli
