@@ -1,10 +1,15 @@
 #include <gtest/gtest.h>
+#include <sys/wait.h>
 
 #include <cmath>
 #include <cstdint>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <limits>
+#include <map>
+#include <sstream>
 #include <string>
 
 #include "renderer/image/heatmap.h"
@@ -324,6 +329,53 @@ TEST(ImageHeatmap, SignedDifferenceIsSymmetricAroundZero) {
   EXPECT_EQ(pixel(0, 0), colormapLookup(Colormap::Diverging, 0.0f));
   EXPECT_EQ(pixel(7, 7), colormapLookup(Colormap::Diverging, 1.0f));
   EXPECT_EQ(pixel(3, 3), colormapLookup(Colormap::Diverging, 0.5f));
+}
+
+namespace {
+
+// Runs the vplab executable and returns its exit status; stdout goes to output.
+int runVplab(const std::string& arguments, std::string& output) {
+  std::string command = std::string(VPLAB_BINARY) + " " + arguments + " 2>/dev/null";
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return -1;
+  char buffer[256];
+  while (std::fgets(buffer, sizeof buffer, pipe)) output += buffer;
+  int status = pclose(pipe);
+  return WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+}
+
+}  // namespace
+
+TEST(ImageCompareCli, PrintsMetricsAndFailsOnMismatch) {
+  if (!std::filesystem::exists(VPLAB_BINARY)) GTEST_SKIP() << "build the vplab target first: " << VPLAB_BINARY;
+  Image ref(8, 8, glm::vec3(0.1f, 0.2f, 0.3f));
+  Image img(8, 8, glm::vec3(0.2f, 0.3f, 0.4f));
+  std::string a = tmpPath("cli_a.exr"), b = tmpPath("cli_b.pfm"), small = tmpPath("cli_small.exr");
+  std::string heatmap = tmpPath("cli_heatmap.png");
+  writeImage(a, img);
+  writeImage(b, ref);
+  writeImage(small, Image(4, 8));
+  std::filesystem::remove(heatmap);
+
+  std::string output;
+  ASSERT_EQ(runVplab("compare " + a + " " + b + " --heatmap " + heatmap, output), 0);
+  std::map<std::string, double> values;
+  std::istringstream lines(output);
+  std::string name;
+  double value;
+  while (lines >> name >> value) values[name] = value;
+  ImageMetrics expected = compareImages(img, ref);
+  ASSERT_TRUE(values.count("relmse") && values.count("rmse") && values.count("energy_ratio")) << output;
+  EXPECT_NEAR(values["relmse"], expected.relMse, 1e-7);
+  EXPECT_NEAR(values["rmse"], expected.rmse, 1e-7);
+  EXPECT_NEAR(values["energy_ratio"], 1.5, 1e-6);
+  EXPECT_EQ(values["nonfinite_pixels"], 0.0);
+  EXPECT_EQ(readImage(heatmap).height, 8 + kHeatmapLegendHeight);
+
+  std::string ignored;
+  EXPECT_EQ(runVplab("compare " + small + " " + b, ignored), 1);
+  EXPECT_EQ(runVplab("compare " + tmpPath("missing.exr") + " " + b, ignored), 1);
+  EXPECT_EQ(runVplab("compare " + a, ignored), 2);
 }
 
 }  // namespace vplab

@@ -1,0 +1,87 @@
+// vplab compare: error metrics of an image against a reference (MANYLIGHTS 10), optionally a heatmap of where.
+
+#include <cstdio>
+#include <stdexcept>
+#include <string>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "renderer/image/heatmap.h"
+#include "renderer/image/image_io.h"
+#include "renderer/image/metrics.h"
+
+namespace vplab::app {
+
+namespace {
+
+void print(const char* name, double value) {
+  std::printf("%s %.9g\n", name, value);
+}
+void print(const char* name, std::size_t value) {
+  std::printf("%s %zu\n", name, value);
+}
+
+}  // namespace
+
+int cmdCompare(const Args& args) {
+  cli::CommandLine cl(
+      "vplab compare <image> <reference> [options]\n"
+      "  Prints the error of <image> against <reference> (.exr, .pfm or .png), one 'name value' per line:\n"
+      "  rmse, relmse = mean((I-R)^2 / (R^2 + 0.01)), energy ratios mean(I)/mean(R), means, and the counts of\n"
+      "  NaN/Inf and negative pixels. Errors and means are over pixels finite in both images.",
+      {{"heatmap", "png", "also write a heatmap of the per-pixel relative error (viridis) with a legend"},
+       {"signed", "", "heatmap of the signed difference I - R instead (blue: too dark, red: too bright)"},
+       {"heatmap-max", "value", "fixed upper end of the heatmap scale (signed: +-value); default: 99th percentile"}});
+  if (!cl.parse(args)) {
+    std::printf("%s", cl.help().c_str());
+    return 0;
+  }
+  cl.requirePositional(2, 2, "an image and a reference");
+  if (cl.has("signed") && !cl.has("heatmap")) throw cli::CliError("--signed needs --heatmap <png>");
+  float heatmapMax = cl.getFloat("heatmap-max", 0.0f);
+  if (cl.has("heatmap-max") && !(heatmapMax > 0.0f)) throw cli::CliError("--heatmap-max must be a positive number");
+
+  const std::string& imagePath = cl.positional()[0];
+  const std::string& referencePath = cl.positional()[1];
+  Image image = readImage(imagePath);
+  Image reference = readImage(referencePath);
+  if (image.width != reference.width || image.height != reference.height)
+    throw std::runtime_error(imagePath + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+                             " but reference " + referencePath + " is " + std::to_string(reference.width) + "x" +
+                             std::to_string(reference.height));
+
+  ImageMetrics m = compareImages(image, reference);
+  print("width", static_cast<std::size_t>(image.width));
+  print("height", static_cast<std::size_t>(image.height));
+  print("compared_pixels", m.comparedPixels);
+  print("rmse", m.rmse);
+  print("relmse", m.relMse);
+  print("energy_ratio", m.energyRatioOverall);
+  print("energy_ratio_r", m.energyRatio.x);
+  print("energy_ratio_g", m.energyRatio.y);
+  print("energy_ratio_b", m.energyRatio.z);
+  print("mean_image", (m.meanImage.x + m.meanImage.y + m.meanImage.z) / 3.0);
+  print("mean_reference", (m.meanReference.x + m.meanReference.y + m.meanReference.z) / 3.0);
+  print("nonfinite_pixels", m.nonFinitePixels);
+  print("nonfinite_reference_pixels", m.nonFiniteReferencePixels);
+  print("negative_pixels", m.negativePixels);
+  print("negative_reference_pixels", m.negativeReferencePixels);
+
+  if (auto heatmapPath = cl.value("heatmap")) {
+    HeatmapOptions options;
+    bool isSigned = cl.has("signed");
+    options.colormap = isSigned ? Colormap::Diverging : Colormap::Viridis;
+    options.title = isSigned ? "I - R" : "(I-R)^2/(R^2+0.01)";
+    if (cl.has("heatmap-max")) {
+      options.minValue = isSigned ? -heatmapMax : 0.0f;
+      options.maxValue = heatmapMax;
+    }
+    Image values = isSigned ? signedDifferenceImage(image, reference) : relativeErrorImage(image, reference);
+    Heatmap h = writeHeatmap(*heatmapPath, values, options);
+    std::fprintf(stderr, "wrote %s (%dx%d, scale %g .. %g)\n", heatmapPath->c_str(), h.width, h.height,
+                 static_cast<double>(h.minValue), static_cast<double>(h.maxValue));
+  }
+  return 0;
+}
+
+}  // namespace vplab::app
