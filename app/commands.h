@@ -13,5 +13,7 @@ using Args = std::vector<std::string>;
 int cmdInfo(const Args& args);
 /// vplab compare: error metrics (and a heatmap) of an image against a reference.
 int cmdCompare(const Args& args);
+/// vplab reference <scene>: the path-traced reference image.
+int cmdReference(const Args& args);
 
 }  // namespace vplab::app

@@ -12,6 +12,8 @@ namespace {
 
 const std::vector<vplab::cli::Command>& commands() {
   static const std::vector<vplab::cli::Command> list = {
+      {"reference", "path-traced reference image (EXR/PFM/PNG), direct/indirect components",
+       vplab::app::cmdReference},
       {"info", "print what a glTF scene contains (counts, lights, materials, camera, warnings)", vplab::app::cmdInfo},
       {"compare", "error metrics of an image against a reference (rmse, relmse, energy ratio), heatmap",
        vplab::app::cmdCompare},

@@ -1,0 +1,75 @@
+// vplab reference <scene>: the path-traced reference, written as linear EXR/PFM (and optionally a PNG).
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "app/settings_options.h"
+#include "renderer/image/image_io.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/path_tracer.h"
+#include "renderer/scene/gltf_loader.h"
+
+#include <chrono>
+#include <cstdio>
+
+namespace vplab::app {
+
+int cmdReference(const Args& args) {
+  cli::CommandLine cl("vplab reference <scene.gltf|scene.glb> --out image.exr [options]",
+                      {{"out", "FILE", "linear output image (.exr or .pfm; .png is tonemapped)"},
+                       {"png", "FILE", "also write a tonemapped PNG (uses --exposure)"}});
+  cl.addOptions(cli::imageOptions());
+  cl.addOptions(cli::referenceOptions());
+  if (!cl.parse(args)) {
+    std::printf("%s", cl.help().c_str());
+    std::printf("Path-traced reference (NEE + MIS, Russian roulette) on all cores; progress on stderr.\n"
+                "--components direct is emission seen directly plus one reflection; indirect is the rest.\n");
+    return 0;
+  }
+  cl.requirePositional(1, 1, "one scene file");
+  auto out = cl.value("out");
+  auto png = cl.value("png");
+  if (!out && !png) throw cli::CliError("nothing to write: give --out FILE (and/or --png FILE)");
+  // Check the extensions before spending minutes rendering.
+  if (out) imageFormatFromPath(*out);
+  if (png && imageFormatFromPath(*png) != ImageFormat::Png) throw cli::CliError("option --png: '" + *png + "' is not .png");
+
+  Settings settings;
+  cli::applySettingsOptions(cl, settings);
+
+  Scene scene = loadScene(cl.positional()[0]);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "vplab reference: warning: %s\n", w.c_str());
+  auto buildStart = std::chrono::steady_clock::now();
+  EmbreeScene embree(scene);
+  LightSampler lights(scene);
+  double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
+  if (lights.empty())
+    std::fprintf(stderr, "vplab reference: %s has no lights (no emissive triangle with a non-zero area and no "
+                         "punctual light): the image is black\n", scene.sourcePath.c_str());
+
+  RenderControl control;
+  cli::ProgressReporter progress("reference");
+  control.onProgress = [&](float f) { progress.update(f); };
+  ReferenceStats stats;
+  ProgressiveResult result = renderReference(scene, embree, lights, settings, &control, {}, &stats);
+  progress.finish();
+
+  if (out) writeImage(*out, result.image, settings.exposure);
+  if (png) writeImage(*png, result.image, settings.exposure);
+
+  double raysPerSecond = result.seconds > 0.0 ? static_cast<double>(stats.totalRays()) / result.seconds : 0.0;
+  std::printf("scene       %s (%zu triangles, %zu lights; BVH + light table %.1f ms)\n", scene.sourcePath.c_str(),
+              scene.triangles.size(), lights.lightCount(), 1e3 * buildSeconds);
+  std::printf("image       %dx%d, %d spp, components %s, max depth %d, seed %u\n", settings.width, settings.height,
+              result.samplesPerPixel, toString(settings.components), settings.maxDepth, settings.seed);
+  std::printf("time        %.3f s on %d threads\n", result.seconds, resolveThreadCount(settings.threads));
+  std::printf("rays        %llu (camera %llu, bounce %llu, shadow %llu): %.2f Mrays/s\n",
+              static_cast<unsigned long long>(stats.totalRays()), static_cast<unsigned long long>(stats.cameraRays),
+              static_cast<unsigned long long>(stats.bounceRays), static_cast<unsigned long long>(stats.shadowRays),
+              raysPerSecond * 1e-6);
+  if (out) std::printf("wrote       %s\n", out->c_str());
+  if (png) std::printf("wrote       %s (exposure %+.2f EV)\n", png->c_str(), settings.exposure);
+  return 0;
+}
+
+}  // namespace vplab::app
