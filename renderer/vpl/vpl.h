@@ -14,6 +14,8 @@ namespace vplab {
 struct Vpl {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f, 0.0f, 1.0f};    ///< unit shading normal at the VPL
+  /// Unit geometric normal (winding order): surfaces are one-sided, so a VPL lights only the side this faces.
+  glm::vec3 geometricNormal{0.0f, 0.0f, 1.0f};
   glm::vec3 incoming{0.0f, 0.0f, 1.0f};  ///< unit direction from the VPL back toward where the light came from
   glm::vec3 flux{0.0f};                  ///< path throughput alpha (already divided by the path count and p_accept)
   glm::vec2 uv{0.0f};                    ///< texture coordinates, so f(x2) sees the textured base colour

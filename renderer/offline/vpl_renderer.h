@@ -1,0 +1,60 @@
+#pragma once
+// The exact VPL renderer (Embree pass): every pixel sample sums all VPLs with exact shadow rays.
+//
+// Per camera sample through a jittered pixel position, at the first hit x1 (wo toward the camera):
+//   L = Le(x1 -> wo)                                   [components All, Direct]
+//     + estimateDirectLight(x1)                         [All, Direct]  (the reference's own estimator)
+//     + sum_i C_i(x1) V(x1, x2_i)                        [All, Indirect]
+//     + K(x1)                                           [All, Indirect, Method::VplKK only]
+//
+// Method::Vpl, VplKK: C_i = f(x1; wo, w) G_b f(x2; w_in, -w) Phi_i, G_b = min(G, clampBound)
+//   (vpl_contribution.h; clampBound = inf is bit-identical to no clamp).
+// Method::VplKK: K(x1) is Kollig & Keller's 2004 compensation of the residual transport T_r (MANYLIGHTS 5):
+//   draw w ~ f(x1) cos (pdf p) and trace to x2; if G(x1, x2) > b:
+//     K(x1) = f(x1; wo, w) (1 - b / G) cos1 L_r(x2 -> x1) / p,
+//     L_r(x2 -> x1) = estimateDirectLight(x2) + sum_i C_i(x2) V + K(x2)      (never Le(x2): T_r acts on L - Le)
+//   else K(x1) = 0 (x2 lies outside the bounded region: the recursion ends). Depth is capped at Settings::maxDepth.
+// Method::Vsl (Hasan et al. 2009, MANYLIGHTS 7), clampBound ignored, r_i = vslRadii() (Vpl::radius):
+//   C_i = Phi_i / (pi r^2) * I_i,   I_i = integral over Omega of f(x1; wo, w) f(x2; w_in, -w) cos1 cos2 dw
+//   Omega: the cone from x1 subtended by the sphere (centre x2, radius r); the whole sphere of directions when
+//   |x2 - x1| <= r (so points inside the sphere stay finite). cos1 = max(0, n1.w), cos2 = max(0, n2.(-w)), and w
+//   must leave x1 on its front side and reach x2 on the VPL's front side (geometric normals), as for point VPLs.
+//   V is one shadow ray to the sphere's centre. I_i is estimated with nCone = ceil(S/2) uniform cone samples
+//   (pdf_c = 1 / (2 pi (1 - cos theta_max)), 1 - cos theta_max = (r^2/d^2) / (1 + sqrt(1 - r^2/d^2))) and
+//   nBrdf = floor(S/2) samples of f(x1) (pdf_b = brdfPdf), S = Settings::vslSamples, combined by the balance
+//   heuristic (Veach 1997): I_i ~ sum over all samples w_k in Omega of g(w_k) / (nCone pdf_c + nBrdf pdf_b(w_k)).
+//   r = 0 is the point VPL without clamp. As r -> 0, Omega -> pi r^2 / d^2 and C_i -> the point VPL; for d >> r it
+//   equals the point VPL.
+//
+// Random numbers come from the progressive driver's per-(pixel, sample) stream, so the image does not depend on
+// the thread count. Samples per pixel: Settings::samplesPerPixel (one VPL sum per sample).
+
+#include "renderer/core/parallel.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/progressive.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+#include "renderer/vpl/vpl.h"
+
+#include <cstdint>
+#include <functional>
+
+namespace vplab {
+
+struct VplRenderResult : ProgressiveResult {
+  /// Energy removed by the clamp over the VPL (indirect) part: mean(unclamped - clamped) / mean(unclamped), with
+  /// luminance averaged over every primary VPL gather of the render, measured in the same pass. 0 without clamp.
+  double clampEnergyRemoved = 0.0;
+  uint64_t shadowRays = 0;  ///< VPL shadow rays traced (compensation vertices included)
+  uint64_t vplEvaluations = 0;  ///< VPL-to-point evaluations (with or without a shadow ray)
+};
+
+/// Renders settings.width x settings.height with the given method (Vpl, VplKK or Vsl; Reference is a programmer
+/// error). Progressive (one sample per pixel per pass), multithreaded, cancellable through control.
+VplRenderResult renderVpl(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
+                          const VplSet& vpls, Method method, const Settings& settings,
+                          RenderControl* control = nullptr,
+                          std::function<void(const Image& mean, int samplesSoFar)> onPass = {});
+
+}  // namespace vplab

@@ -1,0 +1,57 @@
+#pragma once
+// The point-VPL transfer, written once for every CPU user (rejection importance, the exact VPL renderer, Kollig-Keller
+// compensation); shaders mirror it. MANYLIGHTS.md sections 1 and 4:
+//
+//   L(x1 -> wo) += f(x1; wo, w) * G_b(x1, x2) * V(x1, x2) * f(x2; w_in, -w) * Phi
+//   w = (x2 - x1) / |x2 - x1|,  G = max(0, n1.w) max(0, n2.(-w)) / |x2 - x1|^2,  G_b = min(G, b)
+//
+// n1, n2 are shading normals; surfaces are one-sided, so x1 must face the VPL and the VPL must face x1 (geometric
+// normals), otherwise the contribution is zero. b = inf gives min(G, inf) = G, bit-identical to no clamp.
+
+#include "renderer/core/brdf.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/vpl/vpl.h"
+
+#include <glm/glm.hpp>
+
+#include <algorithm>
+
+namespace vplab {
+
+/// A camera-side surface point being lit: the hit, the direction back toward the viewer and its BRDF.
+struct ShadingPoint {
+  SurfaceHit hit;
+  glm::vec3 wo{0.0f};  ///< unit, away from the surface
+  BrdfParams brdf;
+};
+
+/// Unoccluded contribution of one VPL (visibility is the caller's, because shadow rays are batched).
+/// `unclamped`, when given, receives the same product with G instead of G_b (for the energy removed by the clamp).
+/// `geometryTerm`, when given, receives G (0 when the pair cannot exchange light).
+inline glm::vec3 vplUnoccludedContribution(const ShadingPoint& sp, const Vpl& vpl, const BrdfParams& vplBrdf,
+                                           float clampBound, glm::vec3* unclamped = nullptr,
+                                           float* geometryTerm = nullptr) {
+  if (unclamped) *unclamped = glm::vec3(0.0f);
+  if (geometryTerm) *geometryTerm = 0.0f;
+  glm::vec3 d = vpl.position - sp.hit.position;
+  float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return glm::vec3(0.0f);
+  glm::vec3 w = d * (1.0f / std::sqrt(dist2));
+  // One-sided surfaces: both ends must face each other geometrically.
+  if (glm::dot(sp.hit.geometricNormal, w) <= 0.0f || glm::dot(vpl.geometricNormal, w) >= 0.0f) return glm::vec3(0.0f);
+  // Geometry term with cosines clamped at zero (MANYLIGHTS 1).
+  float cos1 = glm::dot(sp.hit.shadingNormal, w);
+  float cos2 = -glm::dot(vpl.normal, w);
+  if (cos1 <= 0.0f || cos2 <= 0.0f) return glm::vec3(0.0f);
+  float g = cos1 * cos2 / dist2;
+  // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
+  glm::vec3 f1 = evaluateBrdf(sp.brdf, sp.hit.shadingNormal, sp.wo, w);
+  glm::vec3 f2 = evaluateBrdf(vplBrdf, vpl.normal, vpl.incoming, -w);
+  glm::vec3 base = f1 * f2 * vpl.flux;
+  if (geometryTerm) *geometryTerm = g;
+  if (unclamped) *unclamped = base * g;
+  // Bounded geometry term G_b = min(G, b) (MANYLIGHTS 4).
+  return base * std::min(g, clampBound);
+}
+
+}  // namespace vplab
