@@ -191,8 +191,8 @@ Heatmap renderHeatmap(const Image& values, const HeatmapOptions& options) {
   std::string midText = formatValue(0.5f * (lo + hi));
   drawText(canvas, (barLeft + barRight - textWidth(midText)) / 2, numbersY, midText, kLegendText);
 
-  std::string title = options.title + " - " + colormapName(options.colormap) + ", linear";
-  if (h.nonFinitePixels > 0) title += ", " + std::to_string(h.nonFinitePixels) + " NaN/Inf (magenta)";
+  std::string title = options.title + " (" + colormapName(options.colormap) + ", linear)";
+  if (h.nonFinitePixels > 0) title += ", " + std::to_string(h.nonFinitePixels) + " NaN/Inf in magenta";
   drawText(canvas, std::max(2, (h.width - textWidth(title)) / 2), numbersY + 12, title, kLegendText);
   return h;
 }
