@@ -1,0 +1,128 @@
+#include "tests/test_scenes.h"
+
+#include <algorithm>
+#include <cmath>
+#include <string>
+
+namespace vplab::test {
+
+uint32_t addLambertMaterial(Scene& scene, const glm::vec3& albedo, const glm::vec3& emission) {
+  Material m;
+  m.name = "material" + std::to_string(scene.materials.size());
+  m.baseColor = albedo;
+  m.metallic = 0.0f;
+  m.roughness = 1.0f;
+  m.specular = 0.0f;  // pure Lambert: the closed forms below assume it
+  m.emission = emission;
+  scene.materials.push_back(m);
+  return static_cast<uint32_t>(scene.materials.size() - 1);
+}
+
+void addQuad(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& p3,
+             uint32_t material, const glm::vec3& facing) {
+  glm::vec3 n = glm::normalize(glm::cross(p1 - p0, p2 - p0));
+  bool flip = glm::dot(n, facing) < 0.0f;
+  if (flip) n = -n;
+  auto base = static_cast<uint32_t>(scene.positions.size());
+  for (const glm::vec3& p : {p0, p1, p2, p3}) {
+    scene.positions.push_back(p);
+    scene.normals.push_back(n);
+    scene.uvs.emplace_back(0.0f);
+  }
+  if (flip) {
+    scene.triangles.emplace_back(base, base + 2, base + 1);
+    scene.triangles.emplace_back(base, base + 3, base + 2);
+  } else {
+    scene.triangles.emplace_back(base, base + 1, base + 2);
+    scene.triangles.emplace_back(base, base + 2, base + 3);
+  }
+  scene.triangleMaterials.push_back(material);
+  scene.triangleMaterials.push_back(material);
+}
+
+Scene makeFurnaceBox(float albedo) {
+  Scene s;
+  s.sourcePath = "furnace-in-code";
+  uint32_t m = addLambertMaterial(s, glm::vec3(albedo), glm::vec3(1.0f));
+  // Six faces of [-1,1]^3, each facing the centre.
+  for (int axis = 0; axis < 3; ++axis)
+    for (float side : {-1.0f, 1.0f}) {
+      int a = (axis + 1) % 3, b = (axis + 2) % 3;
+      glm::vec3 corner[4];
+      const float us[4] = {-1, 1, 1, -1}, vs[4] = {-1, -1, 1, 1};
+      for (int i = 0; i < 4; ++i) {
+        corner[i][axis] = side;
+        corner[i][a] = us[i];
+        corner[i][b] = vs[i];
+      }
+      glm::vec3 inward(0.0f);
+      inward[axis] = -side;
+      addQuad(s, corner[0], corner[1], corner[2], corner[3], m, inward);
+    }
+  s.camera.position = glm::vec3(0.0f);
+  s.camera.forward = glm::normalize(glm::vec3(0.3f, -0.2f, 1.0f));
+  s.camera.up = glm::normalize(glm::cross(glm::cross(s.camera.forward, glm::vec3(0, 1, 0)), s.camera.forward));
+  s.camera.yfov = 1.4f;
+  s.finalize();
+  return s;
+}
+
+namespace {
+
+void addPlane(Scene& s, float half) {
+  uint32_t white = addLambertMaterial(s, glm::vec3(1.0f));
+  addQuad(s, {-half, 0, -half}, {half, 0, -half}, {half, 0, half}, {-half, 0, half}, white, {0, 1, 0});
+}
+
+void lookDown(Scene& s, float height) {
+  s.camera.position = glm::vec3(0.0f, height, 0.0f);
+  s.camera.forward = glm::vec3(0.0f, -1.0f, 0.0f);
+  s.camera.up = glm::vec3(0.0f, 0.0f, 1.0f);
+}
+
+}  // namespace
+
+Scene makePlaneUnderSquareLight(float planeHalf, float lightHalf, float h, float le) {
+  Scene s;
+  s.sourcePath = "plane-under-square-light";
+  addPlane(s, planeHalf);
+  // The light reflects nothing (albedo 0), so the plane's radiance is exactly its direct light.
+  uint32_t light = addLambertMaterial(s, glm::vec3(0.0f), glm::vec3(le));
+  addQuad(s, {-lightHalf, h, -lightHalf}, {lightHalf, h, -lightHalf}, {lightHalf, h, lightHalf},
+          {-lightHalf, h, lightHalf}, light, {0, -1, 0});
+  lookDown(s, 0.5f * h);
+  s.finalize();
+  return s;
+}
+
+Scene makePlaneUnderPointLight(float planeHalf, const glm::vec3& position, float intensity) {
+  Scene s;
+  s.sourcePath = "plane-under-point-light";
+  addPlane(s, planeHalf);
+  PunctualLight l;
+  l.name = "point";
+  l.type = PunctualLight::Type::Point;
+  l.position = position;
+  l.intensity = glm::vec3(intensity);
+  s.punctualLights.push_back(l);
+  lookDown(s, position.y);
+  s.finalize();
+  return s;
+}
+
+double polygonIrradiance(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec3* vertices, int count, double le) {
+  // Arvo 1994, "The irradiance Jacobian for partially occluded polyhedral sources", eq. 3: the vector irradiance
+  // Phi = 1/2 sum_i Theta_i Gamma_i, Theta_i the angle the edge subtends, Gamma_i the unit normal of the plane
+  // through x and the edge; E = le * |n . Phi|.
+  double sum = 0.0;
+  for (int i = 0; i < count; ++i) {
+    glm::dvec3 a = glm::normalize(vertices[i] - x);
+    glm::dvec3 b = glm::normalize(vertices[(i + 1) % count] - x);
+    double theta = std::acos(std::clamp(glm::dot(a, b), -1.0, 1.0));
+    glm::dvec3 gamma = glm::normalize(glm::cross(a, b));
+    sum += theta * glm::dot(n, gamma);
+  }
+  return le * 0.5 * std::abs(sum);
+}
+
+}  // namespace vplab::test

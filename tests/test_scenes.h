@@ -1,0 +1,35 @@
+#pragma once
+// Scenes built in code for the reference's tests: each has a closed-form answer, so they do not depend on the glTF
+// loader or on the generated assets.
+
+#include "renderer/scene/scene.h"
+
+#include <glm/glm.hpp>
+
+namespace vplab::test {
+
+/// Index of a new material in scene.materials: Lambertian (specular 0, metallic 0) with the given albedo and
+/// emitted radiance.
+uint32_t addLambertMaterial(Scene& scene, const glm::vec3& albedo, const glm::vec3& emission = glm::vec3(0.0f));
+
+/// Appends the quad p0 p1 p2 p3 (planar, convex, in order around it) as two triangles whose winding normal points
+/// to the side of `facing` (a direction the front must face); per-vertex normals are the face normal.
+void addQuad(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& p3,
+             uint32_t material, const glm::vec3& facing);
+
+/// The furnace: a closed cube [-1,1]^3 facing inward, every wall Lambertian with albedo a and emission 1, camera at
+/// the centre. Exact radiance everywhere: 1 / (1 - a).
+Scene makeFurnaceBox(float albedo);
+
+/// A white Lambert plane (albedo 1, y = 0, facing +y, half size planeHalf) under a square area light of half size
+/// lightHalf at height h, centred over the origin, parallel to the plane and emitting radiance le downward.
+Scene makePlaneUnderSquareLight(float planeHalf, float lightHalf, float h, float le);
+
+/// The same plane under a point light of intensity `intensity` (candela) at `position`.
+Scene makePlaneUnderPointLight(float planeHalf, const glm::vec3& position, float intensity);
+
+/// Irradiance at point x with unit normal n from a one-sided Lambertian polygon of uniform radiance le
+/// (Lambert 1760; Arvo 1994, eq. 3): E = le/2 sum_i Theta_i (n . Gamma_i), unoccluded, polygon fully above x.
+double polygonIrradiance(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec3* vertices, int count, double le);
+
+}  // namespace vplab::test
