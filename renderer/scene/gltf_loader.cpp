@@ -2,6 +2,7 @@
 
 #include "renderer/core/sampling.h"
 
+#include <nlohmann/json.hpp>
 #include <stb/stb_image.h>
 #include <tiny_gltf.h>
 
@@ -30,7 +31,8 @@ std::string firstLine(const std::string& text) {
   std::istringstream in(text);
   std::string line;
   while (std::getline(in, line))
-    if (line.find_first_not_of(" \t\r") != std::string::npos) return line;
+    if (line.find_first_not_of(" \t\r") != std::string::npos)
+      return line.size() > 200 ? line.substr(0, 200) + "..." : line;  // tinygltf may quote a whole data URI
   return "unknown error";
 }
 
@@ -712,6 +714,48 @@ void Loader::readAssetExtras() {
   }
 }
 
+/// tinygltf rejects some broken references itself, with messages that do not say where ("primitive indices accessor
+/// out of bounds"). Checking the references first gives the glTF path instead. Unparsable JSON is left to tinygltf.
+void checkReferences(const std::string& file, const char* json, std::size_t size) {
+  nlohmann::json doc = nlohmann::json::parse(json, json + size, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) return;
+  auto count = [&](const char* key) {
+    auto it = doc.find(key);
+    return it != doc.end() && it->is_array() ? it->size() : std::size_t{0};
+  };
+  auto check = [&](const nlohmann::json& value, std::size_t n, const std::string& where, const char* what) {
+    if (!value.is_number_integer()) return;
+    long long i = value.get<long long>();
+    if (i < 0 || static_cast<std::size_t>(i) >= n)
+      throw SceneError(file + ": " + where + ": " + what + " " + std::to_string(i) + " out of range (" +
+                       std::to_string(n) + " " + what + "s)");
+  };
+  const std::size_t accessors = count("accessors"), views = count("bufferViews"), buffers = count("buffers");
+  if (doc.contains("meshes") && doc["meshes"].is_array())
+    for (std::size_t m = 0; m < doc["meshes"].size(); ++m) {
+      const nlohmann::json& mesh = doc["meshes"][m];
+      if (!mesh.is_object() || !mesh.contains("primitives") || !mesh["primitives"].is_array()) continue;
+      for (std::size_t p = 0; p < mesh["primitives"].size(); ++p) {
+        const nlohmann::json& prim = mesh["primitives"][p];
+        if (!prim.is_object()) continue;
+        std::string at = "meshes[" + std::to_string(m) + "].primitives[" + std::to_string(p) + "]";
+        if (prim.contains("indices")) check(prim["indices"], accessors, at + ".indices", "accessor");
+        if (prim.contains("attributes") && prim["attributes"].is_object())
+          for (const auto& [name, value] : prim["attributes"].items())
+            check(value, accessors, at + ".attributes." + name, "accessor");
+      }
+    }
+  if (doc.contains("accessors") && doc["accessors"].is_array())
+    for (std::size_t a = 0; a < accessors; ++a)
+      if (doc["accessors"][a].is_object() && doc["accessors"][a].contains("bufferView"))
+        check(doc["accessors"][a]["bufferView"], views, "accessors[" + std::to_string(a) + "].bufferView",
+              "bufferView");
+  if (doc.contains("bufferViews") && doc["bufferViews"].is_array())
+    for (std::size_t v = 0; v < views; ++v)
+      if (doc["bufferViews"][v].is_object() && doc["bufferViews"][v].contains("buffer"))
+        check(doc["bufferViews"][v]["buffer"], buffers, "bufferViews[" + std::to_string(v) + "].buffer", "buffer");
+}
+
 }  // namespace
 
 Scene loadScene(const std::string& path) {
@@ -731,6 +775,12 @@ Scene loadScene(const std::string& path) {
     if (length > bytes.size())
       throw SceneError(path + ": truncated .glb (header says " + std::to_string(length) + " bytes, file has " +
                        std::to_string(bytes.size()) + ")");
+    uint32_t jsonLength = 0;
+    std::memcpy(&jsonLength, bytes.data() + 12, 4);
+    if (jsonLength > bytes.size() - 20) throw SceneError(path + ": truncated .glb (JSON chunk exceeds the file)");
+    checkReferences(path, reinterpret_cast<const char*>(bytes.data()) + 20, jsonLength);
+  } else {
+    checkReferences(path, reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
 
   tinygltf::TinyGLTF gltf;
