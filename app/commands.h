@@ -16,4 +16,7 @@ int cmdCompare(const Args& args);
 /// vplab reference <scene>: the path-traced reference image.
 int cmdReference(const Args& args);
 
+/// vplab edit [scene]: the interactive editor (or a scripted run of it).
+int cmdEdit(const Args& args);
+
 }  // namespace vplab::app

@@ -12,6 +12,8 @@ namespace {
 
 const std::vector<vplab::cli::Command>& commands() {
   static const std::vector<vplab::cli::Command> list = {
+      {"edit", "interactive editor: preview, offline pass, split/difference views, chart, presets",
+       vplab::app::cmdEdit},
       {"reference", "path-traced reference image (EXR/PFM/PNG), direct/indirect components",
        vplab::app::cmdReference},
       {"info", "print what a glTF scene contains (counts, lights, materials, camera, warnings)", vplab::app::cmdInfo},

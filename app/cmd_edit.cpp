@@ -1,0 +1,46 @@
+// vplab edit [scene]: the interactive ImGui editor, or a scripted run of it (tests, screenshots, benchmarks).
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "app/settings_options.h"
+
+#ifdef VPLAB_HAVE_EDITOR
+#include "ui/editor.h"
+#endif
+
+#include <cstdio>
+
+namespace vplab::app {
+
+int cmdEdit(const Args& args) {
+  cli::CommandLine cl("vplab edit [scene.gltf] [options]",
+                      {
+                          {"script", "s.txt", "run the editor commands in s.txt, then exit (see docs/editor.md)"},
+                          {"screenshot", "out.png", "write the whole window as PNG after the script, then exit"},
+                          {"window", "WxH", "window size in pixels (default 1280x720)"},
+                      });
+  cl.addOptions(cli::imageOptions());
+  cl.addOptions(cli::referenceOptions());
+  cl.addOptions(cli::manyLightOptions());
+  if (!cl.parse(args)) {
+    std::printf("%s", cl.help().c_str());
+    std::printf("Opens the editor on a scene (default: the Cornell box). Needs a display: use xvfb-run without one.\n");
+    return 0;
+  }
+  cl.requirePositional(0, 1, "at most one scene file");
+#ifdef VPLAB_HAVE_EDITOR
+  ui::EditorOptions options;
+  options.scenePath =
+      cl.positional().empty() ? std::string(VPLAB_ASSET_DIR) + "/scenes/cornell-box.gltf" : cl.positional()[0];
+  options.scriptPath = cl.getString("script", "");
+  options.screenshotPath = cl.getString("screenshot", "");
+  cl.getSize("window", options.windowWidth, options.windowHeight);
+  cli::applySettingsOptions(cl, options.settings);
+  return ui::runEditor(options);
+#else
+  std::fprintf(stderr, "vplab edit: this build has no editor (configured with -DVPLAB_BUILD_EDITOR=OFF)\n");
+  return 1;
+#endif
+}
+
+}  // namespace vplab::app

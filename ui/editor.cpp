@@ -1,0 +1,1099 @@
+#include "ui/editor.h"
+
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/image/heatmap.h"
+#include "renderer/image/image_io.h"
+#include "renderer/image/metrics.h"
+#include "renderer/image/tonemap.h"
+#include "renderer/invalidation.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/scene/brdf_params.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/settings_json.h"
+#include "renderer/vpl/vpl_contribution.h"
+#include "renderer/vpl/vpl_generation.h"
+#include "ui/camera_controller.h"
+#include "ui/chart.h"
+#include "ui/offline_job.h"
+#include "ui/panels.h"
+#include "ui/presets.h"
+#include "ui/script.h"
+
+// glad first: it must define the GL prototypes before GLFW looks for any.
+#include <glad/gl.h>
+#define GLFW_INCLUDE_NONE
+#include <GLFW/glfw3.h>
+#include <backends/imgui_impl_glfw.h>
+#include <backends/imgui_impl_opengl3.h>
+#include <imgui.h>
+#include <imgui_stdlib.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <memory>
+#include <stdexcept>
+
+namespace vplab::ui {
+
+namespace {
+
+constexpr float kLeftPanelWidth = 340.0f;
+constexpr float kRightPanelWidth = 370.0f;
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+float luminance(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+std::string recentFilesPath() {
+  const char* home = std::getenv("HOME");
+  return home ? std::string(home) + "/.vplab_recent" : std::string();
+}
+
+/// A GL texture showing 8-bit sRGB pixels (nearest filtering: the view is shown at integer zoom).
+class DisplayTexture {
+ public:
+  ~DisplayTexture() {
+    if (id_) glDeleteTextures(1, &id_);
+  }
+  void upload(int width, int height, const std::vector<uint8_t>& rgb) {
+    if (!id_) {
+      glGenTextures(1, &id_);
+      glBindTexture(GL_TEXTURE_2D, id_);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MIN_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_MAG_FILTER, GL_NEAREST);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+      glTexParameteri(GL_TEXTURE_2D, GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+    }
+    glBindTexture(GL_TEXTURE_2D, id_);
+    glPixelStorei(GL_UNPACK_ALIGNMENT, 1);
+    glTexImage2D(GL_TEXTURE_2D, 0, GL_RGB8, width, height, 0, GL_RGB, GL_UNSIGNED_BYTE, rgb.data());
+    width_ = width;
+    height_ = height;
+  }
+  ImTextureID imguiId() const { return reinterpret_cast<ImTextureID>(static_cast<intptr_t>(id_)); }
+  int width() const { return width_; }
+  int height() const { return height_; }
+  bool valid() const { return id_ != 0; }
+
+ private:
+  GLuint id_ = 0;
+  int width_ = 0, height_ = 0;
+};
+
+struct WorkCounters {
+  int vplGenerations = 0;
+  int vplShadowMaps = 0;
+  int gathers = 0;
+};
+
+class Editor {
+ public:
+  explicit Editor(const EditorOptions& options);
+  ~Editor();
+  int run();
+
+ private:
+  // --- scene and lights ---
+  bool openScene(const std::string& path, bool keepSettingsSize = true);
+  void rebuildAcceleration();
+  void editLight(std::size_t light, const glm::vec3& offset, float scale);
+
+  // --- work ---
+  void markStale(const Staleness& s);
+  void changeSettings(const Settings& next);
+  void updateWork();
+  void regenerateVpls();
+  void measureClampEnergy();
+  void composeDisplay();
+  void addChartPoint();
+  void startOffline(bool reference);
+  void pollOffline();
+
+  // --- frame ---
+  void frame();
+  void handleInput();
+  void animate();
+  void drawUi();
+  void drawView();
+  void drawLeftPanel();
+  void drawRightPanel();
+  void takeScreenshot(const std::string& path);
+
+  // --- script ---
+  void scriptStep();
+  void execute(const ScriptCommand& c);
+  [[noreturn]] void scriptFail(const ScriptCommand& c, const std::string& message);
+
+  WorkCounters counters() const;
+
+  EditorOptions options_;
+  GLFWwindow* window_ = nullptr;
+
+  Scene scene_;
+  Camera sceneCamera_;
+  std::unique_ptr<EmbreeScene> embree_;
+  std::unique_ptr<LightSampler> lights_;
+  std::vector<glm::vec3> lightOffsets_;
+  std::vector<float> lightScales_;
+
+  Settings settings_;
+  Method offlineMethod_ = Method::Reference;
+  Staleness stale_ = Staleness::all();
+  VplSet vpls_;
+  int vplGenerations_ = 0;
+  bool vslRadiiStale_ = false;
+  double clampEnergyRemoved_ = -1.0;
+  bool clampEnergyStale_ = true;
+
+  std::unique_ptr<PreviewRenderer> preview_;
+  PreviewTimings timings_;
+  PreviewTimings lastPassMs_;  // most recent non-zero time of each pass: the cost of a full frame
+  Image previewLinear_;
+  Image residual_;
+  std::string previewError_;
+
+  OfflineJob job_;
+  Image offlineImage_;
+  Method offlineImageMethod_ = Method::Reference;
+  bool offlineStale_ = false;
+  double offlineSeconds_ = 0.0;
+  double offlineClampEnergy_ = 0.0;
+
+  CameraController camera_;
+  ViewMode view_ = ViewMode::Preview;
+  float divider_ = 0.5f;
+  bool draggingDivider_ = false;
+  bool relativeDifference_ = true;
+  bool showRejected_ = false;
+  DisplayTexture texture_;
+  bool displayDirty_ = true;
+  float viewRect_[4] = {0, 0, 0, 0};  // x, y, w, h in window pixels
+  float viewScale_ = 1.0f;
+  std::string displayNote_;
+
+  std::vector<ChartPoint> chart_;
+  bool chartPending_ = false;
+
+  std::vector<std::string> recent_;
+  std::string pathInput_;
+  std::string sceneError_;
+  std::string settingsPath_ = "vplab-settings.json";
+  std::string exportPath_ = "vplab-view.png";
+  std::string ioMessage_;
+  bool showHelp_ = false;
+  int selectedLight_ = 0;
+
+  bool animateLight_ = false;
+  bool reseedEveryFrame_ = false;
+  float animationPhase_ = 0.0f;
+  std::string presetText_;
+
+  // Frame timing: the UI's share is ImGui's CPU work plus its draw submission.
+  double frameMs_ = 0.0, uiMs_ = 0.0;
+
+  // Script state.
+  std::vector<ScriptCommand> script_;
+  std::size_t scriptIndex_ = 0;
+  int framesPending_ = 0;
+  bool waitingOffline_ = false;
+  std::string pendingScreenshot_;
+  WorkCounters mark_;
+  int timingFrames_ = 0, timingTotal_ = 0;
+  double timingFrameSum_ = 0.0, timingUiSum_ = 0.0, timingPreviewSum_ = 0.0;
+  bool finalScreenshotQueued_ = false;
+  int exitCode_ = 0;
+  bool quit_ = false;
+};
+
+// ------------------------------------------------------------------------------------------------------------------
+
+Editor::Editor(const EditorOptions& options) : options_(options), settings_(options.settings) {
+  if (!options.scriptPath.empty()) script_ = loadScript(options.scriptPath);  // typos fail before the window opens
+  // A screenshot without a script is a script of its own: render, capture, exit.
+  if (options.scriptPath.empty() && !options.screenshotPath.empty()) script_.push_back({0, "frames", {"1"}});
+  requireValidSettings(settings_);
+  // The scene first: a bad file fails before a window is opened.
+  scene_ = loadScene(options.scenePath);
+  sceneCamera_ = scene_.camera;
+
+  glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
+  if (!glfwInit())
+    throw std::runtime_error("cannot open a window (no display? $DISPLAY is " +
+                             std::string(std::getenv("DISPLAY") ? std::getenv("DISPLAY") : "unset") +
+                             "); run under xvfb-run or use the headless commands");
+  // The preview needs GL 4.5 core (DSA, SSBOs); ImGui's backend is happy with any core 3.2+.
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MAJOR, 4);
+  glfwWindowHint(GLFW_CONTEXT_VERSION_MINOR, 5);
+  glfwWindowHint(GLFW_OPENGL_PROFILE, GLFW_OPENGL_CORE_PROFILE);
+  glfwWindowHint(GLFW_OPENGL_FORWARD_COMPAT, GLFW_TRUE);
+  window_ = glfwCreateWindow(options.windowWidth, options.windowHeight, "vplab edit", nullptr, nullptr);
+  if (!window_) {
+    glfwTerminate();
+    throw std::runtime_error("cannot create a window with an OpenGL 4.5 core context");
+  }
+  glfwMakeContextCurrent(window_);
+  // STACK.md pitfall 1: load every gl* through the window system's own getProcAddress.
+  if (!gladLoadGL(glfwGetProcAddress)) throw std::runtime_error("cannot load OpenGL functions through GLFW");
+  glfwSwapInterval(script_.empty() ? 1 : 0);
+  glfwSetWindowUserPointer(window_, this);
+  glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
+    auto* editor = static_cast<Editor*>(glfwGetWindowUserPointer(w));
+    if (count > 0) editor->openScene(paths[0]);
+  });
+
+  IMGUI_CHECKVERSION();
+  ImGui::CreateContext();
+  ImGui::GetIO().IniFilename = nullptr;  // fixed layout: nothing to remember between runs
+  ImGui::StyleColorsDark();
+  ImGui_ImplGlfw_InitForOpenGL(window_, true);
+  ImGui_ImplOpenGL3_Init("#version 330 core");
+
+  preview_ = std::make_unique<PreviewRenderer>();
+
+  if (std::ifstream in(recentFilesPath()); in)
+    for (std::string line; std::getline(in, line);)
+      if (!line.empty()) recent_.push_back(line);
+
+  rebuildAcceleration();
+  camera_ = CameraController(sceneCamera_, glm::length(scene_.bounds.center() - sceneCamera_.position),
+                             scene_.bounds.diagonal());
+  pathInput_ = options.scenePath;
+  if (script_.empty()) {
+    recent_.erase(std::remove(recent_.begin(), recent_.end(), options.scenePath), recent_.end());
+    recent_.insert(recent_.begin(), options.scenePath);
+  }
+  // UI windows are hidden on their first frame (STACK.md pitfall 3): scripts start after two.
+  framesPending_ = script_.empty() ? 0 : 2;
+}
+
+Editor::~Editor() {
+  job_.cancel();
+  preview_.reset();
+  ImGui_ImplOpenGL3_Shutdown();
+  ImGui_ImplGlfw_Shutdown();
+  ImGui::DestroyContext();
+  if (window_) glfwDestroyWindow(window_);
+  glfwTerminate();
+  if (script_.empty() && !recentFilesPath().empty()) {
+    std::ofstream out(recentFilesPath());
+    for (std::size_t i = 0; i < recent_.size() && i < 10; ++i) out << recent_[i] << "\n";
+  }
+}
+
+WorkCounters Editor::counters() const {
+  return {vplGenerations_, preview_->counters().vplShadowMaps, preview_->counters().gather};
+}
+
+// --- scene and lights ---------------------------------------------------------------------------------------------
+
+bool Editor::openScene(const std::string& path, bool /*keepSettingsSize*/) {
+  Scene loaded;
+  try {
+    loaded = loadScene(path);
+  } catch (const std::exception& e) {
+    // A bad file leaves the current scene in place.
+    sceneError_ = e.what();
+    return false;
+  }
+  sceneError_.clear();
+  job_.cancel();
+  scene_ = std::move(loaded);
+  sceneCamera_ = scene_.camera;
+  rebuildAcceleration();
+  camera_ = CameraController(sceneCamera_, glm::length(scene_.bounds.center() - sceneCamera_.position),
+                             scene_.bounds.diagonal());
+  lightOffsets_.clear();
+  lightScales_.clear();
+  preview_->invalidateScene();
+  markStale(Staleness::all());
+  offlineImage_ = Image();
+  chart_.clear();
+  pathInput_ = path;
+  recent_.erase(std::remove(recent_.begin(), recent_.end(), path), recent_.end());
+  recent_.insert(recent_.begin(), path);
+  return true;
+}
+
+void Editor::rebuildAcceleration() {
+  embree_.reset();
+  embree_ = std::make_unique<EmbreeScene>(scene_);
+  lights_ = std::make_unique<LightSampler>(scene_);
+}
+
+void Editor::editLight(std::size_t index, const glm::vec3& offset, float scale) {
+  std::vector<LightHandle> lights = editableLights(scene_);
+  if (index >= lights.size()) throw std::out_of_range("no light " + std::to_string(index));
+  lightOffsets_.resize(lights.size(), glm::vec3(0.0f));
+  lightScales_.resize(lights.size(), 1.0f);
+  if (offset != glm::vec3(0.0f)) moveLight(scene_, lights[index], offset);
+  if (scale != 1.0f) scaleLight(scene_, lights[index], scale);
+  lightOffsets_[index] += offset;
+  lightScales_[index] *= scale;
+  rebuildAcceleration();
+  preview_->invalidateScene();
+  markStale(staleAfterLightEdit());
+}
+
+// --- work ---------------------------------------------------------------------------------------------------------
+
+void Editor::markStale(const Staleness& s) {
+  stale_ |= s;
+  if (s.offline && !offlineImage_.empty()) offlineStale_ = true;
+  if (s.vpls || s.gather) clampEnergyStale_ = true;
+  displayDirty_ = true;
+}
+
+void Editor::changeSettings(const Settings& next) {
+  if (!validateSettings(next).empty()) return;
+  Staleness s = staleAfterSettingsChange(settings_, next, offlineMethod_);
+  if (!s.vpls && (next.vslRadius != settings_.vslRadius || next.vslRadiusFromDensity != settings_.vslRadiusFromDensity))
+    vslRadiiStale_ = true;
+  settings_ = next;
+  markStale(s);
+  if (s.anyPreview()) chartPending_ = true;
+}
+
+void Editor::regenerateVpls() {
+  // Rejection measures importance at the pixels of the current view.
+  scene_.camera = camera_.camera();
+  vpls_ = generateVpls(scene_, *embree_, *lights_, settings_);
+  ++vplGenerations_;
+  vslRadiiStale_ = false;
+  preview_->invalidateVpls();
+}
+
+void Editor::measureClampEnergy() {
+  clampEnergyStale_ = false;
+  if (std::isinf(settings_.clampBound) || vpls_.vpls.empty()) {
+    clampEnergyRemoved_ = 0.0;
+    return;
+  }
+  // Energy removed by G_b over camera-visible points: sum(unclamped - clamped) / sum(unclamped) of the luminance of
+  // every visible VPL contribution (MANYLIGHTS 4). A few hundred points suffice for a percentage.
+  Settings pointSettings = settings_;
+  pointSettings.rejectionSamplePoints = std::max(16, std::min(256, 65536 / static_cast<int>(vpls_.vpls.size() + 1)));
+  scene_.camera = camera_.camera();
+  std::vector<ShadingPoint> points = rejectionSamplePoints(scene_, *embree_, pointSettings);
+  double clamped = 0.0, unclamped = 0.0;
+  for (const ShadingPoint& sp : points)
+    for (const Vpl& vpl : vpls_.vpls) {
+      glm::vec3 full;
+      glm::vec3 c = vplUnoccludedContribution(sp, vpl, brdfParamsAt(scene_, vpl.material, vpl.uv), settings_.clampBound,
+                                              &full);
+      if (luminance(full) <= 0.0f) continue;
+      if (!embree_->visible(sp.hit.position, sp.hit.geometricNormal, vpl.position, vpl.geometricNormal)) continue;
+      clamped += luminance(c);
+      unclamped += luminance(full);
+    }
+  clampEnergyRemoved_ = unclamped > 0.0 ? (unclamped - clamped) / unclamped : 0.0;
+}
+
+void Editor::updateWork() {
+  if (stale_.vpls) regenerateVpls();
+  if (vslRadiiStale_) {
+    std::vector<float> radii = vslRadii(vpls_.vpls, settings_, scene_.bounds.diagonal());
+    for (std::size_t i = 0; i < radii.size(); ++i) vpls_.vpls[i].radius = radii[i];
+    preview_->invalidateVpls();
+    vslRadiiStale_ = false;
+  }
+  if (clampEnergyStale_) measureClampEnergy();
+  if (stale_.anyPreview()) {
+    try {
+      timings_ = preview_->render(scene_, vpls_, settings_, camera_.camera());
+      previewLinear_ = preview_->readLinear();
+      residual_ = view_ == ViewMode::SsbcResidual ? preview_->readLinear(PreviewOutput::Residual) : Image();
+      previewError_.clear();
+    } catch (const std::exception& e) {
+      // A shader that fails to reload keeps the last image; the message is shown in the view.
+      previewError_ = e.what();
+    }
+    auto keep = [](double& last, double now) {
+      if (now > 0.0) last = now;
+    };
+    keep(lastPassMs_.gbufferMs, timings_.gbufferMs);
+    keep(lastPassMs_.directShadowMs, timings_.directShadowMs);
+    keep(lastPassMs_.directMs, timings_.directMs);
+    keep(lastPassMs_.vplShadowMs, timings_.vplShadowMs);
+    keep(lastPassMs_.gatherMs, timings_.gatherMs);
+    keep(lastPassMs_.ssbcMs, timings_.ssbcMs);
+    keep(lastPassMs_.tonemapMs, timings_.tonemapMs);
+    bool offline = stale_.offline;
+    stale_ = Staleness{};
+    stale_.offline = offline;
+    displayDirty_ = true;
+    if (chartPending_) addChartPoint();
+  }
+  if (displayDirty_) composeDisplay();
+}
+
+void Editor::addChartPoint() {
+  // A point needs a reference that matches the current scene, camera and image size.
+  if (offlineImage_.empty() || offlineStale_ || offlineImageMethod_ != Method::Reference || job_.running() ||
+      previewLinear_.width != offlineImage_.width || previewLinear_.height != offlineImage_.height)
+    return;
+  chartPending_ = false;
+  ChartPoint p;
+  p.frameMs = lastPassMs_.totalMs();
+  p.relMse = compareImages(previewLinear_, offlineImage_).relMse;
+  p.settings = settings_;
+  p.label = describeSettings(settings_);
+  for (ChartPoint& q : chart_)
+    if (settingsToJson(q.settings) == settingsToJson(p.settings)) {
+      q = p;
+      return;
+    }
+  chart_.push_back(p);
+}
+
+void Editor::composeDisplay() {
+  displayDirty_ = false;
+  displayNote_.clear();
+  const Image& preview = view_ == ViewMode::SsbcResidual ? residual_ : previewLinear_;
+  const bool haveOffline = !offlineImage_.empty();
+  const bool sameSize = haveOffline && offlineImage_.width == previewLinear_.width &&
+                        offlineImage_.height == previewLinear_.height;
+  switch (view_) {
+    case ViewMode::Preview:
+    case ViewMode::VplOverlay:
+    case ViewMode::SsbcResidual: {
+      if (preview.empty()) {
+        displayNote_ = view_ == ViewMode::SsbcResidual && settings_.ssbcSteps == 0 ? "SSBC is off (steps = 0)"
+                                                                                   : "no preview image";
+        if (preview.empty()) return;
+      }
+      texture_.upload(preview.width, preview.height, tonemapToRgb8(preview, settings_.exposure));
+      return;
+    }
+    case ViewMode::Reference: {
+      if (!haveOffline) {
+        displayNote_ = "no offline result yet: press 'Render offline'";
+        return;
+      }
+      texture_.upload(offlineImage_.width, offlineImage_.height, tonemapToRgb8(offlineImage_, settings_.exposure));
+      return;
+    }
+    case ViewMode::Split: {
+      if (!sameSize) {
+        displayNote_ = "split needs an offline result of the preview's size";
+        if (!previewLinear_.empty())
+          texture_.upload(previewLinear_.width, previewLinear_.height,
+                          tonemapToRgb8(previewLinear_, settings_.exposure));
+        return;
+      }
+      std::vector<uint8_t> left = tonemapToRgb8(previewLinear_, settings_.exposure);
+      std::vector<uint8_t> right = tonemapToRgb8(offlineImage_, settings_.exposure);
+      const int w = previewLinear_.width;
+      const int split = std::clamp(static_cast<int>(divider_ * w), 0, w);
+      for (int y = 0; y < previewLinear_.height; ++y)
+        for (int x = split; x < w; ++x)
+          for (int c = 0; c < 3; ++c) left[(static_cast<std::size_t>(y) * w + x) * 3 + c] = right[(y * w + x) * 3 + c];
+      texture_.upload(w, previewLinear_.height, left);
+      return;
+    }
+    case ViewMode::Difference: {
+      if (!sameSize) {
+        displayNote_ = "difference needs an offline result of the preview's size";
+        return;
+      }
+      HeatmapOptions options;
+      if (relativeDifference_) {
+        options.colormap = Colormap::Viridis;
+        options.title = "relative error (I-R)^2/(R^2+0.01), preview vs offline";
+        Heatmap h = renderHeatmap(relativeErrorImage(previewLinear_, offlineImage_), options);
+        texture_.upload(h.width, h.height, h.rgb);
+      } else {
+        options.colormap = Colormap::Diverging;
+        options.title = "signed difference preview - offline";
+        Heatmap h = renderHeatmap(signedDifferenceImage(previewLinear_, offlineImage_), options);
+        texture_.upload(h.width, h.height, h.rgb);
+      }
+      return;
+    }
+  }
+}
+
+void Editor::startOffline(bool reference) {
+  offlineMethod_ = reference ? Method::Reference : exactCounterpartOf(settings_);
+  job_.start(scene_, camera_.camera(), vpls_, settings_, offlineMethod_);
+  offlineStale_ = false;
+}
+
+void Editor::pollOffline() {
+  if (std::optional<Image> image = job_.takeImage()) {
+    offlineImage_ = std::move(*image);
+    offlineImageMethod_ = job_.method();
+    displayDirty_ = view_ != ViewMode::Preview && view_ != ViewMode::VplOverlay && view_ != ViewMode::SsbcResidual;
+  }
+  if (job_.takeFinished()) {
+    offlineSeconds_ = job_.seconds();
+    offlineClampEnergy_ = job_.clampEnergyRemoved();
+    if (!job_.cancelled() && job_.error().empty() && job_.method() == Method::Reference) {
+      // A new reference: the chart's errors were measured against the old one.
+      chart_.clear();
+      chartPending_ = true;
+      addChartPoint();
+    }
+    displayDirty_ = true;
+  }
+}
+
+// --- frame --------------------------------------------------------------------------------------------------------
+
+void Editor::handleInput() {
+  ImGuiIO& io = ImGui::GetIO();
+  bool cameraMoved = false;
+  if (!io.WantCaptureMouse) {
+    const ImVec2 delta = io.MouseDelta;
+    const float radiansPerPixel = 0.005f;
+    const float divX = viewRect_[0] + divider_ * viewRect_[2];
+    if (view_ == ViewMode::Split && io.MouseClicked[0] && std::abs(io.MousePos.x - divX) < 6.0f) draggingDivider_ = true;
+    if (!io.MouseDown[0]) draggingDivider_ = false;
+    if (draggingDivider_) {
+      divider_ = std::clamp((io.MousePos.x - viewRect_[0]) / std::max(viewRect_[2], 1.0f), 0.0f, 1.0f);
+      displayDirty_ = true;
+    } else if (io.MouseDown[0] && (delta.x != 0.0f || delta.y != 0.0f)) {
+      camera_.orbit(-delta.x * radiansPerPixel, -delta.y * radiansPerPixel);
+      cameraMoved = true;
+    } else if ((io.MouseDown[1] || io.MouseDown[2]) && (delta.x != 0.0f || delta.y != 0.0f)) {
+      camera_.pan(-delta.x * 0.002f, delta.y * 0.002f);
+      cameraMoved = true;
+    }
+    if (io.MouseWheel != 0.0f) {
+      camera_.zoom(io.MouseWheel);
+      cameraMoved = true;
+    }
+  }
+  if (!io.WantCaptureKeyboard) {
+    const float step = 0.5f * io.DeltaTime;  // scene diagonals per second
+    glm::vec3 fly(0.0f);
+    if (ImGui::IsKeyDown(GLFW_KEY_W)) fly.x += step;
+    if (ImGui::IsKeyDown(GLFW_KEY_S)) fly.x -= step;
+    if (ImGui::IsKeyDown(GLFW_KEY_D)) fly.y += step;
+    if (ImGui::IsKeyDown(GLFW_KEY_A)) fly.y -= step;
+    if (ImGui::IsKeyDown(GLFW_KEY_E)) fly.z += step;
+    if (ImGui::IsKeyDown(GLFW_KEY_Q)) fly.z -= step;
+    if (fly != glm::vec3(0.0f)) {
+      camera_.fly(fly.x, fly.y, fly.z);
+      cameraMoved = true;
+    }
+    if (ImGui::IsKeyPressed(GLFW_KEY_F)) {
+      camera_ = CameraController(sceneCamera_, glm::length(scene_.bounds.center() - sceneCamera_.position),
+                                 scene_.bounds.diagonal());
+      cameraMoved = true;
+    }
+    for (int i = 0; i < 6; ++i)
+      if (ImGui::IsKeyPressed(GLFW_KEY_1 + i)) {
+        view_ = kAllViewModes[i];
+        markStale({});
+        if (view_ == ViewMode::SsbcResidual) stale_.gather = true;
+      }
+    if (ImGui::IsKeyPressed(GLFW_KEY_O) && !job_.running()) startOffline(true);
+    if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) job_.cancel();
+    if (ImGui::IsKeyPressed(GLFW_KEY_H) || ImGui::IsKeyPressed(GLFW_KEY_F1)) showHelp_ = !showHelp_;
+  }
+  if (cameraMoved) markStale(staleAfterCameraMove());
+}
+
+void Editor::animate() {
+  if (!animateLight_) return;
+  std::vector<LightHandle> lights = editableLights(scene_);
+  if (lights.empty()) return;
+  // A small circle in the horizontal plane: 2 % of the scene diagonal, one turn every 120 frames.
+  const float radius = 0.02f * scene_.bounds.diagonal();
+  const float before = animationPhase_;
+  animationPhase_ += 6.2831853f / 120.0f;
+  glm::vec3 offset = radius * glm::vec3(std::cos(animationPhase_) - std::cos(before), 0.0f,
+                                        std::sin(animationPhase_) - std::sin(before));
+  if (reseedEveryFrame_) {
+    Settings next = settings_;
+    next.seed = settings_.seed + 1;
+    changeSettings(next);
+  }
+  editLight(0, offset, 1.0f);
+}
+
+void Editor::frame() {
+  const double start = now();
+  const bool busy = stale_.anyPreview() || job_.running() || animateLight_ || !script_.empty();
+  if (busy)
+    glfwPollEvents();
+  else
+    glfwWaitEventsTimeout(0.1);  // idle: do not spin two shared cores for an unchanged picture
+
+  if (!script_.empty()) scriptStep();
+  if (quit_) return;
+  animate();
+  pollOffline();
+
+  ImGui_ImplOpenGL3_NewFrame();
+  ImGui_ImplGlfw_NewFrame();
+  const double uiStart = now();
+  ImGui::NewFrame();
+  handleInput();
+  const double uiPause = now();
+  updateWork();
+  glFinish();
+  const double previewEnd = now();
+  drawUi();
+  ImGui::Render();
+  int width, height;
+  glfwGetFramebufferSize(window_, &width, &height);
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  glViewport(0, 0, width, height);
+  glClearColor(0.08f, 0.08f, 0.09f, 1.0f);
+  glClear(GL_COLOR_BUFFER_BIT);
+  ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
+  glFinish();
+  const double uiEnd = now();
+  if (!pendingScreenshot_.empty()) {
+    takeScreenshot(pendingScreenshot_);
+    pendingScreenshot_.clear();
+  }
+  glfwSwapBuffers(window_);
+  frameMs_ = (now() - start) * 1e3;
+  uiMs_ = ((uiPause - uiStart) + (uiEnd - previewEnd)) * 1e3;
+  if (timingFrames_ > 0) {
+    timingFrameSum_ += frameMs_;
+    timingUiSum_ += uiMs_;
+    timingPreviewSum_ += (previewEnd - uiPause) * 1e3;
+    if (--timingFrames_ == 0) {
+      double n = timingTotal_;
+      std::printf("frame-time frames=%d size=%dx%d window=%dx%d frame_ms=%.2f preview_ms=%.2f ui_ms=%.2f ui_share=%.1f%%\n",
+                  timingTotal_, settings_.width, settings_.height, width, height, timingFrameSum_ / n,
+                  timingPreviewSum_ / n, timingUiSum_ / n, 100.0 * timingUiSum_ / timingFrameSum_);
+      std::fflush(stdout);
+    }
+  }
+}
+
+void Editor::takeScreenshot(const std::string& path) {
+  int width, height;
+  glfwGetFramebufferSize(window_, &width, &height);
+  std::vector<uint8_t> pixels(static_cast<std::size_t>(width) * height * 3);
+  glPixelStorei(GL_PACK_ALIGNMENT, 1);
+  glReadBuffer(GL_BACK);
+  glReadPixels(0, 0, width, height, GL_RGB, GL_UNSIGNED_BYTE, pixels.data());
+  // GL's rows start at the bottom; PNG's at the top.
+  std::vector<uint8_t> flipped(pixels.size());
+  const std::size_t row = static_cast<std::size_t>(width) * 3;
+  for (int y = 0; y < height; ++y)
+    std::copy_n(pixels.data() + static_cast<std::size_t>(height - 1 - y) * row, row, flipped.data() + y * row);
+  writePngRgb8(path, width, height, flipped);
+  std::printf("screenshot %s window %dx%d view %d %d %d %d scale %g\n", path.c_str(), width, height,
+              static_cast<int>(viewRect_[0]), static_cast<int>(viewRect_[1]), static_cast<int>(viewRect_[2]),
+              static_cast<int>(viewRect_[3]), viewScale_);
+  std::fflush(stdout);
+}
+
+int Editor::run() {
+  while (!quit_ && !glfwWindowShouldClose(window_)) frame();
+  return exitCode_;
+}
+
+// --- UI -----------------------------------------------------------------------------------------------------------
+
+void Editor::drawView() {
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  const float areaX = kLeftPanelWidth, areaW = display.x - kLeftPanelWidth - kRightPanelWidth;
+  const float areaY = 0.0f, areaH = display.y;
+  ImDrawList* draw = ImGui::GetBackgroundDrawList();
+  if (!displayNote_.empty() || !previewError_.empty()) {
+    std::string note = previewError_.empty() ? displayNote_ : "preview error: " + previewError_;
+    draw->AddText(ImVec2(areaX + 12, areaY + 12), IM_COL32(230, 200, 120, 255), note.c_str());
+  }
+  if (!texture_.valid()) return;
+  const float w = static_cast<float>(texture_.width()), h = static_cast<float>(texture_.height());
+  // Integer zoom keeps preview pixels square and exact (the tests compare them with the headless preview).
+  float scale = std::min((areaW - 16.0f) / w, (areaH - 40.0f) / h);
+  scale = scale >= 1.0f ? std::floor(scale) : scale;
+  viewScale_ = scale;
+  const float x0 = std::floor(areaX + 0.5f * (areaW - w * scale));
+  const float y0 = std::floor(areaY + 0.5f * (areaH - h * scale));
+  viewRect_[0] = x0;
+  viewRect_[1] = y0;
+  viewRect_[2] = w * scale;
+  viewRect_[3] = h * scale;
+  draw->AddImage(texture_.imguiId(), ImVec2(x0, y0), ImVec2(x0 + w * scale, y0 + h * scale));
+  if (view_ == ViewMode::Split && displayNote_.empty()) {
+    float x = x0 + divider_ * w * scale;
+    draw->AddLine(ImVec2(x, y0), ImVec2(x, y0 + h * scale), IM_COL32(255, 255, 255, 200), 1.0f);
+    draw->AddText(ImVec2(x0 + 4, y0 + 4), IM_COL32(255, 255, 255, 220), "preview");
+    std::string right = std::string(toString(offlineImageMethod_)) + (offlineStale_ ? " (stale)" : "");
+    draw->AddText(ImVec2(x0 + w * scale - 8 - 7.0f * right.size(), y0 + 4), IM_COL32(255, 255, 255, 220),
+                  right.c_str());
+  }
+  if (view_ == ViewMode::VplOverlay) {
+    const Camera cam = camera_.camera();
+    const float aspect = static_cast<float>(settings_.width) / static_cast<float>(settings_.height);
+    const float tanHalf = std::tan(0.5f * cam.yfov);
+    auto project = [&](const glm::vec3& p, ImVec2& out) {
+      glm::vec3 d = p - cam.position;
+      float z = glm::dot(d, cam.forward);
+      if (z <= cam.znear) return false;
+      float x = glm::dot(d, cam.right()) / (z * tanHalf * aspect);
+      float y = glm::dot(d, cam.up) / (z * tanHalf);
+      out = ImVec2(x0 + 0.5f * (x + 1.0f) * w * scale, y0 + 0.5f * (1.0f - y) * h * scale);
+      return std::abs(x) <= 1.0f && std::abs(y) <= 1.0f;
+    };
+    float maxFlux = 1e-12f;
+    for (const Vpl& v : vpls_.vpls) maxFlux = std::max(maxFlux, luminance(v.flux));
+    for (const Vpl& v : vpls_.vpls) {
+      ImVec2 p;
+      if (!project(v.position, p)) continue;
+      // Size by relative power on a log scale, colour by the flux's chromaticity.
+      float rel = std::clamp(luminance(v.flux) / maxFlux, 1e-4f, 1.0f);
+      float radius = 1.5f + 4.0f * (1.0f + std::log10(rel) / 4.0f);
+      glm::vec3 c = v.flux / std::max({v.flux.r, v.flux.g, v.flux.b, 1e-12f});
+      draw->AddCircleFilled(p, radius, IM_COL32(static_cast<int>(255 * c.r), static_cast<int>(255 * c.g),
+                                                static_cast<int>(255 * c.b), 230));
+      draw->AddCircle(p, radius, IM_COL32(0, 0, 0, 160));
+    }
+    if (showRejected_)
+      for (const Vpl& v : vpls_.rejected) {
+        ImVec2 p;
+        if (!project(v.position, p)) continue;
+        draw->AddLine(ImVec2(p.x - 2, p.y - 2), ImVec2(p.x + 2, p.y + 2), IM_COL32(150, 150, 150, 180));
+        draw->AddLine(ImVec2(p.x - 2, p.y + 2), ImVec2(p.x + 2, p.y - 2), IM_COL32(150, 150, 150, 180));
+      }
+  }
+  char status[256];
+  std::snprintf(status, sizeof status, "%s  %dx%d  x%.2g   frame %.1f ms (UI %.1f ms)   VPLs %zu", toString(view_),
+                texture_.width(), texture_.height(), scale, frameMs_, uiMs_, vpls_.vpls.size());
+  draw->AddText(ImVec2(areaX + 8, areaY + areaH - 20), IM_COL32(200, 200, 200, 255), status);
+}
+
+void Editor::drawLeftPanel() {
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  ImGui::SetNextWindowPos(ImVec2(0, 0));
+  ImGui::SetNextWindowSize(ImVec2(kLeftPanelWidth, display.y));
+  ImGui::Begin("Controls", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::PushItemWidth(170.0f);
+
+  if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
+    ImGui::InputText("##path", &pathInput_);
+    ImGui::SameLine();
+    if (ImGui::Button("Open")) openScene(pathInput_);
+    if (!sceneError_.empty()) ImGui::TextColored(ImVec4(1.0f, 0.4f, 0.4f, 1.0f), "%s", sceneError_.c_str());
+    if (!recent_.empty() && ImGui::BeginCombo("recent", "recent files")) {
+      for (const std::string& r : recent_)
+        if (ImGui::Selectable(r.c_str())) {
+          std::string path = r;  // openScene reorders recent_
+          openScene(path);
+          break;
+        }
+      ImGui::EndCombo();
+    }
+    ImGui::TextDisabled("or drop a .gltf/.glb on the window");
+    drawSceneInfo(scene_);
+  }
+  if (ImGui::CollapsingHeader("Camera and lights")) {
+    if (ImGui::Button("Reset camera (F)")) {
+      camera_ = CameraController(sceneCamera_, glm::length(scene_.bounds.center() - sceneCamera_.position),
+                                 scene_.bounds.diagonal());
+      markStale(staleAfterCameraMove());
+    }
+    ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom, WASD/QE: fly");
+    if (drawLightsPanel(scene_, lightOffsets_, lightScales_)) {
+      rebuildAcceleration();
+      preview_->invalidateScene();
+      markStale(staleAfterLightEdit());
+    }
+    ImGui::Checkbox("animate light", &animateLight_);
+    ImGui::SameLine();
+    ImGui::Checkbox("new seed every frame", &reseedEveryFrame_);
+  }
+  if (ImGui::CollapsingHeader("Many lights", ImGuiTreeNodeFlags_DefaultOpen)) {
+    Settings next = settings_;
+    if (drawManyLightPanel(next, vpls_.stats, clampEnergyRemoved_)) changeSettings(next);
+    if (!offlineImage_.empty() && offlineImageMethod_ != Method::Reference)
+      ImGui::TextDisabled("exact render: clamp removed %.1f %%", 100.0 * offlineClampEnergy_);
+  }
+  ImGui::PopItemWidth();
+  ImGui::End();
+}
+
+void Editor::drawRightPanel() {
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  ImGui::SetNextWindowPos(ImVec2(display.x - kRightPanelWidth, 0));
+  ImGui::SetNextWindowSize(ImVec2(kRightPanelWidth, display.y));
+  ImGui::Begin("Analysis", nullptr, ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse);
+  ImGui::PushItemWidth(180.0f);
+
+  if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {
+    int mode = static_cast<int>(view_);
+    const char* names[] = {"preview", "reference", "split", "difference", "SSBC residual", "VPLs"};
+    if (ImGui::Combo("view (1-6)", &mode, names, 6)) {
+      view_ = static_cast<ViewMode>(mode);
+      if (view_ == ViewMode::SsbcResidual) stale_.gather = true;  // the residual is read back on render
+      displayDirty_ = true;
+    }
+    if (view_ == ViewMode::Split && ImGui::SliderFloat("divider", &divider_, 0.0f, 1.0f)) displayDirty_ = true;
+    if (view_ == ViewMode::Difference) {
+      if (ImGui::RadioButton("relative error", relativeDifference_)) relativeDifference_ = true, displayDirty_ = true;
+      ImGui::SameLine();
+      if (ImGui::RadioButton("signed", !relativeDifference_)) relativeDifference_ = false, displayDirty_ = true;
+    }
+    if (view_ == ViewMode::VplOverlay) ImGui::Checkbox("show rejected candidates", &showRejected_);
+  }
+  if (ImGui::CollapsingHeader("Offline pass", ImGuiTreeNodeFlags_DefaultOpen)) {
+    Settings next = settings_;
+    if (drawOfflineSettingsPanel(next)) changeSettings(next);
+    if (job_.running()) {
+      ImGui::ProgressBar(job_.progress(), ImVec2(180.0f, 0.0f));
+      ImGui::SameLine();
+      if (ImGui::Button("Cancel")) job_.cancel();
+      ImGui::Text("%s: %.1f s", toString(job_.method()), job_.seconds());
+    } else {
+      if (ImGui::Button("Render reference (O)")) startOffline(true);
+      ImGui::SameLine();
+      if (ImGui::Button("Render exact VPL")) startOffline(false);
+      if (!offlineImage_.empty())
+        ImGui::Text("%s%s: %d spp in %.2f s%s", toString(offlineImageMethod_), job_.cancelled() ? " (cancelled)" : "",
+                    job_.samplesPerPixel(), offlineSeconds_, offlineStale_ ? "  STALE" : "");
+      if (!job_.error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", job_.error().c_str());
+    }
+    if (!offlineImage_.empty() && !previewLinear_.empty() && offlineImage_.width == previewLinear_.width &&
+        offlineImage_.height == previewLinear_.height) {
+      ImageMetrics m = compareImages(previewLinear_, offlineImage_);
+      ImGui::Text("preview vs offline: relMSE %.4g, energy %.3f", m.relMse, m.energyRatioOverall);
+    }
+  }
+  if (ImGui::CollapsingHeader("Speed vs accuracy", ImGuiTreeNodeFlags_DefaultOpen)) {
+    int clicked = drawSpeedAccuracyChart(chart_, -1, kRightPanelWidth - 24.0f, 150.0f);
+    if (clicked >= 0) changeSettings(chart_[static_cast<std::size_t>(clicked)].settings);
+    if (ImGui::SmallButton("clear chart")) chart_.clear();
+    std::vector<PassTiming> passes = {{"G-buffer", timings_.gbufferMs},     {"light shadows", timings_.directShadowMs},
+                                      {"direct", timings_.directMs},        {"VPL shadows", timings_.vplShadowMs},
+                                      {"gather", timings_.gatherMs},        {"SSBC", timings_.ssbcMs},
+                                      {"tonemap", timings_.tonemapMs},      {"VPL generation", vpls_.stats.generationSeconds * 1e3}};
+    drawPassTimings(passes);
+  }
+  if (ImGui::CollapsingHeader("Teaching presets")) {
+    for (const TeachingPreset& p : teachingPresets())
+      if (ImGui::Button(p.name.c_str(), ImVec2(kRightPanelWidth - 30.0f, 0.0f))) {
+        std::string path = std::string(VPLAB_ASSET_DIR) + "/scenes/" + p.scene;
+        if (std::filesystem::path(scene_.sourcePath).filename() != p.scene) openScene(path);
+        Settings next = p.settings;
+        next.threads = settings_.threads;
+        changeSettings(next);
+        view_ = p.view;
+        animateLight_ = p.animateLight;
+        reseedEveryFrame_ = p.reseedEveryFrame;
+        presetText_ = p.name + ": " + p.explanation;
+        displayDirty_ = true;
+      }
+    if (!presetText_.empty()) ImGui::TextWrapped("%s", presetText_.c_str());
+  }
+  if (ImGui::CollapsingHeader("Files")) {
+    ImGui::InputText("settings", &settingsPath_);
+    if (ImGui::Button("Save settings")) {
+      try {
+        saveSettingsFile(settingsPath_, settings_);
+        ioMessage_ = "saved " + settingsPath_;
+      } catch (const std::exception& e) {
+        ioMessage_ = e.what();
+      }
+    }
+    ImGui::SameLine();
+    if (ImGui::Button("Load settings")) {
+      try {
+        Settings next = settings_;
+        loadSettingsFile(settingsPath_, next);
+        changeSettings(next);
+        ioMessage_ = "loaded " + settingsPath_;
+      } catch (const std::exception& e) {
+        ioMessage_ = e.what();
+      }
+    }
+    ImGui::InputText("image", &exportPath_);
+    auto exportImage = [&](const Image& image) {
+      try {
+        if (image.empty()) throw std::runtime_error("nothing to export yet");
+        writeImage(exportPath_, image, settings_.exposure);
+        ioMessage_ = "wrote " + exportPath_;
+      } catch (const std::exception& e) {
+        ioMessage_ = e.what();
+      }
+    };
+    if (ImGui::Button("Export preview")) exportImage(previewLinear_);
+    ImGui::SameLine();
+    if (ImGui::Button("Export offline")) exportImage(offlineImage_);
+    ImGui::TextDisabled(".png (tonemapped), .exr or .pfm (linear)");
+    if (!ioMessage_.empty()) ImGui::TextWrapped("%s", ioMessage_.c_str());
+  }
+  if (ImGui::CollapsingHeader("Help (H)") || showHelp_) {
+    ImGui::TextWrapped(
+        "Mouse: left drag orbit, right/middle drag pan, wheel zoom; in split view drag the divider.\n"
+        "Keys: WASD fly, Q/E down/up, F reset camera, 1-6 views, O render reference, Esc cancel offline, "
+        "H help.\nChanging b re-gathers only; moving the camera never regenerates VPLs; moving a light does.");
+  }
+  ImGui::PopItemWidth();
+  ImGui::End();
+}
+
+void Editor::drawUi() {
+  drawView();
+  drawLeftPanel();
+  drawRightPanel();
+}
+
+// --- script -------------------------------------------------------------------------------------------------------
+
+void Editor::scriptFail(const ScriptCommand& c, const std::string& message) {
+  throw ScriptError(options_.scriptPath + ":" + std::to_string(c.line) + ": " + c.verb + ": " + message);
+}
+
+void Editor::scriptStep() {
+  if (framesPending_ > 0) {
+    --framesPending_;
+    return;
+  }
+  if (timingFrames_ > 0) {
+    // Each timed frame moves the camera a little so that the preview re-renders, as it does while a user orbits.
+    camera_.orbit(0.01f, 0.0f);
+    markStale(staleAfterCameraMove());
+    return;
+  }
+  if (waitingOffline_) {
+    if (job_.running()) return;
+    waitingOffline_ = false;
+  }
+  if (finalScreenshotQueued_) {
+    quit_ = true;
+    return;
+  }
+  while (scriptIndex_ < script_.size()) {
+    const ScriptCommand& c = script_[scriptIndex_++];
+    try {
+      execute(c);
+    } catch (const ScriptError&) {
+      throw;
+    } catch (const std::exception& e) {
+      scriptFail(c, e.what());
+    }
+    if (framesPending_ > 0 || waitingOffline_ || timingFrames_ > 0 || !pendingScreenshot_.empty()) return;
+  }
+  // Script done: the final screenshot after two more frames, then exit.
+  if (!options_.screenshotPath.empty()) {
+    framesPending_ = 2;
+    script_.push_back({0, "screenshot", {options_.screenshotPath}});
+    options_.screenshotPath.clear();
+    return;
+  }
+  finalScreenshotQueued_ = true;
+}
+
+void Editor::execute(const ScriptCommand& c) {
+  const std::string& src = options_.scriptPath;
+  auto num = [&](std::size_t i) { return static_cast<float>(scriptNumber(c, i, src)); };
+  if (c.verb == "set") {
+    Settings next = settings_;
+    setSettingFromText(next, c.args[0], c.args[1]);
+    changeSettings(next);
+  } else if (c.verb == "orbit") {
+    camera_.orbit(glm::radians(num(0)), glm::radians(num(1)));
+    markStale(staleAfterCameraMove());
+  } else if (c.verb == "pan") {
+    camera_.pan(num(0), num(1));
+    markStale(staleAfterCameraMove());
+  } else if (c.verb == "zoom") {
+    camera_.zoom(num(0));
+    markStale(staleAfterCameraMove());
+  } else if (c.verb == "reset-camera") {
+    camera_ = CameraController(sceneCamera_, glm::length(scene_.bounds.center() - sceneCamera_.position),
+                               scene_.bounds.diagonal());
+    markStale(staleAfterCameraMove());
+  } else if (c.verb == "light") {
+    auto index = static_cast<std::size_t>(num(0));
+    if (c.args[1] == "move")
+      editLight(index, glm::vec3(num(2), num(3), num(4)), 1.0f);
+    else
+      editLight(index, glm::vec3(0.0f), num(2));
+  } else if (c.verb == "view") {
+    bool found = false;
+    for (ViewMode m : kAllViewModes)
+      if (c.args[0] == toString(m)) view_ = m, found = true;
+    if (!found) scriptFail(c, "unknown view '" + c.args[0] + "'");
+    if (view_ == ViewMode::SsbcResidual) stale_.gather = true;
+    displayDirty_ = true;
+  } else if (c.verb == "preset") {
+    const TeachingPreset* preset = nullptr;
+    for (const TeachingPreset& p : teachingPresets())
+      if (p.name == c.args[0]) preset = &p;
+    if (!preset) scriptFail(c, "no preset named '" + c.args[0] + "'");
+    if (std::filesystem::path(scene_.sourcePath).filename() != preset->scene &&
+        !openScene(std::string(VPLAB_ASSET_DIR) + "/scenes/" + preset->scene))
+      scriptFail(c, sceneError_);
+    changeSettings(preset->settings);
+    view_ = preset->view;
+    animateLight_ = preset->animateLight;
+    reseedEveryFrame_ = preset->reseedEveryFrame;
+    presetText_ = preset->name + ": " + preset->explanation;
+  } else if (c.verb == "frames") {
+    framesPending_ = std::max(0, static_cast<int>(num(0)));
+  } else if (c.verb == "screenshot") {
+    pendingScreenshot_ = c.args[0];
+  } else if (c.verb == "save-view") {
+    updateWork();
+    if (previewLinear_.empty()) scriptFail(c, "no preview image");
+    writeImage(c.args[0], previewLinear_, settings_.exposure);
+    std::printf("save-view %s %dx%d\n", c.args[0].c_str(), previewLinear_.width, previewLinear_.height);
+  } else if (c.verb == "offline") {
+    updateWork();  // the offline pass must use the VPLs of the current settings
+    startOffline(c.args[0] == "reference");
+  } else if (c.verb == "wait-offline") {
+    waitingOffline_ = true;
+  } else if (c.verb == "load-settings") {
+    Settings next = settings_;
+    loadSettingsFile(c.args[0], next);
+    changeSettings(next);
+  } else if (c.verb == "save-settings") {
+    saveSettingsFile(c.args[0], settings_);
+  } else if (c.verb == "mark") {
+    updateWork();  // what is stale now belongs before the mark
+    mark_ = counters();
+  } else if (c.verb == "expect-no-vpl-regeneration" || c.verb == "expect-no-shadow-map-render" ||
+             c.verb == "expect-vpl-regeneration") {
+    updateWork();
+    WorkCounters n = counters();
+    int generations = n.vplGenerations - mark_.vplGenerations;
+    int shadowMaps = n.vplShadowMaps - mark_.vplShadowMaps;
+    if (c.verb == "expect-no-vpl-regeneration" && generations != 0)
+      scriptFail(c, std::to_string(generations) + " VPL generation(s) since the mark");
+    if (c.verb == "expect-no-shadow-map-render" && shadowMaps != 0)
+      scriptFail(c, std::to_string(shadowMaps) + " VPL shadow-map render(s) since the mark");
+    if (c.verb == "expect-vpl-regeneration" && generations == 0) scriptFail(c, "no VPL generation since the mark");
+  } else if (c.verb == "counters") {
+    updateWork();
+    WorkCounters n = counters();
+    std::printf("counters vplGenerations=%d vplShadowMaps=%d gathers=%d\n", n.vplGenerations, n.vplShadowMaps,
+                n.gathers);
+    std::fflush(stdout);
+  } else if (c.verb == "time-frames") {
+    timingTotal_ = timingFrames_ = std::max(1, static_cast<int>(num(0)));
+    timingFrameSum_ = timingUiSum_ = timingPreviewSum_ = 0.0;
+    camera_.orbit(0.01f, 0.0f);
+    markStale(staleAfterCameraMove());
+  }
+}
+
+}  // namespace
+
+int runEditor(const EditorOptions& options) {
+  Editor editor(options);
+  try {
+    return editor.run();
+  } catch (const ScriptError& e) {
+    std::fprintf(stderr, "vplab edit: %s\n", e.what());
+    return 1;
+  }
+}
+
+}  // namespace vplab::ui

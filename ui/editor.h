@@ -1,0 +1,27 @@
+#pragma once
+// `vplab edit`: the interactive editor. A GLFW window with Dear ImGui panels around one view of the GL preview,
+// the offline result, their split or difference, the SSBC residual or the VPLs. The editor owns the scene, the
+// Settings, the VplSet and the renderers; panels edit them and the editor re-runs exactly the stale work
+// (renderer/invalidation.h). With a script (ui/script.h) it runs unattended and exits: tests and benchmarks.
+
+#include "renderer/settings.h"
+
+#include <string>
+
+namespace vplab::ui {
+
+struct EditorOptions {
+  std::string scenePath;       ///< glTF file opened at start
+  std::string scriptPath;      ///< empty: interactive
+  std::string screenshotPath;  ///< written (PNG, whole window) after the script, then the editor exits
+  Settings settings;           ///< initial settings (CLI options and --settings applied)
+  int windowWidth = 1280;
+  int windowHeight = 720;
+};
+
+/// Opens the window and runs until it is closed or the script ends. Returns the process exit status: 0, or 1 when
+/// a script expectation failed. Throws std::runtime_error when no window can be opened (no display) and SceneError
+/// when the initial scene cannot be loaded.
+int runEditor(const EditorOptions& options);
+
+}  // namespace vplab::ui

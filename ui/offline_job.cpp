@@ -1,0 +1,107 @@
+#include "ui/offline_job.h"
+
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/path_tracer.h"
+#include "renderer/offline/vpl_renderer.h"
+
+#include <chrono>
+
+namespace vplab::ui {
+
+namespace {
+
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+}  // namespace
+
+Method exactCounterpartOf(const Settings& s) {
+  if (s.vslRadius > 0.0f) return Method::Vsl;
+  if (s.ssbcSteps > 0 && s.clampBound < kInfinity) return Method::VplKK;
+  return Method::Vpl;
+}
+
+OfflineJob::~OfflineJob() {
+  control_.cancel = true;
+  join();
+}
+
+void OfflineJob::join() {
+  if (thread_.joinable()) thread_.join();
+}
+
+void OfflineJob::cancel() { control_.cancel = true; }
+
+double OfflineJob::seconds() const { return running_ ? now() - startTime_ : seconds_.load(); }
+
+std::string OfflineJob::error() const {
+  std::lock_guard lock(mutex_);
+  return error_;
+}
+
+void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& vpls, const Settings& settings,
+                       Method method) {
+  cancel();
+  join();
+  control_.cancel = false;
+  control_.onProgress = [this](float f) { progress_ = f; };
+  running_ = true;
+  finished_ = false;
+  progress_ = 0.0f;
+  method_ = method;
+  cancelled_ = false;
+  samples_ = 0;
+  clampEnergyRemoved_ = 0.0;
+  startTime_ = now();
+  {
+    std::lock_guard lock(mutex_);
+    error_.clear();
+  }
+  // Copies: the worker must not see the editor's later edits (a moved light, a new scene) half-way through.
+  Scene sceneCopy = scene;
+  sceneCopy.camera = camera;
+  VplSet vplCopy = method == Method::Reference ? VplSet{} : vpls;
+  thread_ = std::thread([this, sceneCopy = std::move(sceneCopy), vplCopy = std::move(vplCopy), settings, method] {
+    auto onPass = [this](const Image& mean, int) {
+      std::lock_guard lock(mutex_);
+      image_ = mean;
+      imageChanged_ = true;
+    };
+    try {
+      EmbreeScene embree(sceneCopy);
+      LightSampler lights(sceneCopy);
+      ProgressiveResult result;
+      if (method == Method::Reference) {
+        result = renderReference(sceneCopy, embree, lights, settings, &control_, onPass);
+      } else {
+        VplRenderResult vr = renderVpl(sceneCopy, embree, lights, vplCopy, method, settings, &control_, onPass);
+        clampEnergyRemoved_ = vr.clampEnergyRemoved;
+        result = std::move(vr);
+      }
+      cancelled_ = result.cancelled;
+      samples_ = result.samplesPerPixel;
+      std::lock_guard lock(mutex_);
+      image_ = std::move(result.image);
+      imageChanged_ = true;
+    } catch (const std::exception& e) {
+      std::lock_guard lock(mutex_);
+      error_ = e.what();
+    }
+    seconds_ = now() - startTime_;
+    progress_ = 1.0f;
+    running_ = false;
+    finished_ = true;
+  });
+}
+
+std::optional<Image> OfflineJob::takeImage() {
+  if (!imageChanged_.exchange(false)) return std::nullopt;
+  std::lock_guard lock(mutex_);
+  return image_;
+}
+
+bool OfflineJob::takeFinished() { return finished_.exchange(false); }
+
+}  // namespace vplab::ui

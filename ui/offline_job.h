@@ -1,0 +1,72 @@
+#pragma once
+// The editor's offline pass (STYLE.md 5): the Embree reference or the exact VPL render of the same scene, camera,
+// settings and VPLs, on a worker thread with progress, cancellation and the running mean, while the UI stays
+// responsive. The job owns copies of everything it reads, so the editor may edit its own scene meanwhile.
+
+#include "renderer/core/parallel.h"
+#include "renderer/image/image.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+#include "renderer/vpl/vpl.h"
+
+#include <atomic>
+#include <mutex>
+#include <optional>
+#include <string>
+#include <thread>
+
+namespace vplab::ui {
+
+/// The exact CPU counterpart of what the preview shows: VSLs when r > 0, Kollig-Keller compensation when the
+/// preview compensates the bound (SSBC), else the clamped VPL render.
+Method exactCounterpartOf(const Settings& settings);
+
+class OfflineJob {
+ public:
+  OfflineJob() = default;
+  ~OfflineJob();
+  OfflineJob(const OfflineJob&) = delete;
+  OfflineJob& operator=(const OfflineJob&) = delete;
+
+  /// Starts a render of `scene` seen from `camera`; a running job is cancelled first. `vpls` is ignored for
+  /// Method::Reference.
+  void start(const Scene& scene, const Camera& camera, const VplSet& vpls, const Settings& settings, Method method);
+  void cancel();
+  bool running() const { return running_.load(); }
+  float progress() const { return progress_.load(); }
+  /// Seconds since start (while running) or of the whole render (when done).
+  double seconds() const;
+  Method method() const { return method_; }
+
+  /// The running mean (or the final image) when it changed since the last call.
+  std::optional<Image> takeImage();
+  /// True once after a job finished (completed or cancelled); then result details are valid.
+  bool takeFinished();
+  bool cancelled() const { return cancelled_; }
+  int samplesPerPixel() const { return samples_; }
+  /// Energy removed by the clamp, measured by the exact VPL render (0 for the reference).
+  double clampEnergyRemoved() const { return clampEnergyRemoved_; }
+  /// The message of an exception thrown by the render, empty when none.
+  std::string error() const;
+
+ private:
+  void join();
+
+  std::thread thread_;
+  RenderControl control_;
+  std::atomic<bool> running_{false};
+  std::atomic<float> progress_{0.0f};
+  std::atomic<bool> imageChanged_{false};
+  std::atomic<bool> finished_{false};
+  mutable std::mutex mutex_;
+  Image image_;
+  std::string error_;
+  Method method_ = Method::Reference;
+  double startTime_ = 0.0;
+  std::atomic<double> seconds_{0.0};
+  bool cancelled_ = false;
+  int samples_ = 0;
+  double clampEnergyRemoved_ = 0.0;
+};
+
+}  // namespace vplab::ui

@@ -1,0 +1,185 @@
+#include "ui/panels.h"
+
+#include <imgui.h>
+
+#include <algorithm>
+#include <cmath>
+#include <set>
+
+namespace vplab::ui {
+
+namespace {
+
+bool sliderInt(const char* label, int* v, int lo, int hi, const char* help, ImGuiSliderFlags flags = 0) {
+  bool changed = ImGui::SliderInt(label, v, lo, hi, "%d", flags | ImGuiSliderFlags_AlwaysClamp);
+  if (help && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", help);
+  return changed;
+}
+
+bool sliderFloat(const char* label, float* v, float lo, float hi, const char* format, const char* help,
+                 ImGuiSliderFlags flags = 0) {
+  bool changed = ImGui::SliderFloat(label, v, lo, hi, format, flags | ImGuiSliderFlags_AlwaysClamp);
+  if (help && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", help);
+  return changed;
+}
+
+}  // namespace
+
+bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRemoved) {
+  bool changed = false;
+  ImGui::TextDisabled("VPL generation (light tracing)");
+  changed |= sliderInt("VPLs N", &s.vplCount, 1, 4096, "Expected number of VPLs (accepted ones with rejection)",
+                       ImGuiSliderFlags_Logarithmic);
+  changed |= sliderInt("bounces", &s.vplMaxBounces, 1, 16, "VPLs are stored at bounces 1..this");
+  int seed = static_cast<int>(std::min<uint32_t>(s.seed, 1u << 30));
+  if (ImGui::InputInt("seed", &seed) && seed >= 0) {
+    s.seed = static_cast<uint32_t>(seed);
+    changed = true;
+  }
+  ImGui::Text("VPLs %llu from %llu paths, %.1f ms", static_cast<unsigned long long>(stats.accepted),
+              static_cast<unsigned long long>(stats.pathsTraced), stats.generationSeconds * 1e3);
+
+  ImGui::Separator();
+  ImGui::TextDisabled("Rejection (Georgiev & Slusallek 2010)");
+  changed |= ImGui::Checkbox("rejection", &s.rejection);
+  if (s.rejection) {
+    changed |= sliderFloat("epsilon", &s.rejectionEpsilon, 0.0f, 1.0f, "%.3f",
+                           "p_i = min(Phi_i / Phi_v + epsilon, 1); 0 rejects VPLs that miss every sample point");
+    ImGui::Text("acceptance %.1f %% of %llu candidates%s", 100.0 * stats.acceptanceRate,
+                static_cast<unsigned long long>(stats.candidates), stats.candidateCapReached ? " (cap reached)" : "");
+  }
+
+  ImGui::Separator();
+  ImGui::TextDisabled("Bounded geometry term G_b = min(G, b)");
+  bool bounded = !std::isinf(s.clampBound);
+  if (ImGui::Checkbox("clamp", &bounded)) {
+    s.clampBound = bounded ? 20.0f : kInfinity;
+    changed = true;
+  }
+  if (bounded) {
+    changed |= sliderFloat("b [1/m^2]", &s.clampBound, 0.01f, 10000.0f, "%.3g",
+                           "Clamp bound on cos1 cos2 / d^2; the residual is local: d < 1/sqrt(b)",
+                           ImGuiSliderFlags_Logarithmic);
+    ImGui::Text("residual range 1/sqrt(b) = %.3g m", 1.0 / std::sqrt(std::max(s.clampBound, 1e-6f)));
+  }
+  if (clampEnergyRemoved >= 0.0)
+    ImGui::Text("clamp removes %.1f %% of the indirect light", 100.0 * clampEnergyRemoved);
+  else
+    ImGui::TextDisabled("clamp energy removed: not measured");
+  changed |= sliderInt("SSBC steps", &s.ssbcSteps, 0, 2, "Screen-space bias compensation (Novak et al. 2011)");
+
+  ImGui::Separator();
+  ImGui::TextDisabled("Virtual spherical lights (Hasan et al. 2009)");
+  bool vsl = s.vslRadius > 0.0f;
+  if (ImGui::Checkbox("VSL", &vsl)) {
+    s.vslRadius = vsl ? 0.05f : 0.0f;
+    changed = true;
+  }
+  if (vsl) {
+    changed |= sliderFloat("radius r [m]", &s.vslRadius, 0.001f, 1.0f, "%.4f", "0 = point VPLs",
+                           ImGuiSliderFlags_Logarithmic);
+    changed |= ImGui::Checkbox("r from VPL density", &s.vslRadiusFromDensity);
+    changed |= sliderInt("VSL samples", &s.vslSamples, 1, 64, "cone + BRDF samples per VSL (MIS)");
+  }
+
+  ImGui::Separator();
+  ImGui::TextDisabled("GL preview");
+  changed |= sliderInt("interleave k", &s.interleave, 1, 8, "k x k VPL subsets, one per pixel; 1 = off");
+  int sizeLog = static_cast<int>(std::lround(std::log2(std::max(s.shadowMapSize, 16))));
+  if (ImGui::SliderInt("shadow map", &sizeLog, 4, 11, "")) {
+    s.shadowMapSize = 1 << sizeLog;
+    changed = true;
+  }
+  ImGui::SameLine();
+  ImGui::Text("%d", s.shadowMapSize);
+  changed |= sliderFloat("shadow bias", &s.shadowBias, 0.0f, 0.1f, "%.4f", "fraction of the scene diagonal",
+                         ImGuiSliderFlags_Logarithmic);
+  changed |= sliderInt("direct samples", &s.directLightSamples, 1, 256, "shadow-mapped area-light samples",
+                       ImGuiSliderFlags_Logarithmic);
+  changed |= sliderFloat("exposure [EV]", &s.exposure, -10.0f, 10.0f, "%.1f", "display only");
+  return changed;
+}
+
+bool drawOfflineSettingsPanel(Settings& s) {
+  bool changed = false;
+  int size[2] = {s.width, s.height};
+  if (ImGui::InputInt2("image size", size) && size[0] >= 16 && size[1] >= 16 && size[0] <= 2048 && size[1] <= 2048) {
+    s.width = size[0];
+    s.height = size[1];
+    changed = true;
+  }
+  changed |= sliderInt("spp", &s.samplesPerPixel, 1, 4096, "offline samples per pixel", ImGuiSliderFlags_Logarithmic);
+  changed |= sliderInt("max depth", &s.maxDepth, 1, 64, "reference path length in bounces");
+  return changed;
+}
+
+std::vector<LightHandle> editableLights(const Scene& scene) {
+  std::vector<LightHandle> lights;
+  for (uint32_t i = 0; i < scene.punctualLights.size(); ++i)
+    lights.push_back({LightHandle::Kind::Punctual, i,
+                      scene.punctualLights[i].name.empty() ? "point " + std::to_string(i) : scene.punctualLights[i].name});
+  std::set<uint32_t> emissive;
+  for (uint32_t t : scene.emissiveTriangles) emissive.insert(scene.triangleMaterials[t]);
+  for (uint32_t m : emissive) lights.push_back({LightHandle::Kind::AreaMaterial, m, "area: " + scene.materials[m].name});
+  return lights;
+}
+
+void moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset) {
+  if (light.kind == LightHandle::Kind::Punctual) {
+    scene.punctualLights.at(light.index).position += offset;
+    return;
+  }
+  // Each vertex moves once even when several emissive triangles share it.
+  std::set<uint32_t> vertices;
+  for (uint32_t t = 0; t < scene.triangles.size(); ++t)
+    if (scene.triangleMaterials[t] == light.index)
+      for (int k = 0; k < 3; ++k) vertices.insert(scene.triangles[t][k]);
+  for (uint32_t v : vertices) scene.positions[v] += offset;
+  scene.finalize();
+}
+
+void scaleLight(Scene& scene, const LightHandle& light, float scale) {
+  if (light.kind == LightHandle::Kind::Punctual)
+    scene.punctualLights.at(light.index).intensity *= scale;
+  else
+    scene.materials.at(light.index).emission *= scale;
+}
+
+bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<float>& scales) {
+  std::vector<LightHandle> lights = editableLights(scene);
+  offsets.resize(lights.size(), glm::vec3(0.0f));
+  scales.resize(lights.size(), 1.0f);
+  if (lights.empty()) ImGui::TextDisabled("no lights");
+  bool changed = false;
+  const float step = 0.01f * std::max(scene.bounds.diagonal(), 1e-3f);
+  for (std::size_t i = 0; i < lights.size(); ++i) {
+    ImGui::PushID(static_cast<int>(i));
+    ImGui::TextUnformatted(lights[i].name.c_str());
+    glm::vec3 offset = offsets[i];
+    if (ImGui::DragFloat3("offset", &offset.x, step, -scene.bounds.diagonal(), scene.bounds.diagonal(), "%.3f")) {
+      moveLight(scene, lights[i], offset - offsets[i]);
+      offsets[i] = offset;
+      changed = true;
+    }
+    float scale = scales[i];
+    if (ImGui::SliderFloat("intensity x", &scale, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic) && scale > 0.0f) {
+      scaleLight(scene, lights[i], scale / scales[i]);
+      scales[i] = scale;
+      changed = true;
+    }
+    ImGui::PopID();
+  }
+  return changed;
+}
+
+void drawSceneInfo(const Scene& scene) {
+  ImGui::TextWrapped("%s", scene.sourcePath.c_str());
+  ImGui::Text("%zu triangles, %zu materials", scene.triangles.size(), scene.materials.size());
+  ImGui::Text("%zu emissive triangles, %zu punctual lights", scene.emissiveTriangles.size(),
+              scene.punctualLights.size());
+  ImGui::Text("camera %s", scene.camera.fromFile ? "from the file" : "framed by vplab");
+  if (scene.degenerateTrianglesDropped) ImGui::Text("%zu degenerate triangles dropped", scene.degenerateTrianglesDropped);
+  for (const std::string& w : scene.warnings) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", w.c_str());
+}
+
+}  // namespace vplab::ui

@@ -1,0 +1,44 @@
+#pragma once
+// Editor panels as free functions over data the editor owns (STYLE.md 4): each returns true when it changed a
+// value, and the caller marks exactly the dependent work stale with renderer/invalidation.h.
+
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+#include "renderer/vpl/vpl.h"
+
+#include <string>
+#include <vector>
+
+namespace vplab::ui {
+
+/// VPL count, bounces, seed; rejection with epsilon and the acceptance rate; clamp bound b (log slider, with the
+/// fraction of energy it removes); VSL radius r (log slider, 0 = off); SSBC steps; interleave k; shadow-map size
+/// and bias; direct-light samples; exposure. `clampEnergyRemoved` < 0 means "not measured yet".
+bool drawManyLightPanel(Settings& settings, const VplStats& stats, double clampEnergyRemoved);
+
+/// Image size, samples per pixel and path depth of the offline pass.
+bool drawOfflineSettingsPanel(Settings& settings);
+
+/// One editable light: a punctual light, or the emissive material of an area light.
+struct LightHandle {
+  enum class Kind { Punctual, AreaMaterial } kind = Kind::Punctual;
+  uint32_t index = 0;  ///< into Scene::punctualLights or Scene::materials
+  std::string name;
+};
+
+/// The lights the editor can move and scale: punctual lights first, then emissive materials.
+std::vector<LightHandle> editableLights(const Scene& scene);
+
+/// Moves a light by `offset` (an area light's triangles are translated). Call finalize-dependent rebuilds after.
+void moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset);
+/// Multiplies a light's intensity (or an emissive material's radiance) by `scale`.
+void scaleLight(Scene& scene, const LightHandle& light, float scale);
+
+/// Position offset and intensity scale of every editable light; returns true when a light was moved or scaled,
+/// with the change already applied to the scene.
+bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<float>& scales);
+
+/// Triangles, lights, materials, warnings.
+void drawSceneInfo(const Scene& scene);
+
+}  // namespace vplab::ui

@@ -1,0 +1,53 @@
+#pragma once
+// Editor scripts: a text file of commands that drives `vplab edit` without a user (tests, screenshots, benchmarks).
+// One command per line, '#' starts a comment. Parsing checks every verb and argument count up front, so a typo
+// fails before the window opens, with the line number.
+//
+//   set <setting> <value>          a Settings member by its JSON key (settings_json.h), e.g. set clampBound 0.5
+//   orbit <dx> <dy>                orbit the camera by degrees of yaw and pitch
+//   pan <dx> <dy>                  pan by fractions of the distance to the orbit target
+//   zoom <steps>                   zoom by 0.9^steps of the distance
+//   reset-camera                   back to the scene camera
+//   light <index> move <dx> <dy> <dz>      move a punctual light (scene units)
+//   light <index> intensity <scale>        scale a punctual light's intensity
+//   view <mode>                    preview | reference | split | difference | ssbc-residual | vpls
+//   preset <name>                  a teaching preset by its name (quoted names are not needed: the rest of the line)
+//   frames <n>                     render n frames (the UI needs >= 2 before a screenshot)
+//   screenshot <path.png>          the whole window as PNG
+//   save-view <path>               the linear image of the preview (.exr, .pfm or .png)
+//   offline <reference|vpl>        start the offline pass with the current settings and camera
+//   wait-offline                   render frames until the offline pass is done
+//   load-settings <f.json>         apply a settings file
+//   save-settings <f.json>         write the current settings
+//   mark                           remember the work counters
+//   expect-no-vpl-regeneration     fail unless no VPL generation ran since the mark
+//   expect-no-shadow-map-render    fail unless no VPL shadow map was rendered since the mark
+//   expect-vpl-regeneration        fail unless VPLs were generated since the mark
+//   counters                       print the work counters on stdout
+//   time-frames <n>                render n frames and print the mean frame time and the UI's share of it
+
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+namespace vplab::ui {
+
+struct ScriptError : std::runtime_error {
+  using std::runtime_error::runtime_error;
+};
+
+struct ScriptCommand {
+  int line = 0;  ///< 1-based line in the script
+  std::string verb;
+  std::vector<std::string> args;
+};
+
+/// Parses a whole script; `source` names it in messages ("s.txt:3: ..."). Throws ScriptError.
+std::vector<ScriptCommand> parseScript(const std::string& text, const std::string& source);
+/// Reads and parses a script file. Throws ScriptError naming the file.
+std::vector<ScriptCommand> loadScript(const std::string& path);
+
+/// Numeric argument i of a command, with the command's location in the message when it is not a number.
+double scriptNumber(const ScriptCommand& command, std::size_t i, const std::string& source);
+
+}  // namespace vplab::ui
