@@ -80,6 +80,26 @@ GlTexture::GlTexture(int width, int height, TextureFormat format, int levels, in
   setRepeat(false);
 }
 
+GlTexture GlTexture::cubeArray(int side, int cubes, TextureFormat format) {
+  assert(side > 0 && cubes > 0);
+  GlTexture t;
+  t.width_ = t.height_ = side;
+  t.layers_ = 6 * cubes;
+  t.levels_ = 1;
+  t.format_ = format;
+  t.cube_ = true;
+  t.object_ = GlObject(GlObject::Kind::Texture, createName(GlObject::Kind::Texture, GL_TEXTURE_CUBE_MAP_ARRAY));
+  glTextureStorage3D(t.id(), 1, internalFormat(format), side, side, 6 * cubes);
+  t.setLinearFiltering(true, false);
+  t.setRepeat(false);
+  return t;
+}
+
+void GlTexture::uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels) {
+  assert(layers_ > 0 && layer < layers_ && texels.size() == static_cast<std::size_t>(width_) * height_);
+  glTextureSubImage3D(id(), 0, 0, 0, layer, width_, height_, 1, GL_RGBA, GL_FLOAT, texels.data());
+}
+
 void GlTexture::bind(int unit) const { glBindTextureUnit(static_cast<GLuint>(unit), id()); }
 
 void GlTexture::uploadRgb(const std::vector<glm::vec3>& texels) {

@@ -50,17 +50,22 @@ class GlTexture {
   GlTexture() = default;
   /// levels = 0 allocates the full mip chain. Filtering is nearest (G-buffers, depth) unless linear is set.
   GlTexture(int width, int height, TextureFormat format, int levels = 1, int layers = 0, bool linear = false);
+  /// A cube-map array of `cubes` cubes (6 * cubes layer-faces), side x side texels, linear filtering.
+  static GlTexture cubeArray(int side, int cubes, TextureFormat format);
   uint32_t id() const { return object_.id(); }
   int width() const { return width_; }
   int height() const { return height_; }
   int levels() const { return levels_; }
   int layers() const { return layers_; }
+  bool isCubeArray() const { return cube_; }
   TextureFormat format() const { return format_; }
   explicit operator bool() const { return static_cast<bool>(object_); }
 
   void bind(int unit) const;
   /// Uploads RGB float texels (row 0 first) into level 0 of a 2D texture.
   void uploadRgb(const std::vector<glm::vec3>& texels);
+  /// Uploads RGBA float texels (row 0 first) into one layer of level 0 of a texture array.
+  void uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels);
   void generateMipmaps();
   /// Sets depth-comparison sampling (sampler2DShadow / sampler2DArrayShadow).
   void setDepthCompare(bool on);
@@ -70,6 +75,7 @@ class GlTexture {
  private:
   GlObject object_;
   int width_ = 0, height_ = 0, levels_ = 1, layers_ = 0;
+  bool cube_ = false;
   TextureFormat format_ = TextureFormat::Rgba32F;
 };
 

@@ -1,0 +1,60 @@
+#include "renderer/gl/gl_scene.h"
+
+#include <algorithm>
+#include <cassert>
+
+namespace vplab {
+
+GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_cast<int>(scene.triangles.size())) {
+  assert(scene.normals.size() == scene.positions.size() && scene.uvs.size() == scene.positions.size());
+  std::vector<glm::vec4> p(scene.positions.size()), n(scene.normals.size());
+  for (std::size_t i = 0; i < p.size(); ++i) {
+    p[i] = glm::vec4(scene.positions[i], 1.0f);
+    n[i] = glm::vec4(scene.normals[i], 0.0f);
+  }
+  std::vector<glm::uvec4> t(scene.triangles.size());
+  for (std::size_t i = 0; i < t.size(); ++i) t[i] = glm::uvec4(scene.triangles[i], scene.triangleMaterials[i]);
+
+  int size = 1;
+  for (const Texture& tex : scene.textures) size = std::max({size, tex.width, tex.height});
+  size = std::min(size, kMaxTextureSize);
+  struct MaterialGpu {
+    glm::vec4 baseColor, emission, params;
+  };
+  std::vector<MaterialGpu> m(scene.materials.size());
+  for (std::size_t i = 0; i < m.size(); ++i) {
+    const Material& mat = scene.materials[i];
+    m[i] = {glm::vec4(mat.baseColor, static_cast<float>(mat.baseColorTexture)), glm::vec4(mat.emission, 0.0f),
+            glm::vec4(mat.metallic, mat.roughness, mat.specular, 0.0f)};
+  }
+  positions_.assign(p.data(), p.size() * sizeof(glm::vec4));
+  normals_.assign(n.data(), n.size() * sizeof(glm::vec4));
+  uvs_.assign(scene.uvs.data(), scene.uvs.size() * sizeof(glm::vec2));
+  triangles_.assign(t.data(), t.size() * sizeof(glm::uvec4));
+  materials_.assign(m.data(), m.size() * sizeof(MaterialGpu));
+
+  int layers = std::max<int>(1, static_cast<int>(scene.textures.size()));
+  textures_ = GlTexture(size, size, TextureFormat::Rgba32F, 1, layers, true);
+  textures_.setRepeat(true);
+  std::vector<glm::vec4> texels(static_cast<std::size_t>(size) * size);
+  for (std::size_t layer = 0; layer < scene.textures.size(); ++layer) {
+    // GL's t = 0 is the first row uploaded, matching glTF's v = 0 at the top row of Texture::texels.
+    for (int y = 0; y < size; ++y)
+      for (int x = 0; x < size; ++x)
+        texels[static_cast<std::size_t>(y) * size + x] = glm::vec4(
+            scene.textures[layer].sample({(x + 0.5f) / static_cast<float>(size), (y + 0.5f) / static_cast<float>(size)}),
+            1.0f);
+    textures_.uploadLayerRgba(static_cast<int>(layer), texels);
+  }
+}
+
+void GlScene::bind(int textureUnit) const {
+  positions_.bindStorage(0);
+  normals_.bindStorage(1);
+  uvs_.bindStorage(2);
+  triangles_.bindStorage(3);
+  materials_.bindStorage(4);
+  textures_.bind(textureUnit);
+}
+
+}  // namespace vplab

@@ -1,0 +1,29 @@
+#pragma once
+// The Scene uploaded for rasterisation: vertex and triangle SSBOs (bindings 0-4, see shaders/common/scene.glsl) and
+// the base-colour textures resampled into one texture array (layers share one size, so every texture is resampled
+// with Texture::sample, the CPU renderer's own bilinear lookup, at the array's texel centres).
+
+#include "renderer/gl/resources.h"
+#include "renderer/scene/scene.h"
+
+namespace vplab {
+
+class GlScene {
+ public:
+  /// Largest side of the base-colour texture array, in texels.
+  static constexpr int kMaxTextureSize = 1024;
+
+  explicit GlScene(const Scene& scene);
+  /// Binds the SSBOs to 0-4 and the texture array to `textureUnit`.
+  void bind(int textureUnit) const;
+  int triangleCount() const { return triangleCount_; }
+  const Scene* source() const { return source_; }
+
+ private:
+  const Scene* source_;
+  int triangleCount_ = 0;
+  GlBuffer positions_, normals_, uvs_, triangles_, materials_;
+  GlTexture textures_;
+};
+
+}  // namespace vplab

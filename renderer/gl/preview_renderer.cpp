@@ -1,0 +1,387 @@
+#include "renderer/gl/preview_renderer.h"
+
+#include "renderer/core/sampling.h"
+
+#include <glad/gl.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+#include <cmath>
+
+namespace vplab {
+
+namespace {
+
+/// A colour texture with its own framebuffer.
+struct Target {
+  GlTexture texture;
+  GlFramebuffer framebuffer;
+  Target(int w, int h, int levels = 1) : texture(w, h, TextureFormat::Rgba32F, levels) {
+    framebuffer.attachColor(0, texture);
+    framebuffer.finalize(1);
+  }
+};
+
+// std430 layouts of shaders/preview/direct.frag.glsl and gather.frag.glsl.
+struct DirectLightGpu {
+  glm::vec4 position, axis, weight;
+};
+struct VplGpu {
+  glm::vec4 position, normal, incoming, flux, baseColor, geoNormal;
+};
+
+bool sameCamera(const Camera& a, const Camera& b) {
+  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov &&
+         a.znear == b.znear && a.zfar == b.zfar;
+}
+
+// Runs `body` between a GL_TIME_ELAPSED query's begin and end and returns the GPU milliseconds.
+template <typename F>
+double timed(GlTimerQuery& timer, F&& body) {
+  timer.begin();
+  body();
+  timer.end();
+  return timer.resultMs();
+}
+
+}  // namespace
+
+struct PreviewRenderer::Targets {
+  int width, height;
+  GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gDepth;
+  GlFramebuffer gbuffer;
+  Target direct, indirectRaw, indirect, i0, r1, r2, residual, linear, display;
+
+  Targets(int w, int h)
+      : width(w),
+        height(h),
+        gPosition(w, h, TextureFormat::Rgba32F, 0),
+        gNormal(w, h, TextureFormat::Rgba32F, 0),
+        gBaseColor(w, h, TextureFormat::Rgba32F),
+        gEmission(w, h, TextureFormat::Rgba32F),
+        gGeoNormal(w, h, TextureFormat::Rgba32F),
+        gDepth(w, h, TextureFormat::Depth32F),
+        direct(w, h),
+        indirectRaw(w, h),
+        indirect(w, h),
+        i0(w, h, 0),
+        r1(w, h, 0),
+        r2(w, h),
+        residual(w, h),
+        linear(w, h),
+        display(w, h) {
+    gbuffer.attachColor(0, gPosition);
+    gbuffer.attachColor(1, gNormal);
+    gbuffer.attachColor(2, gBaseColor);
+    gbuffer.attachColor(3, gEmission);
+    gbuffer.attachColor(4, gGeoNormal);
+    gbuffer.attachDepth(gDepth);
+    gbuffer.finalize(5);
+  }
+
+  void bindGbuffer() const {
+    gPosition.bind(0);
+    gNormal.bind(1);
+    gBaseColor.bind(2);
+    gEmission.bind(3);
+    gGeoNormal.bind(4);
+  }
+};
+
+PreviewRenderer::PreviewRenderer()
+    : gbuffer_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}),
+      direct_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"}),
+      gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}),
+      deinterleave_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}),
+      ssbc_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}),
+      compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
+      tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
+      add_({"preview/fullscreen.vert.glsl", "preview/add.frag.glsl"}) {}
+
+PreviewRenderer::~PreviewRenderer() = default;
+
+void PreviewRenderer::invalidateScene() { sceneDirty_ = true; }
+void PreviewRenderer::invalidateVpls() { vplsDirty_ = true; }
+
+void PreviewRenderer::ensureTargets(int width, int height) {
+  if (targets_ && targets_->width == width && targets_->height == height) return;
+  targets_ = std::make_unique<Targets>(width, height);
+  haveFrame_ = false;
+}
+
+void PreviewRenderer::drawFullscreen(ShaderProgram& program) {
+  program.use();
+  vao_.bind();
+  drawProceduralTriangles(3);
+}
+
+void PreviewRenderer::uploadDirectLights(const Scene& scene, const Settings& settings) {
+  std::vector<DirectLightGpu> lights;
+  directPositions_.clear();
+  // Area lights: K points y_k chosen with p(triangle) proportional to its power (luminance(Le) x area) and uniform
+  // on the triangle, so p_A(y) = p_t / A_t; each carries Le / (K p_A), making the sum an unbiased estimate of T Le.
+  std::vector<float> cdf;
+  float total = 0.0f;
+  for (uint32_t t : scene.emissiveTriangles) {
+    total += luminance(scene.materialOf(t).emission) * scene.triangleArea(t);
+    cdf.push_back(total);
+  }
+  if (total > 0.0f) {
+    int k = settings.directLightSamples;
+    for (int s = 0; s < k; ++s) {
+      // Deterministic per (seed, sample): the same settings give the same samples, hence a stable preview.
+      Rng rng(hashKey(settings.seed, static_cast<uint64_t>(s), 0x646972656374ull));
+      float u = rng.next1D() * total;
+      std::size_t i = static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
+      i = std::min(i, cdf.size() - 1);
+      uint32_t tri = scene.emissiveTriangles[i];
+      float pTri = (cdf[i] - (i ? cdf[i - 1] : 0.0f)) / total;
+      glm::vec2 b = sampleUniformTriangle(rng.next2D());
+      const glm::uvec3& v = scene.triangles[tri];
+      glm::vec3 y = b.x * scene.positions[v.x] + b.y * scene.positions[v.y] + (1.0f - b.x - b.y) * scene.positions[v.z];
+      float pdfA = pTri / scene.triangleArea(tri);
+      glm::vec3 weight = scene.materialOf(tri).emission / (static_cast<float>(k) * pdfA);
+      lights.push_back({glm::vec4(y, 0.0f), glm::vec4(scene.geometricNormal(tri), 0.0f), glm::vec4(weight, 0.0f)});
+      directPositions_.push_back(y);
+    }
+  }
+  for (const PunctualLight& l : scene.punctualLights) {
+    bool spot = l.type == PunctualLight::Type::Spot;
+    lights.push_back({glm::vec4(l.position, spot ? 2.0f : 1.0f), glm::vec4(l.direction, std::cos(l.outerConeAngle)),
+                      glm::vec4(l.intensity, std::cos(l.innerConeAngle))});
+    directPositions_.push_back(l.position);
+  }
+  directLights_.assign(lights.data(), lights.size() * sizeof(DirectLightGpu));
+}
+
+void PreviewRenderer::uploadVpls(const Scene& scene, const VplSet& set) {
+  std::vector<VplGpu> gpu(set.vpls.size());
+  for (std::size_t i = 0; i < gpu.size(); ++i) {
+    const Vpl& v = set.vpls[i];
+    const Material& m = scene.materials[v.material];
+    gpu[i] = {glm::vec4(v.position, v.radius), glm::vec4(v.normal, m.metallic), glm::vec4(v.incoming, m.roughness),
+              glm::vec4(v.flux, m.specular), glm::vec4(scene.baseColorAt(v.material, v.uv), 0.0f),
+              glm::vec4(v.geometricNormal, 0.0f)};
+  }
+  vplBuffer_.assign(gpu.data(), gpu.size() * sizeof(VplGpu));
+}
+
+PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, const Settings& settings,
+                                       const Camera& camera) {
+  requireValidSettings(settings);
+  PreviewTimings t;
+  if (&scene != scene_ || sceneDirty_ || !glScene_) {
+    glScene_ = std::make_unique<GlScene>(scene);
+    scene_ = &scene;
+    sceneDirty_ = false;
+    haveFrame_ = false;
+    vplsDirty_ = true;
+  }
+  if (&vpls != vplSet_) vplsDirty_ = true;
+  vplSet_ = &vpls;
+  ensureTargets(settings.width, settings.height);
+  Targets& tg = *targets_;
+  const Settings& last = lastSettings_;
+
+  // Invalidation (header comment): decide which passes the changes since the last frame affect.
+  bool cameraChanged = !haveFrame_ || !sameCamera(camera, lastCamera_);
+  bool shadowLayout = !haveFrame_ || settings.shadowMapSize != last.shadowMapSize;
+  bool directMapsChanged = shadowLayout || settings.directLightSamples != last.directLightSamples ||
+                           settings.seed != last.seed;
+  bool vplMapsChanged = shadowLayout || vplsDirty_;
+  bool directChanged = cameraChanged || directMapsChanged || settings.shadowBias != last.shadowBias;
+  bool gatherChanged = cameraChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
+                       settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
+                       settings.shadowBias != last.shadowBias;
+  bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps;
+  bool tonemapChanged = ssbcChanged || settings.exposure != last.exposure;
+
+  float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
+  float far = 2.0f * diagonal;
+  float bias = settings.shadowBias * diagonal;
+  int faceSize = std::max(8, settings.shadowMapSize / 2);
+  glm::mat4 view = glm::lookAt(camera.position, camera.position + camera.forward, camera.up);
+  float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
+  glm::mat4 proj = glm::perspective(camera.yfov, aspect, camera.znear, camera.zfar);
+  glDisable(GL_BLEND);
+  glDisable(GL_DEPTH_TEST);
+
+  // Pass 1: G-buffer.
+  if (cameraChanged) {
+    t.gbufferMs = timed(timer_, [&] {
+      tg.gbuffer.bind(tg.width, tg.height);
+      for (int i = 0; i < 5; ++i) tg.gbuffer.clearColor(i, glm::vec4(0.0f));
+      tg.gbuffer.clearDepth(1.0f);
+      glEnable(GL_DEPTH_TEST);
+      glDepthFunc(GL_LESS);
+      glDisable(GL_CULL_FACE);
+      glScene_->bind(5);
+      gbuffer_.set("uViewProj", proj * view);
+      gbuffer_.use();
+      vao_.bind();
+      drawProceduralTriangles(3 * glScene_->triangleCount());
+      glDisable(GL_DEPTH_TEST);
+      // Mips of position and normal feed the hierarchical compensation (coverage and normal length flag edges).
+      tg.gPosition.generateMipmaps();
+      tg.gNormal.generateMipmaps();
+    });
+    ++counters_.gbuffer;
+  }
+
+  // Shadow maps of the direct-light samples: depend on the scene, K, the seed and the map size only.
+  if (directMapsChanged) {
+    t.directShadowMs = timed(timer_, [&] {
+      uploadDirectLights(scene, settings);
+      directShadows_.render(*glScene_, directPositions_, faceSize, far);
+    });
+    ++counters_.directShadowMaps;
+  }
+
+  // Pass 3: one cube shadow map per VPL, only when the VPLs (or the map size) change.
+  if (vplMapsChanged) {
+    t.vplShadowMs = timed(timer_, [&] {
+      uploadVpls(scene, vpls);
+      std::vector<glm::vec3> positions(vpls.vpls.size());
+      for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = vpls.vpls[i].position;
+      vplShadows_.render(*glScene_, positions, faceSize, far);
+    });
+    vplsDirty_ = false;
+    ++counters_.vplShadowMaps;
+  }
+
+  tg.bindGbuffer();
+  // Pass 2: direct light, additive over shadow-map chunks.
+  if (directChanged) {
+    t.directMs = timed(timer_, [&] {
+      tg.direct.framebuffer.bind(tg.width, tg.height);
+      tg.direct.framebuffer.clearColor(0, glm::vec4(0.0f));
+      directLights_.bindStorage(7);
+      direct_.set("uCameraPosition", camera.position);
+      direct_.set("uShadowFar", far);
+      direct_.set("uShadowBias", bias);
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+      for (int c = 0; c < directShadows_.chunkCount(); ++c) {
+        directShadows_.chunkTexture(c).bind(6);
+        direct_.set("uFirstLight", directShadows_.chunkBegin(c));
+        direct_.set("uLightCount", directShadows_.chunkEnd(c) - directShadows_.chunkBegin(c));
+        drawFullscreen(direct_);
+      }
+      glDisable(GL_BLEND);
+    });
+    ++counters_.direct;
+  }
+
+  // Pass 4: VPL gather with G_b / VSL and interleaving, then the geometry-aware de-interleave.
+  if (gatherChanged) {
+    t.gatherMs = timed(timer_, [&] {
+      tg.indirectRaw.framebuffer.bind(tg.width, tg.height);
+      tg.indirectRaw.framebuffer.clearColor(0, glm::vec4(0.0f));
+      vplBuffer_.bindStorage(8);
+      gather_.set("uCameraPosition", camera.position);
+      gather_.set("uInterleave", settings.interleave);
+      gather_.set("uClampBound", settings.clampBound);
+      gather_.set("uVslSamples", settings.vslSamples);
+      gather_.set("uShadowFar", far);
+      gather_.set("uShadowBias", bias);
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+      for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
+        vplShadows_.chunkTexture(c).bind(6);
+        gather_.set("uFirstVpl", vplShadows_.chunkBegin(c));
+        gather_.set("uVplEnd", vplShadows_.chunkEnd(c));
+        drawFullscreen(gather_);
+      }
+      glDisable(GL_BLEND);
+      tg.indirect.framebuffer.bind(tg.width, tg.height);
+      tg.indirectRaw.texture.bind(6);
+      deinterleave_.set("uInterleave", settings.interleave);
+      deinterleave_.set("uCameraPosition", camera.position);
+      drawFullscreen(deinterleave_);
+    });
+    ++counters_.gather;
+  }
+
+  // Pass 5: I0 = direct + indirect, then R1 = T_r(I0), R2 = T_r(R1), final = Le + I0 + R1 + R2.
+  if (ssbcChanged) {
+    t.ssbcMs = timed(timer_, [&] {
+      tg.direct.texture.bind(6);
+      tg.indirect.texture.bind(7);
+      tg.i0.framebuffer.bind(tg.width, tg.height);
+      compose_.set("uStage", 0);
+      drawFullscreen(compose_);
+      tg.residual.framebuffer.bind(tg.width, tg.height);
+      tg.residual.framebuffer.clearColor(0, glm::vec4(0.0f));
+      bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
+      if (compensate) {
+        float focal = 0.5f * static_cast<float>(tg.height) / std::tan(0.5f * camera.yfov);
+        ssbc_.set("uCameraPosition", camera.position);
+        ssbc_.set("uCameraForward", camera.forward);
+        ssbc_.set("uClampBound", settings.clampBound);
+        ssbc_.set("uFocalPixels", focal);
+        ssbc_.set("uMaxLevel", tg.gPosition.levels() - 1);
+        Target* input = &tg.i0;
+        Target* outputs[2] = {&tg.r1, &tg.r2};
+        for (int step = 0; step < settings.ssbcSteps; ++step) {
+          input->texture.generateMipmaps();
+          input->texture.bind(6);
+          outputs[step]->framebuffer.bind(tg.width, tg.height);
+          drawFullscreen(ssbc_);
+          // Accumulate R_step into the residual sum.
+          tg.residual.framebuffer.bind(tg.width, tg.height);
+          outputs[step]->texture.bind(6);
+          glEnable(GL_BLEND);
+          glBlendFunc(GL_ONE, GL_ONE);
+          drawFullscreen(add_);
+          glDisable(GL_BLEND);
+          input = outputs[step];
+        }
+      }
+      tg.bindGbuffer();
+      tg.direct.texture.bind(6);
+      tg.indirect.texture.bind(7);
+      tg.residual.texture.bind(8);
+      tg.linear.framebuffer.bind(tg.width, tg.height);
+      compose_.set("uStage", 1);
+      compose_.set("uCameraPosition", camera.position);
+      drawFullscreen(compose_);
+    });
+    ++counters_.ssbc;
+  }
+
+  // Pass 6: tonemap.
+  if (tonemapChanged) {
+    t.tonemapMs = timed(timer_, [&] {
+      tg.display.framebuffer.bind(tg.width, tg.height);
+      tg.linear.texture.bind(6);
+      tonemap_.set("uExposureScale", std::exp2(settings.exposure));
+      drawFullscreen(tonemap_);
+    });
+    ++counters_.tonemap;
+  }
+  glBindFramebuffer(GL_FRAMEBUFFER, 0);
+  checkGlError("PreviewRenderer::render");
+
+  haveFrame_ = true;
+  lastCamera_ = camera;
+  lastSettings_ = settings;
+  return t;
+}
+
+Image PreviewRenderer::readLinear(PreviewOutput which) const {
+  if (!targets_) return {};
+  const Targets& tg = *targets_;
+  const Target& src = which == PreviewOutput::Direct     ? tg.direct
+                      : which == PreviewOutput::Indirect ? tg.indirect
+                      : which == PreviewOutput::Residual ? tg.residual
+                                                         : tg.linear;
+  return readFramebuffer(src.framebuffer, 0, tg.width, tg.height);
+}
+
+Image PreviewRenderer::readTonemapped() const {
+  if (!targets_) return {};
+  return readFramebuffer(targets_->display.framebuffer, 0, targets_->width, targets_->height);
+}
+
+}  // namespace vplab

@@ -1,0 +1,95 @@
+#pragma once
+// The interactive instant-radiosity preview (DESIGN.md, MANYLIGHTS 1, 4, 6, 7, 8), rasterised with OpenGL 4.5:
+//   1 G-buffer  2 direct light (shadow-mapped area samples + punctual lights)  3 VPL cube shadow maps
+//   4 VPL gather (G_b, VSL, interleaved k x k) + geometry-aware de-interleave  5 screen-space bias compensation
+//   6 tonemap.
+// The image is Le (seen directly) + direct + indirect (+ compensation), in the CPU renderer's linear units.
+// Needs a current GL context (HeadlessGlContext or the editor's window); does not create one.
+//
+// Invalidation: only the work a change affects is redone. Camera -> 1, 2, 4, 5, 6; clamp bound b -> 4, 5, 6;
+// VPL set -> 3, 4, 5, 6; direct-light settings (K, seed, shadow map size) -> direct shadow maps, 2, 5, 6.
+
+#include "renderer/gl/gl_scene.h"
+#include "renderer/gl/resources.h"
+#include "renderer/gl/shader.h"
+#include "renderer/gl/shadow_maps.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+#include "renderer/vpl/vpl.h"
+
+#include <cstdint>
+#include <memory>
+
+namespace vplab {
+
+/// GPU time per pass in milliseconds (GL_TIME_ELAPSED); 0 for a pass that was skipped because nothing it depends on
+/// changed.
+struct PreviewTimings {
+  double gbufferMs = 0, directShadowMs = 0, directMs = 0, vplShadowMs = 0, gatherMs = 0, ssbcMs = 0, tonemapMs = 0;
+  double totalMs() const { return gbufferMs + directShadowMs + directMs + vplShadowMs + gatherMs + ssbcMs + tonemapMs; }
+};
+
+/// How often each pass ran since construction (tests check the invalidation rules with these).
+struct PreviewCounters {
+  int gbuffer = 0, directShadowMaps = 0, direct = 0, vplShadowMaps = 0, gather = 0, ssbc = 0, tonemap = 0;
+};
+
+/// Which image readLinear() returns.
+enum class PreviewOutput {
+  Final,     ///< Le + direct + indirect + compensation
+  Direct,    ///< direct light (reflected) only
+  Indirect,  ///< de-interleaved VPL gather only
+  Residual,  ///< screen-space compensation R1 + R2 only
+};
+
+class PreviewRenderer {
+ public:
+  PreviewRenderer();
+  ~PreviewRenderer();
+  PreviewRenderer(const PreviewRenderer&) = delete;
+  PreviewRenderer& operator=(const PreviewRenderer&) = delete;
+
+  /// Renders settings.width x settings.height. The scene and VPL set are compared by address and content version:
+  /// call invalidateScene() / invalidateVpls() after editing them in place.
+  PreviewTimings render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera);
+
+  void invalidateScene();
+  void invalidateVpls();
+
+  /// Linear radiance (before tonemapping) of the last render, row 0 at the top.
+  Image readLinear(PreviewOutput which = PreviewOutput::Final) const;
+  /// Tonemapped (exposure, sRGB-encoded, [0, 1]) image of the last render, row 0 at the top.
+  Image readTonemapped() const;
+
+  const PreviewCounters& counters() const { return counters_; }
+
+ private:
+  struct Targets;
+  void ensureTargets(int width, int height);
+  void drawFullscreen(ShaderProgram& program);
+  void uploadDirectLights(const Scene& scene, const Settings& settings);
+  void uploadVpls(const Scene& scene, const VplSet& vpls);
+
+  std::unique_ptr<Targets> targets_;
+  std::unique_ptr<GlScene> glScene_;
+  const Scene* scene_ = nullptr;
+  const VplSet* vplSet_ = nullptr;
+  bool vplsDirty_ = true;
+  bool sceneDirty_ = true;
+
+  CubeShadowMaps directShadows_, vplShadows_;
+  GlBuffer directLights_, vplBuffer_;
+  std::vector<glm::vec3> directPositions_;
+  ShaderProgram gbuffer_, direct_, gather_, deinterleave_, ssbc_, compose_, tonemap_, add_;
+  GlVertexArray vao_;
+  GlTimerQuery timer_;
+
+  // What the cached results were computed with.
+  bool haveFrame_ = false;
+  Camera lastCamera_;
+  Settings lastSettings_;
+
+  PreviewCounters counters_;
+};
+
+}  // namespace vplab

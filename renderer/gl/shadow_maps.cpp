@@ -1,0 +1,68 @@
+#include "renderer/gl/shadow_maps.h"
+
+#include "renderer/gl/gl_scene.h"
+
+#include <glad/gl.h>
+
+#include <glm/gtc/matrix_transform.hpp>
+
+#include <algorithm>
+
+namespace vplab {
+
+void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& casters, int faceSize, float far) {
+  if (!program_.valid())
+    program_ = ShaderProgram({"preview/shadow.vert.glsl", "preview/shadow.geom.glsl", "preview/shadow.frag.glsl"});
+  GLint maxLayers = 0;
+  glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &maxLayers);
+  capacity_ = std::max(1, static_cast<int>(maxLayers) / 6);
+  count_ = static_cast<int>(casters.size());
+  far_ = far;
+  int chunks = (count_ + capacity_ - 1) / capacity_;
+  // Keep the textures when the layout did not change (the common case: VPLs moved, count and size the same).
+  bool reuse = faceSize == faceSize_ && static_cast<int>(chunks_.size()) == chunks;
+  for (int c = 0; reuse && c < chunks; ++c)
+    reuse = chunks_[static_cast<std::size_t>(c)].layers() == 6 * (chunkEnd(c) - chunkBegin(c));
+  if (!reuse) {
+    chunks_.clear();
+    for (int c = 0; c < chunks; ++c) {
+      chunks_.push_back(GlTexture::cubeArray(faceSize, chunkEnd(c) - chunkBegin(c), TextureFormat::Depth32F));
+      chunks_.back().setDepthCompare(true);
+    }
+    faceSize_ = faceSize;
+  }
+  if (count_ == 0) return;
+
+  std::vector<glm::vec4> positions(casters.size());
+  for (std::size_t i = 0; i < casters.size(); ++i) positions[i] = glm::vec4(casters[i], 1.0f);
+  casterBuffer_.assign(positions.data(), positions.size() * sizeof(glm::vec4));
+  casterBuffer_.bindStorage(6);
+
+  // Cube face orientations of the GL specification (table 8.19), as rotations of the offset from the caster.
+  static const glm::vec3 kTargets[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+  glm::mat3 rotations[6];
+  for (int f = 0; f < 6; ++f) rotations[f] = glm::mat3(glm::lookAt(glm::vec3(0.0f), kTargets[f], kUps[f]));
+  glProgramUniformMatrix3fv(program_.id(), program_.location("uFaceRotation"), 6, GL_FALSE, &rotations[0][0][0]);
+  program_.set("uProjection", glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far));
+  program_.set("uShadowFar", far);
+
+  scene.bind(5);
+  program_.use();
+  vao_.bind();
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  for (int c = 0; c < chunkCount(); ++c) {
+    framebuffer_.attachDepth(chunks_[static_cast<std::size_t>(c)]);
+    framebuffer_.finalize(0);
+    framebuffer_.bind(faceSize, faceSize);
+    framebuffer_.clearDepth(1.0f);
+    program_.set("uFirstCaster", chunkBegin(c));
+    drawProceduralTriangles(3 * scene.triangleCount(), chunkEnd(c) - chunkBegin(c));
+  }
+  glDisable(GL_DEPTH_TEST);
+}
+
+}  // namespace vplab

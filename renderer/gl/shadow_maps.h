@@ -1,0 +1,51 @@
+#pragma once
+// One shadow map per point caster (VPL, area-light sample, punctual light), as cube maps in cube-map arrays.
+//
+// Why cubes and not paraboloids or octahedral maps: a cube face is an ordinary perspective projection, so the
+// rasteriser's straight edges are exact. Paraboloid and octahedral maps are non-linear: a triangle's edges must curve
+// and only come out right for finely tessellated geometry, while vplab's scenes are mostly a few large quads (the
+// Cornell box walls are two triangles each) whose paraboloid images would be badly wrong near the caster, which is
+// exactly where VPL shadows matter. Cubes also cover the whole sphere that punctual lights need, sample with
+// hardware PCF (samplerCubeArrayShadow) and have no seams to handle. The cost is six faces per caster, so each face is
+// shadowMapSize / 2 texels wide: 6 (S/2)^2 = 1.5 S^2 texels per caster, close to one S x S paraboloid. All casters of
+// one chunk render in a single instanced draw (a geometry shader fans each triangle out to the six faces).
+// Depth stores the radial distance / far, so one comparison works on every face.
+
+#include "renderer/gl/resources.h"
+#include "renderer/gl/shader.h"
+
+#include <glm/glm.hpp>
+
+#include <vector>
+
+namespace vplab {
+
+class GlScene;
+
+class CubeShadowMaps {
+ public:
+  CubeShadowMaps() = default;
+  /// Renders one cube per caster position; faces are faceSize texels wide. far: largest distance stored.
+  void render(const GlScene& scene, const std::vector<glm::vec3>& casters, int faceSize, float far);
+
+  /// Casters are split into chunks of at most casterCapacity() cubes (GL_MAX_ARRAY_TEXTURE_LAYERS / 6).
+  int chunkCount() const { return static_cast<int>(chunks_.size()); }
+  int chunkBegin(int chunk) const { return chunk * capacity_; }
+  int chunkEnd(int chunk) const { return std::min(count_, (chunk + 1) * capacity_); }
+  const GlTexture& chunkTexture(int chunk) const { return chunks_[static_cast<std::size_t>(chunk)]; }
+  int casterCount() const { return count_; }
+  float far() const { return far_; }
+
+ private:
+  std::vector<GlTexture> chunks_;
+  GlBuffer casterBuffer_;
+  GlFramebuffer framebuffer_;
+  GlVertexArray vao_;
+  ShaderProgram program_;
+  int capacity_ = 1;
+  int count_ = 0;
+  int faceSize_ = 0;
+  float far_ = 1.0f;
+};
+
+}  // namespace vplab

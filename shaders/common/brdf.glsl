@@ -1,0 +1,50 @@
+// Mirror of renderer/core/brdf.h evaluateBrdf(): glTF metallic-roughness as Lambert + GGX (height-correlated Smith),
+// same constants (F0 0.04, kMinGgxAlpha 1e-3, alpha = roughness^2), both cosines clamped at zero.
+#include "common/math.glsl"
+
+const float kMinGgxAlpha = 1e-3;
+
+struct BrdfParams {
+  vec3 baseColor;
+  float metallic;
+  float roughness;
+  float specular;
+};
+
+float brdfSchlickWeight(float cosTheta) {
+  float m = clamp(1.0 - cosTheta, 0.0, 1.0);
+  float m2 = m * m;
+  return m2 * m2 * m;
+}
+
+float brdfGgxD(float cosH, float alpha) {
+  float a2 = alpha * alpha;
+  float d = cosH * cosH * (a2 - 1.0) + 1.0;
+  return a2 / (kPi * d * d);
+}
+
+float brdfSmithVisibility(float cosO, float cosI, float alpha) {
+  float a2 = alpha * alpha;
+  float lo = cosI * sqrt(cosO * cosO * (1.0 - a2) + a2);
+  float li = cosO * sqrt(cosI * cosI * (1.0 - a2) + a2);
+  float denom = lo + li;
+  return denom > 0.0 ? 0.5 / denom : 0.0;
+}
+
+// f(wo, wi) at a point with unit normal n; wo and wi point away from the surface.
+vec3 evaluateBrdf(BrdfParams p, vec3 n, vec3 wo, vec3 wi) {
+  float cosO = dot(n, wo), cosI = dot(n, wi);
+  if (cosO <= 0.0 || cosI <= 0.0) return vec3(0.0);
+  vec3 h = wo + wi;
+  float hl = length(h);
+  if (!(hl > 0.0)) return vec3(0.0);
+  h /= hl;
+  float vDotH = max(0.0, dot(wo, h));
+  float fw = brdfSchlickWeight(vDotH);
+  float dielectricF = 0.04 + 0.96 * fw;
+  vec3 metalF = p.baseColor + (1.0 - p.baseColor) * fw;
+  float alpha = max(kMinGgxAlpha, p.roughness * p.roughness);
+  float spec = brdfGgxD(max(0.0, dot(n, h)), alpha) * brdfSmithVisibility(cosO, cosI, alpha);
+  vec3 diffuse = (1.0 - p.metallic) * (1.0 - p.specular * dielectricF) * p.baseColor * kInvPi;
+  return diffuse + spec * ((1.0 - p.metallic) * p.specular * dielectricF + p.metallic * metalF);
+}

@@ -1,0 +1,13 @@
+// The scene as the GL passes see it (renderer/gl/gl_scene.cpp uploads it): per-vertex SSBOs fetched by
+// gl_VertexID, per-triangle indices with the material in w, materials with the texture layer in baseColor.w.
+struct GlMaterial {
+  vec4 baseColor;  // rgb factor, w: layer in uBaseColorTextures or -1
+  vec4 emission;   // rgb emitted radiance
+  vec4 params;     // metallic, roughness, specular, 0
+};
+
+layout(std430, binding = 0) readonly buffer ScenePositions { vec4 scenePositions[]; };
+layout(std430, binding = 1) readonly buffer SceneNormals { vec4 sceneNormals[]; };
+layout(std430, binding = 2) readonly buffer SceneUvs { vec2 sceneUvs[]; };
+layout(std430, binding = 3) readonly buffer SceneTriangles { uvec4 sceneTriangles[]; };
+layout(std430, binding = 4) readonly buffer SceneMaterials { GlMaterial sceneMaterials[]; };

@@ -1,0 +1,37 @@
+#version 450 core
+// Geometry-aware de-interleaving (MANYLIGHTS 8): average the k x k window, which holds every VPL subset once, over
+// neighbours on the same surface (relative depth and normal tests), renormalised by the accepted weight so that
+// rejected neighbours do not darken the result.
+#include "common/fullscreen.glsl"
+
+layout(binding = 6) uniform sampler2D uInterleaved;
+uniform int uInterleave;
+uniform vec3 uCameraPosition;
+layout(location = 0) out vec4 outColor;
+
+void main() {
+  ivec2 px = ivec2(gl_FragCoord.xy);
+  ivec2 size = textureSize(uInterleaved, 0);
+  vec4 pos = texelFetch(gPosition, px, 0);
+  if (pos.w <= 0.0 || uInterleave <= 1) {
+    outColor = texelFetch(uInterleaved, px, 0);
+    return;
+  }
+  vec3 n = texelFetch(gNormal, px, 0).xyz;
+  float depth = length(pos.xyz - uCameraPosition);
+  int lo = -(uInterleave / 2);
+  vec3 sum = vec3(0.0);
+  float weight = 0.0;
+  for (int dy = lo; dy < lo + uInterleave; ++dy)
+    for (int dx = lo; dx < lo + uInterleave; ++dx) {
+      ivec2 q = px + ivec2(dx, dy);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
+      vec4 qp = texelFetch(gPosition, q, 0);
+      if (qp.w <= 0.0) continue;
+      if (abs(length(qp.xyz - uCameraPosition) - depth) > 0.05 * depth) continue;
+      if (dot(texelFetch(gNormal, q, 0).xyz, n) < 0.9) continue;
+      sum += texelFetch(uInterleaved, q, 0).rgb;
+      weight += 1.0;
+    }
+  outColor = vec4(weight > 0.0 ? sum / weight : texelFetch(uInterleaved, px, 0).rgb, 1.0);
+}

@@ -1,0 +1,66 @@
+#version 450 core
+// Pass 2, direct light T Le (MANYLIGHTS 1): each light is a shadow-mapped point emitter.
+//  - area-light sample y_k (one-sided):  f(x1) cos1 max(0, n_y.(-w)) / d^2 * Le / (K p_A(y_k)) * V   (weight = Le/(K p_A))
+//  - punctual light:                      f(x1) cos1 I(-w) / d^2 * V   (KHR_lights_punctual spot falloff)
+// The area estimator is unbiased per sample, so the image converges to the exact direct light as K grows.
+#include "common/brdf.glsl"
+#include "common/fullscreen.glsl"
+#include "common/shadow.glsl"
+
+struct DirectLight {
+  vec4 position;  // xyz, w: 0 area sample, 1 point, 2 spot
+  vec4 axis;      // emitter normal (area) or spot axis; w: cos(outer cone)
+  vec4 weight;    // rgb: Le / (K p_A) (area) or intensity in candela; w: cos(inner cone)
+};
+layout(std430, binding = 7) readonly buffer DirectLights { DirectLight lights[]; };
+layout(binding = 6) uniform samplerCubeArrayShadow uShadowMaps;
+
+uniform vec3 uCameraPosition;
+uniform int uFirstLight;
+uniform int uLightCount;
+uniform float uShadowFar;
+uniform float uShadowBias;
+
+layout(location = 0) out vec4 outColor;
+
+void main() {
+  ivec2 px = ivec2(gl_FragCoord.xy);
+  vec4 pos = texelFetch(gPosition, px, 0);
+  if (pos.w <= 0.0) {
+    outColor = vec4(0.0);
+    return;
+  }
+  vec4 nm = texelFetch(gNormal, px, 0), bc = texelFetch(gBaseColor, px, 0), em = texelFetch(gEmission, px, 0);
+  vec3 x1 = pos.xyz, n1 = nm.xyz, ng = texelFetch(gGeoNormal, px, 0).xyz;
+  BrdfParams p = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
+  vec3 wo = normalize(uCameraPosition - x1);
+  vec3 sum = vec3(0.0);
+  for (int i = 0; i < uLightCount; ++i) {
+    DirectLight l = lights[uFirstLight + i];
+    vec3 d = l.position.xyz - x1;
+    float dist2 = dot(d, d);
+    if (!(dist2 > 0.0)) continue;
+    vec3 w = d * inversesqrt(dist2);
+    // One-sided receiver: the light must be on the side the geometric normal faces.
+    if (dot(ng, w) <= 0.0) continue;
+    float cos1 = dot(n1, w);
+    if (cos1 <= 0.0) continue;
+    vec3 radiantTerm;
+    if (l.position.w == 0.0) {
+      // Area sample: one-sided emitter, cosine at the light.
+      float cosY = -dot(l.axis.xyz, w);
+      if (cosY <= 0.0) continue;
+      radiantTerm = l.weight.rgb * cosY;
+    } else if (l.position.w == 1.0) {
+      radiantTerm = l.weight.rgb;
+    } else {
+      float cd = -dot(l.axis.xyz, w);
+      float t = clamp((cd - l.axis.w) / max(0.001, l.weight.w - l.axis.w), 0.0, 1.0);
+      radiantTerm = l.weight.rgb * (t * t);
+    }
+    float v = shadowVisibility(uShadowMaps, i, l.position.xyz, x1, ng, uShadowFar, uShadowBias);
+    if (v <= 0.0) continue;
+    sum += evaluateBrdf(p, n1, wo, w) * cos1 / dist2 * radiantTerm * v;
+  }
+  outColor = vec4(sum, 1.0);
+}
