@@ -12,7 +12,9 @@
 
 namespace vplab::test {
 
-inline std::string tmpPath(const std::string& name) { return std::string(VPLAB_TEST_TMP) + "/" + name; }
+inline std::string tmpPath(const std::string& name) {
+  return std::string(VPLAB_TEST_TMP) + "/" + name;
+}
 
 inline std::string base64(const std::vector<unsigned char>& data) {
   static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
@@ -41,7 +43,8 @@ inline void writeText(const std::string& path, const std::string& text) {
 
 /// A glTF document under construction: one binary buffer, accessors appended tightly packed.
 struct GltfBuilder {
-  nlohmann::json doc = {{"asset", {{"version", "2.0"}}}, {"scene", 0}, {"scenes", {{{"nodes", nlohmann::json::array()}}}}};
+  nlohmann::json doc = {
+      {"asset", {{"version", "2.0"}}}, {"scene", 0}, {"scenes", {{{"nodes", nlohmann::json::array()}}}}};
   std::vector<unsigned char> bin;
 
   int push(const char* key, nlohmann::json value) {
@@ -102,10 +105,12 @@ struct GltfBuilder {
   }
 
   /// Writes .gltf with the buffer embedded as a data URI (or as an external file when binName is given).
-  std::string writeGltf(const std::string& name, const std::string& binName = "") {
+  /// declaredExtra adds to the buffer's byteLength, making the buffer too short for what it claims.
+  std::string writeGltf(const std::string& name, const std::string& binName = "", std::size_t declaredExtra = 0) {
     nlohmann::json d = doc;
     if (binName.empty()) {
-      d["buffers"] = {{{"byteLength", bin.size()}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}};
+      d["buffers"] = {
+          {{"byteLength", bin.size() + declaredExtra}, {"uri", "data:application/octet-stream;base64," + base64(bin)}}};
     } else {
       d["buffers"] = {{{"byteLength", bin.size()}, {"uri", binName}}};
       writeBytes(tmpPath(binName), bin);

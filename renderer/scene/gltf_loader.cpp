@@ -47,7 +47,9 @@ bool endsWith(const std::string& s, const std::string& suffix) {
                     [](char a, char b) { return std::tolower(static_cast<unsigned char>(a)) == b; });
 }
 
-bool finite(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
+bool finite(const glm::vec3& v) {
+  return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
 
 /// Image bytes captured by the custom image loader. Decoding is deferred until the loader has validated the
 /// references itself, so a missing or corrupt image degrades to a warning instead of failing the whole file.
@@ -67,7 +69,9 @@ bool captureImage(tinygltf::Image* image, const int imageIndex, std::string*, st
   return true;
 }
 
-float srgbToLinear(float c) { return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f); }
+float srgbToLinear(float c) {
+  return c <= 0.04045f ? c / 12.92f : std::pow((c + 0.055f) / 1.055f, 2.4f);
+}
 
 /// A validated window onto an accessor's bytes.
 struct AccessorView {
@@ -296,8 +300,8 @@ void Loader::run() {
   if (!model_.scenes.empty()) {
     int s = model_.defaultScene >= 0 ? model_.defaultScene : 0;
     if (static_cast<std::size_t>(s) >= model_.scenes.size())
-      fail("scene", "scene " + std::to_string(s) + " out of range (" + std::to_string(model_.scenes.size()) +
-                        " scenes)");
+      fail("scene",
+           "scene " + std::to_string(s) + " out of range (" + std::to_string(model_.scenes.size()) + " scenes)");
     roots = model_.scenes[static_cast<std::size_t>(s)].nodes;
     for (std::size_t i = 0; i < roots.size(); ++i)
       if (roots[i] < 0 || static_cast<std::size_t>(roots[i]) >= model_.nodes.size())
@@ -346,8 +350,8 @@ void Loader::visitNode(int nodeIndex, const glm::mat4& world) {
   std::string at = "nodes[" + std::to_string(nodeIndex) + "]";
   if (node.mesh >= 0) {
     if (static_cast<std::size_t>(node.mesh) >= model_.meshes.size())
-      fail(at + ".mesh", "mesh " + std::to_string(node.mesh) + " out of range (" +
-                             std::to_string(model_.meshes.size()) + " meshes)");
+      fail(at + ".mesh",
+           "mesh " + std::to_string(node.mesh) + " out of range (" + std::to_string(model_.meshes.size()) + " meshes)");
     const tinygltf::Mesh& mesh = model_.meshes[static_cast<std::size_t>(node.mesh)];
     for (std::size_t p = 0; p < mesh.primitives.size(); ++p) addPrimitive(node.mesh, static_cast<int>(p), world);
   }
@@ -381,23 +385,22 @@ void Loader::addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& wo
   if (posAccessor < 0) fail(at + ".attributes", "no POSITION");
   std::vector<glm::vec3> positions = readVec3(posAccessor, at + ".attributes.POSITION");
   for (std::size_t i = 0; i < positions.size(); ++i)
-    if (!finite(positions[i]))
-      fail(at + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite");
+    if (!finite(positions[i])) fail(at + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite");
   const std::size_t vertexCount = positions.size();
 
   std::vector<glm::vec3> normals;
   if (int a = attribute("NORMAL"); a >= 0) {
     normals = readVec3(a, at + ".attributes.NORMAL");
     if (normals.size() != vertexCount)
-      fail(at + ".attributes.NORMAL", std::to_string(normals.size()) + " elements, POSITION has " +
-                                          std::to_string(vertexCount));
+      fail(at + ".attributes.NORMAL",
+           std::to_string(normals.size()) + " elements, POSITION has " + std::to_string(vertexCount));
   }
   std::vector<glm::vec2> uvs;
   if (int a = attribute("TEXCOORD_0"); a >= 0) {
     uvs = readUv(a, at + ".attributes.TEXCOORD_0");
     if (uvs.size() != vertexCount)
-      fail(at + ".attributes.TEXCOORD_0", std::to_string(uvs.size()) + " elements, POSITION has " +
-                                              std::to_string(vertexCount));
+      fail(at + ".attributes.TEXCOORD_0",
+           std::to_string(uvs.size()) + " elements, POSITION has " + std::to_string(vertexCount));
   }
 
   std::vector<uint32_t> indices;
@@ -417,7 +420,8 @@ void Loader::addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& wo
   if (mode == kModeTriangles) {
     if (indices.size() % 3 != 0)
       warn(at, std::to_string(indices.size() % 3) + " trailing indices ignored (count not a multiple of 3)");
-    for (std::size_t i = 0; i + 2 < indices.size(); i += 3) tris.emplace_back(indices[i], indices[i + 1], indices[i + 2]);
+    for (std::size_t i = 0; i + 2 < indices.size(); i += 3)
+      tris.emplace_back(indices[i], indices[i + 1], indices[i + 2]);
   } else if (mode == kModeTriangleStrip) {
     for (std::size_t i = 0; i + 2 < indices.size(); ++i)
       tris.push_back(i % 2 == 0 ? glm::uvec3(indices[i], indices[i + 1], indices[i + 2])
@@ -522,8 +526,8 @@ uint32_t Loader::materialIndex(int gltfMaterial, const std::string& where) {
   m.name = g.name.empty() ? "material" + std::to_string(gltfMaterial) : g.name;
   const auto& pbr = g.pbrMetallicRoughness;
   num(pbr.baseColorFactor, 3, "pbrMetallicRoughness.baseColorFactor");
-  m.baseColor = glm::clamp(glm::vec3(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]), 0.0f,
-                           1.0f);
+  m.baseColor =
+      glm::clamp(glm::vec3(pbr.baseColorFactor[0], pbr.baseColorFactor[1], pbr.baseColorFactor[2]), 0.0f, 1.0f);
   if (!std::isfinite(pbr.metallicFactor) || !std::isfinite(pbr.roughnessFactor))
     fail(at + ".pbrMetallicRoughness", "metallicFactor or roughnessFactor is not finite");
   m.metallic = std::clamp(static_cast<float>(pbr.metallicFactor), 0.0f, 1.0f);
@@ -560,8 +564,8 @@ uint32_t Loader::materialIndex(int gltfMaterial, const std::string& where) {
 
 int Loader::textureIndex(int gltfTexture, const std::string& where) {
   if (static_cast<std::size_t>(gltfTexture) >= model_.textures.size())
-    fail(where, "texture " + std::to_string(gltfTexture) + " out of range (" +
-                    std::to_string(model_.textures.size()) + " textures)");
+    fail(where, "texture " + std::to_string(gltfTexture) + " out of range (" + std::to_string(model_.textures.size()) +
+                    " textures)");
   int source = model_.textures[static_cast<std::size_t>(gltfTexture)].source;
   std::string texAt = "textures[" + std::to_string(gltfTexture) + "]";
   if (source < 0) {
@@ -569,8 +573,8 @@ int Loader::textureIndex(int gltfTexture, const std::string& where) {
     return -1;
   }
   if (static_cast<std::size_t>(source) >= model_.images.size())
-    fail(texAt + ".source", "image " + std::to_string(source) + " out of range (" +
-                                std::to_string(model_.images.size()) + " images)");
+    fail(texAt + ".source",
+         "image " + std::to_string(source) + " out of range (" + std::to_string(model_.images.size()) + " images)");
   int& cached = imageTextures_[static_cast<std::size_t>(source)];
   if (cached != -2) return cached;
 
@@ -631,8 +635,8 @@ void Loader::addLight(int nodeIndex, const glm::mat4& world) {
   if (!ext.IsObject() || !ext.Has("light") || !ext.Get("light").IsNumber()) fail(at, "no light index");
   int index = ext.Get("light").GetNumberAsInt();
   if (index < 0 || static_cast<std::size_t>(index) >= model_.lights.size())
-    fail(at + ".light", "light " + std::to_string(index) + " out of range (" + std::to_string(model_.lights.size()) +
-                            " lights)");
+    fail(at + ".light",
+         "light " + std::to_string(index) + " out of range (" + std::to_string(model_.lights.size()) + " lights)");
   const tinygltf::Light& g = model_.lights[static_cast<std::size_t>(index)];
   std::string lightAt = "extensions.KHR_lights_punctual.lights[" + std::to_string(index) + "]";
   PunctualLight l;
@@ -660,14 +664,15 @@ void Loader::addLight(int nodeIndex, const glm::mat4& world) {
   // Punctual lights sit at their node's origin and shine down its local -Z (KHR_lights_punctual).
   l.position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
   glm::vec3 dir = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);
-  if (!finite(l.position) || !(glm::length(dir) > 0.0f)) fail("nodes[" + std::to_string(nodeIndex) + "]",
-                                                               "degenerate transform for a light");
+  if (!finite(l.position) || !(glm::length(dir) > 0.0f))
+    fail("nodes[" + std::to_string(nodeIndex) + "]", "degenerate transform for a light");
   l.direction = glm::normalize(dir);
   scene_.punctualLights.push_back(l);
 }
 
 void Loader::addCamera(int nodeIndex, const glm::mat4& world) {
-  const tinygltf::Camera& g = model_.cameras[static_cast<std::size_t>(model_.nodes[static_cast<std::size_t>(nodeIndex)].camera)];
+  const tinygltf::Camera& g =
+      model_.cameras[static_cast<std::size_t>(model_.nodes[static_cast<std::size_t>(nodeIndex)].camera)];
   if (haveCamera_) return;
   if (g.type != "perspective") {
     warn("nodes[" + std::to_string(nodeIndex) + "].camera", "'" + g.type + "' camera ignored (perspective only)");
@@ -716,7 +721,7 @@ void Loader::readAssetExtras() {
 
 /// tinygltf rejects some broken references itself, with messages that do not say where ("primitive indices accessor
 /// out of bounds"). Checking the references first gives the glTF path instead. Unparsable JSON is left to tinygltf.
-void checkReferences(const std::string& file, const char* json, std::size_t size) {
+void checkReferences(const std::string& file, const std::string& baseDir, const char* json, std::size_t size) {
   nlohmann::json doc = nlohmann::json::parse(json, json + size, nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) return;
   auto count = [&](const char* key) {
@@ -750,6 +755,34 @@ void checkReferences(const std::string& file, const char* json, std::size_t size
       if (doc["accessors"][a].is_object() && doc["accessors"][a].contains("bufferView"))
         check(doc["accessors"][a]["bufferView"], views, "accessors[" + std::to_string(a) + "].bufferView",
               "bufferView");
+  // Buffers shorter than their byteLength: name the buffer rather than quoting tinygltf's data-URI dump.
+  for (std::size_t b = 0; b < buffers; ++b) {
+    const nlohmann::json& buffer = doc["buffers"][b];
+    if (!buffer.is_object() || !buffer.contains("uri") || !buffer["uri"].is_string() ||
+        !buffer.contains("byteLength") || !buffer["byteLength"].is_number_unsigned())
+      continue;
+    std::string uri = buffer["uri"].get<std::string>();
+    auto declared = buffer["byteLength"].get<uint64_t>();
+    std::string at = file + ": buffers[" + std::to_string(b) + "]";
+    uint64_t actual = 0;
+    if (uri.rfind("data:", 0) == 0) {
+      std::size_t comma = uri.find(',');
+      if (comma == std::string::npos) throw SceneError(at + ".uri: data URI without ','");
+      std::size_t chars = uri.size() - comma - 1, padding = 0;
+      for (std::size_t i = uri.size(); i > comma + 1 && uri[i - 1] == '=' && padding < 2; --i) ++padding;
+      actual = chars * 3 / 4 - std::min<uint64_t>(padding, chars * 3 / 4);
+      if (actual < declared)
+        throw SceneError(at + ": data URI holds " + std::to_string(actual) + " bytes, byteLength says " +
+                         std::to_string(declared));
+    } else if (uri.find('%') == std::string::npos && uri.find(':') == std::string::npos) {
+      std::ifstream in(baseDir + "/" + uri, std::ios::binary | std::ios::ate);
+      if (!in) throw SceneError(at + ".uri: cannot open '" + uri + "'");
+      actual = static_cast<uint64_t>(in.tellg());
+      if (actual < declared)
+        throw SceneError(at + ": '" + uri + "' has " + std::to_string(actual) + " bytes, byteLength says " +
+                         std::to_string(declared));
+    }
+  }
   if (doc.contains("bufferViews") && doc["bufferViews"].is_array())
     for (std::size_t v = 0; v < views; ++v)
       if (doc["bufferViews"][v].is_object() && doc["bufferViews"][v].contains("buffer"))
@@ -778,9 +811,9 @@ Scene loadScene(const std::string& path) {
     uint32_t jsonLength = 0;
     std::memcpy(&jsonLength, bytes.data() + 12, 4);
     if (jsonLength > bytes.size() - 20) throw SceneError(path + ": truncated .glb (JSON chunk exceeds the file)");
-    checkReferences(path, reinterpret_cast<const char*>(bytes.data()) + 20, jsonLength);
+    checkReferences(path, directoryOf(path), reinterpret_cast<const char*>(bytes.data()) + 20, jsonLength);
   } else {
-    checkReferences(path, reinterpret_cast<const char*>(bytes.data()), bytes.size());
+    checkReferences(path, directoryOf(path), reinterpret_cast<const char*>(bytes.data()), bytes.size());
   }
 
   tinygltf::TinyGLTF gltf;
