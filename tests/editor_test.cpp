@@ -1,0 +1,249 @@
+// The editor: its pure logic (scripts, camera, chart, presets) and a scripted run of `vplab edit` under Xvfb whose
+// view is compared with the headless preview of the same settings and camera.
+
+#include "renderer/gl/context.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/image/image_io.h"
+#include "renderer/image/metrics.h"
+#include "renderer/image/tonemap.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/settings_json.h"
+#include "renderer/vpl/vpl_generation.h"
+
+#ifdef VPLAB_HAVE_EDITOR
+#include "ui/camera_controller.h"
+#include "ui/chart.h"
+#include "ui/presets.h"
+#include "ui/script.h"
+#endif
+
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <fstream>
+#include <regex>
+#include <sstream>
+#include <string>
+
+namespace vplab {
+namespace {
+
+#ifdef VPLAB_HAVE_EDITOR
+
+TEST(EditorScript, ParsesCommandsAndSkipsComments) {
+  auto commands = ui::parseScript("# a comment\nset clampBound 0.5  # trailing\n\norbit 10 -5\npreset Corner splotches "
+                                  "(no bound)\nlight 0 move 0 0.1 0\nexpect-no-vpl-regeneration\n",
+                                  "s.txt");
+  ASSERT_EQ(commands.size(), 5u);
+  EXPECT_EQ(commands[0].verb, "set");
+  EXPECT_EQ(commands[0].args, (std::vector<std::string>{"clampBound", "0.5"}));
+  EXPECT_EQ(commands[0].line, 2);
+  EXPECT_EQ(commands[1].line, 4);
+  EXPECT_EQ(commands[2].args, (std::vector<std::string>{"Corner splotches (no bound)"}));
+  EXPECT_EQ(commands[3].args.size(), 5u);
+}
+
+TEST(EditorScript, ErrorsNameTheLine) {
+  auto expectError = [](const std::string& text, const std::string& fragment) {
+    try {
+      ui::parseScript(text, "s.txt");
+      FAIL() << "no error for: " << text;
+    } catch (const ui::ScriptError& e) {
+      EXPECT_NE(std::string(e.what()).find(fragment), std::string::npos) << e.what();
+    }
+  };
+  expectError("frames 2\nfly 1 2\n", "s.txt:2: unknown command 'fly'");
+  expectError("orbit 10\n", "s.txt:1:");
+  expectError("orbit ten 5\n", "'ten' is not a number");
+  expectError("light 0 spin 3\n", "light <i> move");
+  expectError("offline fast\n", "reference");
+}
+
+TEST(EditorCamera, StartsAtTheSceneCameraAndOrbitsAroundTheTarget) {
+  Camera cam;
+  cam.position = {0.278f, 0.273f, -0.8f};
+  cam.forward = {0.0f, 0.0f, 1.0f};
+  cam.up = {0.0f, 1.0f, 0.0f};
+  ui::CameraController c(cam, 1.0f, 1.0f);
+  Camera start = c.camera();
+  EXPECT_NEAR(glm::length(start.position - cam.position), 0.0f, 1e-5f);
+  EXPECT_NEAR(glm::dot(start.forward, cam.forward), 1.0f, 1e-6f);
+  glm::vec3 target = c.target();
+  c.orbit(0.3f, 0.2f);
+  Camera moved = c.camera();
+  EXPECT_NEAR(glm::length(moved.position - target), 1.0f, 1e-5f);
+  EXPECT_NEAR(glm::length(moved.position + 1.0f * moved.forward - target), 0.0f, 1e-5f);
+  EXPECT_GT(glm::length(moved.position - cam.position), 0.1f);
+  EXPECT_NEAR(glm::dot(moved.up, moved.forward), 0.0f, 1e-5f);
+  // Pitch is limited short of the pole so forward never equals up.
+  c.orbit(0.0f, 10.0f);
+  EXPECT_LT(c.camera().forward.y, 0.9999f);
+  c.zoom(5.0f);
+  EXPECT_NEAR(c.distance(), std::pow(0.9f, 5.0f), 1e-5f);
+  glm::vec3 before = c.target();
+  c.pan(0.1f, 0.0f);
+  EXPECT_NEAR(glm::length(c.target() - before), 0.1f * c.distance(), 1e-5f);
+}
+
+TEST(EditorChart, ParetoFrontKeepsOnlyUndominatedPoints) {
+  std::vector<ui::ChartPoint> points(5);
+  double data[5][2] = {{10, 0.5}, {20, 0.1}, {15, 0.6}, {40, 0.1}, {5, 0.9}};
+  for (int i = 0; i < 5; ++i) points[i].frameMs = data[i][0], points[i].relMse = data[i][1];
+  EXPECT_EQ(ui::paretoFront(points), (std::vector<std::size_t>{4, 0, 1}));
+  EXPECT_TRUE(ui::paretoFront({}).empty());
+}
+
+TEST(EditorPresets, EveryPresetIsValidAndItsSceneExists) {
+  ASSERT_GE(ui::teachingPresets().size(), 8u);
+  for (const ui::TeachingPreset& p : ui::teachingPresets()) {
+    EXPECT_TRUE(validateSettings(p.settings).empty()) << p.name;
+    EXPECT_TRUE(std::filesystem::exists(std::string(VPLAB_TEST_ASSETS) + "/scenes/" + p.scene)) << p.name;
+    EXPECT_GT(p.explanation.size(), 80u) << p.name;
+    // Script lines address presets by name, which must survive the parser's rest-of-line rule.
+    auto parsed = ui::parseScript("preset " + p.name + "\n", "p");
+    EXPECT_EQ(parsed.at(0).args.at(0), p.name);
+  }
+}
+
+// --- the window, under Xvfb -----------------------------------------------------------------------------------------
+
+std::string tmp(const std::string& name) { return std::string(VPLAB_TEST_TMP) + "/editor_" + name; }
+
+struct RunResult {
+  int status = -1;
+  std::string output;
+};
+
+RunResult runEditor(const std::string& script, const std::string& extraArgs) {
+  const std::string scriptPath = tmp("script.txt");
+  std::ofstream(scriptPath) << script;
+  const std::string log = tmp("run.log");
+  std::string cmd = "xvfb-run -a -s \"-screen 0 1280x720x24\" " + std::string(VPLAB_BINARY) + " edit " +
+                    std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf --script " + scriptPath + " " +
+                    extraArgs + " > " + log + " 2>&1";
+  RunResult r;
+  int raw = std::system(cmd.c_str());
+  r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream in(log);
+  std::stringstream s;
+  s << in.rdbuf();
+  r.output = s.str();
+  return r;
+}
+
+bool haveXvfb() { return std::system("command -v xvfb-run > /dev/null 2>&1") == 0; }
+
+struct ViewRect {
+  int x = 0, y = 0, w = 0, h = 0;
+  float scale = 1.0f;
+};
+
+ViewRect viewRectOf(const std::string& output, const std::string& screenshot) {
+  std::regex re("screenshot " + screenshot + " window \\d+x\\d+ view (\\d+) (\\d+) (\\d+) (\\d+) scale ([0-9.]+)");
+  std::smatch m;
+  ViewRect r;
+  if (std::regex_search(output, m, re))
+    r = {std::stoi(m[1]), std::stoi(m[2]), std::stoi(m[3]), std::stoi(m[4]), std::stof(m[5])};
+  return r;
+}
+
+double meanLuminance(const Image& image) {
+  double sum = 0.0;
+  for (const glm::vec3& p : image.pixels) sum += (p.r + p.g + p.b) / 3.0;
+  return sum / static_cast<double>(image.size());
+}
+
+TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) {
+  ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
+  const std::string shotA = tmp("a.png"), shotB = tmp("b.png"), viewA = tmp("a.exr"), viewB = tmp("b.exr");
+  std::string script =
+      "set width 96\nset height 96\nset vplCount 48\nset directLightSamples 16\nframes 2\n"
+      "mark\norbit 15 5\nframes 2\nexpect-no-vpl-regeneration\nexpect-no-shadow-map-render\n"
+      "save-view " + viewA + "\nscreenshot " + shotA + "\n"
+      "mark\nset clampBound 2\nframes 2\nexpect-no-vpl-regeneration\nexpect-no-shadow-map-render\n"
+      "save-view " + viewB + "\nscreenshot " + shotB + "\ncounters\n"
+      "mark\nlight 0 intensity 1.5\nframes 1\nexpect-vpl-regeneration\n";
+  RunResult run = runEditor(script, "");
+  ASSERT_EQ(run.status, 0) << run.output;
+
+  // The view is not blank: the screenshot's view rectangle has light and structure.
+  ViewRect rect = viewRectOf(run.output, shotA);
+  ASSERT_GT(rect.w, 0) << run.output;
+  ASSERT_EQ(rect.w, static_cast<int>(96 * rect.scale));
+  Image screen = readPng(shotA);
+  ASSERT_EQ(screen.width, 1280);
+  const int scale = static_cast<int>(rect.scale);
+  ASSERT_GE(scale, 1);
+  Image shown(96, 96);
+  for (int y = 0; y < 96; ++y)
+    for (int x = 0; x < 96; ++x) shown.at(x, y) = screen.at(rect.x + x * scale + scale / 2, rect.y + y * scale + scale / 2);
+  double shownMean = meanLuminance(shown);
+  EXPECT_GT(shownMean, 0.01);
+  double variance = 0.0;
+  for (const glm::vec3& p : shown.pixels) variance += std::pow((p.r + p.g + p.b) / 3.0 - shownMean, 2.0);
+  EXPECT_GT(variance / shown.size(), 1e-4) << "the view is flat";
+
+  // The same settings and camera through the headless preview.
+  Scene scene = loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf");
+  Settings settings;
+  settings.width = settings.height = 96;
+  settings.vplCount = 48;
+  settings.directLightSamples = 16;
+  EmbreeScene embree(scene);
+  LightSampler lights(scene);
+  VplSet vpls = generateVpls(scene, embree, lights, settings);
+  ui::CameraController controller(scene.camera, glm::length(scene.bounds.center() - scene.camera.position),
+                                  scene.bounds.diagonal());
+  controller.orbit(glm::radians(15.0f), glm::radians(5.0f));
+  HeadlessGlContext context;
+  PreviewRenderer preview;
+  preview.render(scene, vpls, settings, controller.camera());
+  Image headlessA = preview.readLinear();
+  Image editorA = readImage(viewA);
+  ImageMetrics m = compareImages(editorA, headlessA);
+  EXPECT_LT(m.relMse, 1e-3) << "editor view differs from the headless preview";
+  EXPECT_NEAR(m.energyRatioOverall, 1.0, 0.01);
+
+  // What is displayed is that image, tonemapped (8-bit rounding and the integer zoom aside).
+  std::vector<uint8_t> expected = tonemapToRgb8(headlessA, 0.0f);
+  double displayError = 0.0;
+  for (std::size_t i = 0; i < shown.size(); ++i)
+    for (int c = 0; c < 3; ++c)
+      displayError += std::abs(static_cast<double>(quantize8(srgbFromLinear(shown.pixels[i][c]))) - expected[3 * i + c]);
+  EXPECT_LT(displayError / (3.0 * shown.size()), 2.0) << "mean 8-bit difference between the window and the preview";
+
+  // Changing b changes the image, and the result again matches a fresh headless render with the new bound.
+  Image editorB = readImage(viewB);
+  EXPECT_LT(meanLuminance(editorB), 0.99 * meanLuminance(editorA)) << "b = 2 should remove energy";
+  settings.clampBound = 2.0f;
+  PreviewRenderer fresh;
+  fresh.render(scene, vpls, settings, controller.camera());
+  EXPECT_LT(compareImages(editorB, fresh.readLinear()).relMse, 1e-3);
+  EXPECT_NE(run.output.find("counters vplGenerations="), std::string::npos);
+}
+
+TEST(EditorWindow, FailedExpectationExitsWithStatusOne) {
+  ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
+  RunResult run = runEditor("set width 32\nset height 32\nset vplCount 16\nframes 1\nmark\nset vplCount 24\n"
+                            "expect-no-vpl-regeneration\n",
+                            "");
+  EXPECT_EQ(run.status, 1) << run.output;
+  EXPECT_NE(run.output.find("VPL generation(s) since the mark"), std::string::npos) << run.output;
+}
+
+TEST(EditorWindow, BadSceneFileIsAnErrorBeforeAnyWindow) {
+  // No display needed: the scene is loaded before the window is opened.
+  std::string cmd = std::string(VPLAB_BINARY) + " edit " + tmp("missing.gltf") + " > " + tmp("bad.log") + " 2>&1";
+  int raw = std::system(cmd.c_str());
+  EXPECT_EQ(WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, 1);
+}
+
+#endif  // VPLAB_HAVE_EDITOR
+
+}  // namespace
+}  // namespace vplab
