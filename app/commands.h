@@ -15,6 +15,8 @@ int cmdInfo(const Args& args);
 int cmdCompare(const Args& args);
 /// vplab reference <scene>: the path-traced reference image.
 int cmdReference(const Args& args);
+/// vplab render <scene> --method vpl|vpl-kk|vsl: VPL generation and the exact VPL render.
+int cmdRender(const Args& args);
 
 /// vplab edit [scene]: the interactive editor (or a scripted run of it).
 int cmdEdit(const Args& args);

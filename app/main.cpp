@@ -14,6 +14,8 @@ const std::vector<vplab::cli::Command>& commands() {
   static const std::vector<vplab::cli::Command> list = {
       {"edit", "interactive editor: preview, offline pass, split/difference views, chart, presets",
        vplab::app::cmdEdit},
+      {"render", "exact VPL render (vpl, vpl-kk, vsl) with VPL statistics and metrics against a reference",
+       vplab::app::cmdRender},
       {"reference", "path-traced reference image (EXR/PFM/PNG), direct/indirect components",
        vplab::app::cmdReference},
       {"info", "print what a glTF scene contains (counts, lights, materials, camera, warnings)", vplab::app::cmdInfo},
