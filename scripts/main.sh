@@ -1,11 +1,18 @@
 #!/usr/bin/env bash
-# The main job on a fresh Debian 12 machine: installs packages, builds, renders the default scene.
+# The main job on a fresh Debian 12 machine: installs packages, builds, then opens the editor on the default scene
+# when a display is available ($DISPLAY set), else renders the default scene headless.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${VPLAB_BUILD_DIR:-$root/build}"
 "$root/scripts/install-deps.sh"
 "$root/scripts/build.sh"
+scene="$root/assets/scenes/cornell-box.gltf"
+if [[ -n "${DISPLAY:-}" && -x "$build/app/vplab" ]] && "$build/app/vplab" --help | grep -q '^  edit '; then
+  echo "DISPLAY is set: opening the editor on $scene (close the window to finish)"
+  exec "$build/app/vplab" edit "$scene"
+fi
 out="$root/out"
 mkdir -p "$out"
-"$build/app/vplab" reference "$root/assets/scenes/cornell-box.gltf" --spp 256 --size 512x512 \
+echo "no DISPLAY: rendering $scene headless into $out (run 'vplab edit' with a display for the editor)"
+"$build/app/vplab" reference "$scene" --spp 256 --size 512x512 \
   --out "$out/cornell-box.exr" --png "$out/cornell-box.png"
