@@ -7,7 +7,7 @@ build="${VPLAB_BUILD_DIR:-$root/build}"
 "$root/scripts/install-deps.sh"
 "$root/scripts/build.sh"
 scene="$root/assets/scenes/cornell-box.gltf"
-if [[ -n "${DISPLAY:-}" && -x "$build/app/vplab" ]] && "$build/app/vplab" --help | grep -q '^  edit '; then
+if [[ -n "${DISPLAY:-}" && -x "$build/app/vplab" ]] && "$build/app/vplab" --help | grep '^  edit ' >/dev/null; then
   echo "DISPLAY is set: opening the editor on $scene (close the window to finish)"
   exec "$build/app/vplab" edit "$scene"
 fi
