@@ -228,8 +228,12 @@ TEST(VplClamp, EnergyDecreasesMonotonicallyWithTheBound) {
     double mean = meanLuminance(r.image);
     EXPECT_LE(mean, previousMean) << "b = " << b;
     EXPECT_GE(r.clampEnergyRemoved, previousRemoved) << "b = " << b;
-    if (std::isinf(b)) EXPECT_EQ(r.clampEnergyRemoved, 0.0);
-    if (b == 0.0f) EXPECT_NEAR(r.clampEnergyRemoved, 1.0, 1e-12);
+    if (std::isinf(b)) {
+      EXPECT_EQ(r.clampEnergyRemoved, 0.0);
+    }
+    if (b == 0.0f) {
+      EXPECT_NEAR(r.clampEnergyRemoved, 1.0, 1e-12);
+    }
     previousMean = mean;
     previousRemoved = r.clampEnergyRemoved;
   }
@@ -368,7 +372,9 @@ TEST(VplExtremes, EveryExtremeParameterGivesAFiniteImage) {
     s.rejectionPilotVpls = 16;
     s.rejectionSamplePoints = 16;
     VplSet set = generate(*l, s);
-    if (c.vpls == 0) EXPECT_TRUE(set.vpls.empty());
+    if (c.vpls == 0) {
+      EXPECT_TRUE(set.vpls.empty());
+    }
     Image image = render(*l, set, c.method, s).image;
     EXPECT_EQ(nonFinite(image), 0u) << c.name;
     EXPECT_GT(meanLuminance(image), 0.0) << c.name;  // direct light is always there

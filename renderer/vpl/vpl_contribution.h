@@ -25,6 +25,16 @@ struct ShadingPoint {
   BrdfParams brdf;
 };
 
+/// evaluateBrdf() with a shortcut for pure Lambert materials (metallic = specular = 0), where it reduces exactly to
+/// baseColor / pi: the common case in the VPL sum, whose cost is dominated by BRDF evaluations besides shadow rays.
+inline glm::vec3 evaluateBrdfForVpl(const BrdfParams& p, const glm::vec3& n, const glm::vec3& wo, const glm::vec3& wi) {
+  if (p.metallic == 0.0f && p.specular == 0.0f) {
+    if (glm::dot(n, wo) <= 0.0f || glm::dot(n, wi) <= 0.0f) return glm::vec3(0.0f);
+    return p.baseColor * kInvPi;
+  }
+  return evaluateBrdf(p, n, wo, wi);
+}
+
 /// Unoccluded contribution of one VPL (visibility is the caller's, because shadow rays are batched).
 /// `unclamped`, when given, receives the same product with G instead of G_b (for the energy removed by the clamp).
 /// `geometryTerm`, when given, receives G (0 when the pair cannot exchange light).
@@ -45,8 +55,8 @@ inline glm::vec3 vplUnoccludedContribution(const ShadingPoint& sp, const Vpl& vp
   if (cos1 <= 0.0f || cos2 <= 0.0f) return glm::vec3(0.0f);
   float g = cos1 * cos2 / dist2;
   // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
-  glm::vec3 f1 = evaluateBrdf(sp.brdf, sp.hit.shadingNormal, sp.wo, w);
-  glm::vec3 f2 = evaluateBrdf(vplBrdf, vpl.normal, vpl.incoming, -w);
+  glm::vec3 f1 = evaluateBrdfForVpl(sp.brdf, sp.hit.shadingNormal, sp.wo, w);
+  glm::vec3 f2 = evaluateBrdfForVpl(vplBrdf, vpl.normal, vpl.incoming, -w);
   glm::vec3 base = f1 * f2 * vpl.flux;
   if (geometryTerm) *geometryTerm = g;
   if (unclamped) *unclamped = base * g;
