@@ -1,0 +1,149 @@
+#include "renderer/bench/harness.h"
+
+#include "renderer/core/sampling.h"
+#include "renderer/image/image_io.h"
+#include "renderer/image/metrics.h"
+#include "renderer/offline/path_tracer.h"
+#include "renderer/offline/vpl_renderer.h"
+#include "renderer/vpl/vpl_generation.h"
+
+#include <algorithm>
+#include <cassert>
+#include <cmath>
+#include <filesystem>
+
+namespace vplab {
+
+const char* toString(Backend backend) { return backend == Backend::Cpu ? "cpu" : "gl"; }
+
+SceneSetup::SceneSetup(Scene scene)
+    : scene_(std::make_unique<Scene>(std::move(scene))),
+      embree_(std::make_unique<EmbreeScene>(*scene_)),
+      lights_(std::make_unique<LightSampler>(*scene_)) {}
+
+VplSet SceneSetup::generate(const Settings& settings) const {
+  return generateVpls(*scene_, *embree_, *lights_, settings);
+}
+
+MeasuredImage SceneSetup::renderCpu(Method method, const VplSet& vpls, const Settings& settings) const {
+  assert(method != Method::Reference);
+  MeasuredImage m;
+  VplRenderResult r = renderVpl(*scene_, *embree_, *lights_, vpls, method, settings);
+  m.image = std::move(r.image);
+  m.generationMs = 1000.0 * vpls.stats.generationSeconds;
+  m.renderMs = 1000.0 * r.seconds;
+  m.vplStats = vpls.stats;
+  return m;
+}
+
+MeasuredImage SceneSetup::renderReferenceImage(const Settings& settings) const {
+  MeasuredImage m;
+  ProgressiveResult r = renderReference(*scene_, *embree_, *lights_, settings);
+  m.image = std::move(r.image);
+  m.renderMs = 1000.0 * r.seconds;
+  return m;
+}
+
+PreviewBench::PreviewBench(GlBackend backend) : backend_(backend) {}
+PreviewBench::~PreviewBench() {
+  // The renderer's GL objects must go while their context is still current.
+  if (context_) context_->makeCurrent();
+  renderer_.reset();
+  context_.reset();
+}
+
+bool PreviewBench::available() {
+  if (!tried_) {
+    tried_ = true;
+    try {
+      context_ = std::make_unique<HeadlessGlContext>(backend_);
+      renderer_ = std::make_unique<PreviewRenderer>();
+    } catch (const std::exception& e) {
+      error_ = e.what();
+      renderer_.reset();
+      context_.reset();
+    }
+  }
+  return renderer_ != nullptr;
+}
+
+std::string PreviewBench::description() { return available() ? context_->description() : "no GL: " + error_; }
+
+MeasuredImage PreviewBench::render(const Scene& scene, const VplSet& vpls, const Settings& settings,
+                              const Camera& camera) {
+  assert(settings.components != Components::Direct);
+  if (!available()) throw GlError("GL preview unavailable: " + error_);
+  context_->makeCurrent();
+  // A frame from scratch: the cost of a new VPL set or a new scene, which is what a sweep point stands for.
+  renderer_->invalidateScene();
+  renderer_->invalidateVpls();
+  PreviewTimings t = renderer_->render(scene, vpls, settings, camera);
+  MeasuredImage m;
+  m.generationMs = 1000.0 * vpls.stats.generationSeconds;
+  m.vplStats = vpls.stats;
+  if (settings.components == Components::All) {
+    m.image = renderer_->readLinear(PreviewOutput::Final);
+    m.renderMs = t.totalMs();
+  } else {
+    m.image = renderer_->readLinear(PreviewOutput::Indirect);
+    bool compensated = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound);
+    if (compensated) {
+      Image residual = renderer_->readLinear(PreviewOutput::Residual);
+      for (std::size_t i = 0; i < m.image.size(); ++i) m.image.pixels[i] += residual.pixels[i];
+    }
+    m.renderMs = t.totalMs() - t.directShadowMs - t.directMs;
+  }
+  return m;
+}
+
+std::string sceneStem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+
+MeasuredImage cachedReference(const SceneSetup& setup, const std::string& sceneName, const Settings& settings,
+                              const std::string& cacheDir, bool* cached) {
+  std::string file;
+  if (!cacheDir.empty()) {
+    std::filesystem::create_directories(cacheDir);
+    file = cacheDir + "/ref-" + sceneName + "-" + std::to_string(settings.width) + "x" +
+           std::to_string(settings.height) + "-" + std::to_string(settings.samplesPerPixel) + "spp-" +
+           toString(settings.components) + "-d" + std::to_string(settings.maxDepth) + "-s" +
+           std::to_string(settings.seed) + ".exr";
+    if (std::filesystem::exists(file)) {
+      MeasuredImage m;
+      m.image = readImage(file);
+      if (m.image.width == settings.width && m.image.height == settings.height) {
+        if (cached) *cached = true;
+        return m;
+      }
+    }
+  }
+  if (cached) *cached = false;
+  MeasuredImage m = setup.renderReferenceImage(settings);
+  if (!file.empty()) writeImage(file, m.image);
+  return m;
+}
+
+float autoExposure(const Image& image) {
+  double sum = 0.0;
+  std::size_t n = 0;
+  for (const glm::vec3& p : image.pixels)
+    if (isFinite(p)) {
+      sum += luminance(p);
+      ++n;
+    }
+  if (n == 0 || sum <= 0.0) return 0.0f;
+  double stops = std::log2(0.18 / (sum / static_cast<double>(n)));
+  return static_cast<float>(std::clamp(stops, -12.0, 12.0));
+}
+
+BadPixels countBadPixels(const Image& image) {
+  BadPixels b;
+  for (const glm::vec3& p : image.pixels) {
+    if (!isFinite(p))
+      ++b.nonFinite;
+    else if (p.r < 0.0f || p.g < 0.0f || p.b < 0.0f)
+      ++b.negative;
+  }
+  return b;
+}
+
+}  // namespace vplab

@@ -1,0 +1,101 @@
+#pragma once
+// What the sweeps (bench, stability) need around the two renderers: one scene with its Embree BVH and light sampler,
+// VPL generation, the exact CPU VPL render, the GL preview in a headless context, and cached references, all
+// returning an image plus the time it took. Compared like with like: with Components::Indirect every backend returns
+// indirect light only (CPU: renderVpl's indirect component; GL: the de-interleaved gather plus the screen-space
+// residual), which is the part the many-light methods approximate; with Components::All the full image.
+
+#include "renderer/gl/context.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/image/image.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+#include "renderer/vpl/vpl.h"
+
+#include <memory>
+#include <optional>
+#include <string>
+
+namespace vplab {
+
+enum class Backend { Cpu, Gl };
+const char* toString(Backend backend);
+
+/// One measured render.
+struct MeasuredImage {
+  Image image;
+  double generationMs = 0.0;  ///< VPL generation (pilot and rejection included); 0 for references
+  double renderMs = 0.0;      ///< CPU: wall time of renderVpl on all threads. GL: GPU time of the frame's passes
+  double totalMs() const { return generationMs + renderMs; }
+  VplStats vplStats;
+};
+
+/// A scene ready for the CPU passes. Owns a copy of the scene, so a moved light is a new SceneSetup.
+class SceneSetup {
+ public:
+  explicit SceneSetup(Scene scene);
+  SceneSetup(const SceneSetup&) = delete;
+  SceneSetup& operator=(const SceneSetup&) = delete;
+
+  const Scene& scene() const { return *scene_; }
+  const EmbreeScene& embree() const { return *embree_; }
+  const LightSampler& lights() const { return *lights_; }
+
+  VplSet generate(const Settings& settings) const;
+  /// renderVpl with `method` (Vpl, VplKK or Vsl) on the given VPLs, restricted to settings.components.
+  MeasuredImage renderCpu(Method method, const VplSet& vpls, const Settings& settings) const;
+  /// renderReference at settings.samplesPerPixel, settings.components.
+  MeasuredImage renderReferenceImage(const Settings& settings) const;
+
+ private:
+  std::unique_ptr<Scene> scene_;
+  std::unique_ptr<EmbreeScene> embree_;
+  std::unique_ptr<LightSampler> lights_;
+};
+
+/// The GL preview in its own headless context (created on first use; never throws for a missing GL: available()
+/// is false and error() says why).
+class PreviewBench {
+ public:
+  explicit PreviewBench(GlBackend backend = GlBackend::Auto);
+  ~PreviewBench();
+  bool available();
+  const std::string& error() const { return error_; }
+  std::string description();
+
+  /// Renders a whole frame from scratch (scene and VPLs invalidated, so shadow maps are re-rendered) and reads back
+  /// the part named by settings.components (Direct is not offered by the comparison and is a programmer error).
+  /// renderMs: sum of the GPU pass timings, without the direct-light passes when components is Indirect.
+  MeasuredImage render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera);
+
+ private:
+  bool tried_ = false;
+  GlBackend backend_;
+  std::string error_;
+  std::unique_ptr<HeadlessGlContext> context_;
+  std::unique_ptr<PreviewRenderer> renderer_;
+};
+
+/// A reference for (scene, size, spp, components, seed), read from `cacheDir` when it was rendered before, else
+/// rendered and stored there as EXR. The file name holds every key, so a different setting never reuses a file.
+/// cacheDir empty: no cache. `cached`, when given, says whether the file was reused.
+MeasuredImage cachedReference(const SceneSetup& setup, const std::string& sceneName, const Settings& settings,
+                              const std::string& cacheDir, bool* cached = nullptr);
+
+/// "cornell-box" for ".../cornell-box.gltf".
+std::string sceneStem(const std::string& path);
+
+/// Display exposure (stops) that maps the image's mean luminance to 0.18, clamped to [-12, 12]; 0 for black.
+float autoExposure(const Image& image);
+
+/// Pixels with any NaN/Inf channel, and finite pixels with any channel < 0.
+struct BadPixels {
+  std::size_t nonFinite = 0;
+  std::size_t negative = 0;
+  std::size_t total() const { return nonFinite + negative; }
+};
+BadPixels countBadPixels(const Image& image);
+
+}  // namespace vplab
