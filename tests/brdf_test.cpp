@@ -77,7 +77,7 @@ TEST(BrdfFurnace, WhiteAlbedoNeverExceedsOneForConductorsAndPureLambert) {
   for (float roughness : {0.3f, 0.45f, 0.6f, 1.0f})
     for (float metallic : {0.0f, 1.0f})
       for (float cosO : kCosO) {
-        // specular 0 for the dielectric: see GltfDielectricLayeringExcessIsBounded for specular > 0.
+        // specular 0 for the dielectric: WhiteDielectricWithSpecularNeverGainsEnergy covers specular > 0.
         BrdfParams p = params(roughness, metallic, 0.0f);
         glm::dvec3 q = albedoByQuadrature(p, dirFromCos(cosO, 1.1f), 128);
         // Single-scattering GGX loses energy (most at high roughness) but never gains it.
@@ -98,17 +98,17 @@ TEST(BrdfFurnace, RoughWhiteMetalMatchesClosedForm) {
   }
 }
 
-TEST(BrdfFurnace, GltfDielectricLayeringExcessIsBounded) {
-  // glTF's fresnel_mix weights the diffuse lobe by 1 - F(v.h) per microfacet rather than by the specular lobe's
-  // directional albedo, so a white dielectric with specular 1 reflects more than it receives at grazing angles
-  // (measured: 1.25 at cos_o 0.15, roughness 0.3). The scenes that must conserve energy (furnace, measured Cornell
-  // reflectances) use specular 0; this bound keeps the excess from growing unnoticed.
-  double worst = 0.0;
-  for (float roughness : {0.3f, 0.5f, 1.0f})
-    for (float cosO : kCosO)
-      worst = std::max(worst, albedoByQuadrature(params(roughness, 0.0f, 1.0f), dirFromCos(cosO, 0.5f), 128).g);
-  EXPECT_GT(worst, 1.0);
-  EXPECT_LT(worst, 1.3);
+TEST(BrdfFurnace, WhiteDielectricWithSpecularNeverGainsEnergy) {
+  // glTF's fresnel_mix (diffuse weighted by 1 - F(v.h)) reflects up to 1.8x the incident energy at grazing angles for
+  // a white dielectric; brdf.h weights the diffuse lobe by the Fresnel transmission at both ends instead. Smooth to
+  // rough, normal to grazing incidence: the albedo stays <= 1. It may not collapse either: at cos_o = 0.15 the
+  // Fresnel transmission 1 - F = 0.53 bounds the diffuse part from below.
+  for (float roughness : {0.05f, 0.1f, 0.3f, 0.5f, 1.0f})
+    for (float cosO : kCosO) {
+      double albedo = albedoByQuadrature(params(roughness, 0.0f, 1.0f), dirFromCos(cosO, 0.5f), 128).g;
+      EXPECT_LE(albedo, 1.0 + 5e-3) << "roughness " << roughness << " cos " << cosO;
+      EXPECT_GT(albedo, 0.45) << "roughness " << roughness << " cos " << cosO;
+    }
 }
 
 TEST(BrdfFurnace, SampledEstimateMatchesQuadrature) {

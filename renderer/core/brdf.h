@@ -3,11 +3,15 @@
 // Appendix B). Evaluation, sampling and pdf live here and nowhere else on the CPU; shaders/common/brdf.glsl mirrors
 // evaluate() with the same constants.
 //
-//   f = (1 - metallic) (1 - s F_d) baseColor / pi  +  D G2/(4 cos_o cos_i) [(1 - metallic) s F_d + metallic F_m]
-//   F_d = 0.04 + 0.96 (1 - v.h)^5          (dielectric, ior 1.5)
+//   f = (1 - metallic) (1 - s F_d(cos_o)) (1 - s F_d(cos_i)) baseColor / pi
+//       + D G2/(4 cos_o cos_i) [(1 - metallic) s F_d(v.h) + metallic F_m(v.h)]
+//   F_d(c) = 0.04 + 0.96 (1 - c)^5         (dielectric, ior 1.5)
 //   s   = KHR_materials_specular specularFactor (default 1; 0 makes a dielectric exactly Lambertian, which the
 //         measured Cornell reflectances and the furnace need)
-//   F_m = baseColor + (1 - baseColor)(1 - v.h)^5   (conductor)
+//   F_m(c) = baseColor + (1 - baseColor)(1 - c)^5   (conductor)
+// The diffuse weight differs from glTF's fresnel_mix (1 - F(v.h)): that per-microfacet weight lets a white dielectric
+// reflect up to 1.8x what it receives at grazing angles. Weighting by the Fresnel transmission at both ends
+// (Shirley et al. 1997) stays reciprocal and conserves energy (white furnace <= 1, tests/brdf_test.cpp).
 // D: GGX/Trowbridge-Reitz with alpha = roughness^2; G2: height-correlated Smith. Both cosines are clamped at zero:
 // surfaces reflect only on the side their normal faces.
 
@@ -115,7 +119,9 @@ inline glm::vec3 evaluateBrdf(const BrdfParams& p, const glm::vec3& n, const glm
   glm::vec3 metalF = p.baseColor + (1.0f - p.baseColor) * fw;
   float alpha = p.alpha();
   float specular = ggxD(std::max(0.0f, glm::dot(n, h)), alpha) * smithVisibility(cosO, cosI, alpha);
-  glm::vec3 diffuse = (1.0f - p.metallic) * (1.0f - p.specular * dielectricF) * p.baseColor * kInvPi;
+  float transmitO = 1.0f - p.specular * (0.04f + 0.96f * schlickWeight(cosO));
+  float transmitI = 1.0f - p.specular * (0.04f + 0.96f * schlickWeight(cosI));
+  glm::vec3 diffuse = (1.0f - p.metallic) * transmitO * transmitI * p.baseColor * kInvPi;
   return diffuse + specular * ((1.0f - p.metallic) * p.specular * dielectricF + p.metallic * metalF);
 }
 

@@ -45,6 +45,9 @@ vec3 evaluateBrdf(BrdfParams p, vec3 n, vec3 wo, vec3 wi) {
   vec3 metalF = p.baseColor + (1.0 - p.baseColor) * fw;
   float alpha = max(kMinGgxAlpha, p.roughness * p.roughness);
   float spec = brdfGgxD(max(0.0, dot(n, h)), alpha) * brdfSmithVisibility(cosO, cosI, alpha);
-  vec3 diffuse = (1.0 - p.metallic) * (1.0 - p.specular * dielectricF) * p.baseColor * kInvPi;
+  // Fresnel transmission at both ends, as in brdf.h (energy-conserving, reciprocal).
+  float transmitO = 1.0 - p.specular * (0.04 + 0.96 * brdfSchlickWeight(cosO));
+  float transmitI = 1.0 - p.specular * (0.04 + 0.96 * brdfSchlickWeight(cosI));
+  vec3 diffuse = (1.0 - p.metallic) * transmitO * transmitI * p.baseColor * kInvPi;
   return diffuse + spec * ((1.0 - p.metallic) * p.specular * dielectricF + p.metallic * metalF);
 }
