@@ -112,6 +112,9 @@ int main(int argc, char** argv) {
     base.threads = threads;
     base.samplesPerPixel = 1;
     base.components = Components::Indirect;
+    // VPL bounce k is light reflected k + 1 times at the camera: match the reference's path length, so relMSE
+    // measures the methods and not a truncation.
+    base.vplMaxBounces = base.maxDepth - 1;
     Settings refSettings = base;
     refSettings.samplesPerPixel = refSpp;
     Image reference = renderReference(scene, embree, lights, refSettings).image;
