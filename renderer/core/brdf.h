@@ -109,6 +109,8 @@ inline glm::vec3 evaluateBrdf(const BrdfParams& p, const glm::vec3& n, const glm
   using namespace brdf_detail;
   float cosO = glm::dot(n, wo), cosI = glm::dot(n, wi);
   if (cosO <= 0.0f || cosI <= 0.0f) return glm::vec3(0.0f);
+  // Pure Lambert (the measured Cornell and furnace materials): skip the GGX terms, which would contribute exactly 0.
+  if (p.metallic <= 0.0f && p.specular <= 0.0f) return p.baseColor * kInvPi;
   glm::vec3 h = wo + wi;
   float hl = glm::length(h);
   if (!(hl > 0.0f)) return glm::vec3(0.0f);
@@ -147,6 +149,17 @@ inline BrdfSample sampleBrdf(const BrdfParams& p, const glm::vec3& n, const glm:
   if (cosO <= 0.0f) return s;
   Frame frame(n);
   float pSpec = specularProbability(p, cosO);
+  if (pSpec <= 0.0f) {
+    // Diffuse only: f cos / pdf needs no general evaluation.
+    glm::vec3 local = sampleCosineHemisphere({u.y, u.z});
+    if (!(local.z > 0.0f)) return s;
+    s.wi = glm::normalize(frame.toWorld(local));
+    float cosI = glm::dot(n, s.wi);
+    if (cosI <= 0.0f) return s;
+    s.pdf = cosI * kInvPi;
+    s.f = evaluateBrdf(p, n, wo, s.wi);
+    return s;
+  }
   if (u.x < pSpec) {
     glm::vec3 woLocal = frame.toLocal(wo);
     glm::vec3 h = sampleGgxVisibleNormal(woLocal, p.alpha(), {u.y, u.z});

@@ -37,14 +37,14 @@ glm::vec3 Camera::rayDirection(glm::vec2 ndc, float aspect) const {
   return glm::normalize(forward + r * (ndc.x * tanHalf * aspect) + up * (ndc.y * tanHalf));
 }
 
-glm::vec3 Scene::geometricNormal(uint32_t triangle) const {
+glm::vec3 Scene::computeGeometricNormal(uint32_t triangle) const {
   const glm::uvec3& t = triangles[triangle];
   glm::vec3 n = glm::cross(positions[t.y] - positions[t.x], positions[t.z] - positions[t.x]);
   float len = glm::length(n);
   return len > 0.0f ? n / len : glm::vec3(0.0f, 0.0f, 1.0f);
 }
 
-float Scene::triangleArea(uint32_t triangle) const {
+float Scene::computeTriangleArea(uint32_t triangle) const {
   const glm::uvec3& t = triangles[triangle];
   return 0.5f * glm::length(glm::cross(positions[t.y] - positions[t.x], positions[t.z] - positions[t.x]));
 }
@@ -59,6 +59,12 @@ void Scene::finalize() {
   bounds = Bounds{};
   for (const glm::vec3& p : positions) bounds.extend(p);
   for (const PunctualLight& l : punctualLights) bounds.extend(l.position);
+  faceNormals_.resize(triangles.size());
+  faceAreas_.resize(triangles.size());
+  for (uint32_t i = 0; i < triangles.size(); ++i) {
+    faceNormals_[i] = computeGeometricNormal(i);
+    faceAreas_[i] = computeTriangleArea(i);
+  }
   emissiveTriangles.clear();
   for (uint32_t i = 0; i < triangles.size(); ++i)
     if (materialOf(i).isEmissive() && triangleArea(i) > 0.0f) emissiveTriangles.push_back(i);

@@ -108,13 +108,27 @@ struct Scene {
 
   bool hasLights() const { return !emissiveTriangles.empty() || !punctualLights.empty(); }
   const Material& materialOf(uint32_t triangle) const { return materials[triangleMaterials[triangle]]; }
-  glm::vec3 geometricNormal(uint32_t triangle) const;  ///< unit, from the winding order
-  float triangleArea(uint32_t triangle) const;
+  /// Unit normal from the winding order (loaders make it agree with the vertex normals). Cached by finalize().
+  glm::vec3 geometricNormal(uint32_t triangle) const {
+    return triangle < faceNormals_.size() ? faceNormals_[triangle] : computeGeometricNormal(triangle);
+  }
+  /// Cached by finalize().
+  float triangleArea(uint32_t triangle) const {
+    return triangle < faceAreas_.size() ? faceAreas_[triangle] : computeTriangleArea(triangle);
+  }
   /// Base colour at a surface point (factor times texture).
   glm::vec3 baseColorAt(uint32_t material, glm::vec2 uv) const;
 
-  /// Recomputes bounds and emissiveTriangles from the geometry and materials (loaders and builders call it last).
+  /// Recomputes bounds, emissiveTriangles and the per-triangle normal/area caches from the geometry and materials.
+  /// Loaders and builders call it last, and so does anything that edits positions afterwards.
   void finalize();
+
+ private:
+  glm::vec3 computeGeometricNormal(uint32_t triangle) const;
+  float computeTriangleArea(uint32_t triangle) const;
+  // Hit points, light samples and pdfs ask for these per ray: recomputing the cross product showed up in profiles.
+  std::vector<glm::vec3> faceNormals_;
+  std::vector<float> faceAreas_;
 };
 
 }  // namespace vplab
