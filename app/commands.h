@@ -17,6 +17,13 @@ int cmdCompare(const Args& args);
 int cmdReference(const Args& args);
 /// vplab render <scene> --method vpl|vpl-kk|vsl: VPL generation and the exact VPL render.
 int cmdRender(const Args& args);
+/// vplab preview <scene>: the headless GL preview (EGL/OSMesa) of the same VPLs, with per-pass timings.
+int cmdPreview(const Args& args);
+
+/// vplab bench <scene>...: speed-vs-accuracy sweeps of every method against a cached reference, CSV + SVG charts.
+int cmdBench(const Args& args);
+/// vplab stability <scene>: flicker under small motions, failure maps and the grid of parameter extremes.
+int cmdStability(const Args& args);
 
 /// vplab edit [scene]: the interactive editor (or a scripted run of it).
 int cmdEdit(const Args& args);

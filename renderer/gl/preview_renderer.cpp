@@ -7,6 +7,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
+#include <chrono>
 #include <cmath>
 
 namespace vplab {
@@ -36,13 +37,21 @@ bool sameCamera(const Camera& a, const Camera& b) {
          a.znear == b.znear && a.zfar == b.zfar;
 }
 
-// Runs `body` between a GL_TIME_ELAPSED query's begin and end and returns the GPU milliseconds.
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+// Runs `body` between a GL_TIME_ELAPSED query's begin and end and returns the GPU milliseconds; wallMs receives the
+// CPU time until the result was available (resultMs() waits for the GPU).
 template <typename F>
-double timed(GlTimerQuery& timer, F&& body) {
+double timed(GlTimerQuery& timer, double& wallMs, F&& body) {
+  auto start = std::chrono::steady_clock::now();
   timer.begin();
   body();
   timer.end();
-  return timer.resultMs();
+  double gpu = timer.resultMs();
+  wallMs = msSince(start);
+  return gpu;
 }
 
 }  // namespace
@@ -103,6 +112,7 @@ PreviewRenderer::~PreviewRenderer() = default;
 
 void PreviewRenderer::invalidateScene() { sceneDirty_ = true; }
 void PreviewRenderer::invalidateVpls() { vplsDirty_ = true; }
+void PreviewRenderer::invalidateFrame() { haveFrame_ = false; }
 
 void PreviewRenderer::ensureTargets(int width, int height) {
   if (targets_ && targets_->width == width && targets_->height == height) return;
@@ -169,6 +179,7 @@ void PreviewRenderer::uploadVpls(const Scene& scene, const VplSet& set) {
 
 PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, const Settings& settings,
                                        const Camera& camera) {
+  auto frameStart = std::chrono::steady_clock::now();
   requireValidSettings(settings);
   PreviewTimings t;
   if (&scene != scene_ || sceneDirty_ || !glScene_) {
@@ -176,6 +187,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     scene_ = &scene;
     sceneDirty_ = false;
     haveFrame_ = false;
+    shadowsValid_ = false;
     vplsDirty_ = true;
   }
   if (&vpls != vplSet_) vplsDirty_ = true;
@@ -186,12 +198,20 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // Invalidation (header comment): decide which passes the changes since the last frame affect.
   bool cameraChanged = !haveFrame_ || !sameCamera(camera, lastCamera_);
-  bool shadowLayout = !haveFrame_ || settings.shadowMapSize != last.shadowMapSize;
+  bool shadowLayout = !shadowsValid_ || settings.shadowMapSize != last.shadowMapSize;
   bool directMapsChanged = shadowLayout || settings.directLightSamples != last.directLightSamples ||
                            settings.seed != last.seed;
-  bool vplMapsChanged = shadowLayout || vplsDirty_;
+  // VPL shadow maps depend on the caster positions only: flux, radius or material edits just re-upload the VPLs.
+  bool vplDataChanged = vplsDirty_;
+  std::vector<glm::vec3> vplPositions;
+  bool vplMapsChanged = shadowLayout;
+  if (vplDataChanged || shadowLayout) {
+    vplPositions.resize(vpls.vpls.size());
+    for (std::size_t i = 0; i < vplPositions.size(); ++i) vplPositions[i] = vpls.vpls[i].position;
+    vplMapsChanged = vplMapsChanged || vplPositions != vplShadowPositions_;
+  }
   bool directChanged = cameraChanged || directMapsChanged || settings.shadowBias != last.shadowBias;
-  bool gatherChanged = cameraChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
+  bool gatherChanged = cameraChanged || vplDataChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
                        settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
                        settings.shadowBias != last.shadowBias;
   bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps;
@@ -209,7 +229,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // Pass 1: G-buffer.
   if (cameraChanged) {
-    t.gbufferMs = timed(timer_, [&] {
+    t.gbufferMs = timed(timer_, t.gbufferWallMs, [&] {
       tg.gbuffer.bind(tg.width, tg.height);
       for (int i = 0; i < 5; ++i) tg.gbuffer.clearColor(i, glm::vec4(0.0f));
       tg.gbuffer.clearDepth(1.0f);
@@ -231,29 +251,27 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // Shadow maps of the direct-light samples: depend on the scene, K, the seed and the map size only.
   if (directMapsChanged) {
-    t.directShadowMs = timed(timer_, [&] {
+    t.directShadowMs = timed(timer_, t.directShadowWallMs, [&] {
       uploadDirectLights(scene, settings);
       directShadows_.render(*glScene_, directPositions_, faceSize, far);
     });
     ++counters_.directShadowMaps;
   }
 
-  // Pass 3: one cube shadow map per VPL, only when the VPLs (or the map size) change.
+  if (vplDataChanged) uploadVpls(scene, vpls);
+  vplsDirty_ = false;
+  // Pass 3: one cube shadow map per VPL, only when a VPL position (or the map size, or the scene) changes.
   if (vplMapsChanged) {
-    t.vplShadowMs = timed(timer_, [&] {
-      uploadVpls(scene, vpls);
-      std::vector<glm::vec3> positions(vpls.vpls.size());
-      for (std::size_t i = 0; i < positions.size(); ++i) positions[i] = vpls.vpls[i].position;
-      vplShadows_.render(*glScene_, positions, faceSize, far);
-    });
-    vplsDirty_ = false;
+    t.vplShadowMs = timed(timer_, t.vplShadowWallMs, [&] { vplShadows_.render(*glScene_, vplPositions, faceSize, far); });
+    vplShadowPositions_ = std::move(vplPositions);
     ++counters_.vplShadowMaps;
   }
+  shadowsValid_ = true;
 
   tg.bindGbuffer();
   // Pass 2: direct light, additive over shadow-map chunks.
   if (directChanged) {
-    t.directMs = timed(timer_, [&] {
+    t.directMs = timed(timer_, t.directWallMs, [&] {
       tg.direct.framebuffer.bind(tg.width, tg.height);
       tg.direct.framebuffer.clearColor(0, glm::vec4(0.0f));
       directLights_.bindStorage(7);
@@ -275,7 +293,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // Pass 4: VPL gather with G_b / VSL and interleaving, then the geometry-aware de-interleave.
   if (gatherChanged) {
-    t.gatherMs = timed(timer_, [&] {
+    t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
       tg.indirectRaw.framebuffer.bind(tg.width, tg.height);
       tg.indirectRaw.framebuffer.clearColor(0, glm::vec4(0.0f));
       vplBuffer_.bindStorage(8);
@@ -305,7 +323,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // Pass 5: I0 = direct + indirect, then R1 = T_r(I0), R2 = T_r(R1), final = Le + I0 + R1 + R2.
   if (ssbcChanged) {
-    t.ssbcMs = timed(timer_, [&] {
+    t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       tg.direct.texture.bind(6);
       tg.indirect.texture.bind(7);
       tg.i0.framebuffer.bind(tg.width, tg.height);
@@ -352,7 +370,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // Pass 6: tonemap.
   if (tonemapChanged) {
-    t.tonemapMs = timed(timer_, [&] {
+    t.tonemapMs = timed(timer_, t.tonemapWallMs, [&] {
       tg.display.framebuffer.bind(tg.width, tg.height);
       tg.linear.texture.bind(6);
       tonemap_.set("uExposureScale", std::exp2(settings.exposure));
@@ -363,6 +381,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   checkGlError("PreviewRenderer::render");
 
+  if (gatherChanged) t.gatherEvaluations = static_cast<double>(settings.width) * settings.height *
+                                           static_cast<double>(vpls.vpls.size()) /
+                                           static_cast<double>(settings.interleave * settings.interleave);
+  t.frameWallMs = msSince(frameStart);
   haveFrame_ = true;
   lastCamera_ = camera;
   lastSettings_ = settings;

@@ -7,7 +7,9 @@
 // Needs a current GL context (HeadlessGlContext or the editor's window); does not create one.
 //
 // Invalidation: only the work a change affects is redone. Camera -> 1, 2, 4, 5, 6; clamp bound b -> 4, 5, 6;
-// VPL set -> 3, 4, 5, 6; direct-light settings (K, seed, shadow map size) -> direct shadow maps, 2, 5, 6.
+// VPL positions -> 3, 4, 5, 6; other VPL data (flux, VSL radius, material) -> 4, 5, 6; direct-light settings (K, seed,
+// shadow map size) -> direct shadow maps, 2, 5, 6. A VPL shadow map depends only on its caster's position and the
+// scene, so a new VplSet (or invalidateVpls()) whose positions are unchanged keeps the maps.
 
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/resources.h"
@@ -27,6 +29,14 @@ namespace vplab {
 struct PreviewTimings {
   double gbufferMs = 0, directShadowMs = 0, directMs = 0, vplShadowMs = 0, gatherMs = 0, ssbcMs = 0, tonemapMs = 0;
   double totalMs() const { return gbufferMs + directShadowMs + directMs + vplShadowMs + gatherMs + ssbcMs + tonemapMs; }
+  /// CPU wall time per pass in milliseconds, from issuing its commands until the GPU finished them (the timer
+  /// query result is waited for), so it includes driver overhead that GL_TIME_ELAPSED does not see.
+  double gbufferWallMs = 0, directShadowWallMs = 0, directWallMs = 0, vplShadowWallMs = 0, gatherWallMs = 0,
+         ssbcWallMs = 0, tonemapWallMs = 0;
+  /// CPU wall time of the whole render() call (uploads and invalidation checks included).
+  double frameWallMs = 0;
+  /// Pixel x VPL evaluations the gather pass performed (each with one shadow-map fetch): pixels x N / k^2.
+  double gatherEvaluations = 0;
 };
 
 /// How often each pass ran since construction (tests check the invalidation rules with these).
@@ -54,7 +64,11 @@ class PreviewRenderer {
   PreviewTimings render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera);
 
   void invalidateScene();
+  /// The VPL set was edited in place: its data is re-uploaded; shadow maps are re-rendered only if a position changed.
   void invalidateVpls();
+  /// Forgets the cached screen-space results (G-buffer to tonemap) so that the next render redoes them, as a camera
+  /// move would; shadow maps are kept. For timing steady-state frames.
+  void invalidateFrame();
 
   /// Linear radiance (before tonemapping) of the last render, row 0 at the top.
   Image readLinear(PreviewOutput which = PreviewOutput::Final) const;
@@ -76,6 +90,10 @@ class PreviewRenderer {
   const VplSet* vplSet_ = nullptr;
   bool vplsDirty_ = true;
   bool sceneDirty_ = true;
+  /// Caster positions the VPL shadow maps were rendered from (compared to decide whether they are still valid).
+  std::vector<glm::vec3> vplShadowPositions_;
+  /// False until shadow maps exist for the current scene.
+  bool shadowsValid_ = false;
 
   CubeShadowMaps directShadows_, vplShadows_;
   GlBuffer directLights_, vplBuffer_;

@@ -1,0 +1,127 @@
+// vplab preview <scene>: the GL instant-radiosity preview rendered headless (EGL or OSMesa) from the same VPLs and
+// Settings as `vplab render`, with per-pass GPU/CPU timings and the VPL statistics.
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "app/settings_options.h"
+#include "renderer/gl/context.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/image/image_io.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/vpl_generation.h"
+
+#include <algorithm>
+#include <cstdio>
+#include <limits>
+
+namespace vplab::app {
+
+int cmdPreview(const Args& args) {
+  cli::CommandLine cl("vplab preview <scene.gltf|scene.glb> --out image.png [--exr image.exr] [options]",
+                      {{"out", "FILE", "tonemapped PNG of the preview (uses --exposure)"},
+                       {"exr", "FILE", "linear radiance of the preview (.exr or .pfm)"},
+                       {"gl", "auto|egl|osmesa", "headless GL context (default auto: EGL, then OSMesa)"},
+                       {"frames", "N", "render N frames and report the last (the first compiles shaders; default 1)"}});
+  cl.addOptions(cli::imageOptions());
+  cl.addOptions(cli::manyLightOptions());
+  if (!cl.parse(args)) {
+    std::printf("%s", cl.help().c_str());
+    std::printf("Generates the VPLs as `vplab render` does (same settings, same seed => same VPLs), then renders the\n"
+                "OpenGL 4.5 preview: G-buffer, shadow-mapped direct light, cube shadow maps per VPL, VPL gather\n"
+                "(G_b, VSL, k x k interleaving), screen-space bias compensation, tonemap.\n");
+    return 0;
+  }
+  cl.requirePositional(1, 1, "one scene file");
+  auto out = cl.value("out");
+  auto exr = cl.value("exr");
+  if (!out && !exr) throw cli::CliError("nothing to write: give --out FILE.png (and/or --exr FILE.exr)");
+  if (out && imageFormatFromPath(*out) != ImageFormat::Png) throw cli::CliError("option --out: '" + *out + "' is not .png");
+  if (exr && imageFormatFromPath(*exr) == ImageFormat::Png)
+    throw cli::CliError("option --exr: '" + *exr + "' is not .exr or .pfm");
+  GlBackend backend = GlBackend::Auto;
+  std::string backendName = cl.getString("gl", "auto");
+  if (!parseGlBackend(backendName, backend))
+    throw cli::CliError("option --gl: '" + backendName + "' is not auto, egl or osmesa");
+  int frames = cl.getInt("frames", 1);
+  if (frames < 1 || frames > 10000) throw cli::CliError("option --frames: must be in [1, 10000]");
+
+  Settings settings;
+  cli::applySettingsOptions(cl, settings);
+
+  Scene scene = loadScene(cl.positional()[0]);
+  for (const std::string& w : scene.warnings) std::fprintf(stderr, "vplab preview: warning: %s\n", w.c_str());
+  EmbreeScene embree(scene);
+  LightSampler lights(scene);
+  if (lights.empty())
+    std::fprintf(stderr, "vplab preview: %s has no lights: the image is black\n", scene.sourcePath.c_str());
+  VplSet vpls = generateVpls(scene, embree, lights, settings);
+
+  // The context comes before the renderer (it loads the GL function table) and outlives it.
+  HeadlessGlContext context(backend);
+  PreviewRenderer renderer;
+  PreviewTimings t;
+  PreviewTimings first;
+  for (int f = 0; f < frames; ++f) {
+    // Later frames redo every screen-space pass, as a camera move would (shadow maps are kept).
+    if (f > 0) renderer.invalidateFrame();
+    t = renderer.render(scene, vpls, settings, scene.camera);
+    if (f == 0) first = t;
+  }
+  Image linear = renderer.readLinear(PreviewOutput::Final);
+  if (out) writeImage(*out, linear, settings.exposure);
+  if (exr) writeImage(*exr, linear, settings.exposure);
+
+  const VplStats& st = vpls.stats;
+  std::printf("gl          %s\n", context.description().c_str());
+  std::printf("scene       %s (%zu triangles, %zu lights)\n", scene.sourcePath.c_str(), scene.triangles.size(),
+              lights.lightCount());
+  std::printf("preview     %dx%d, k = %d, b = %g, ssbc %d, shadow maps %d, direct samples %d, seed %u\n",
+              settings.width, settings.height, settings.interleave, settings.clampBound, settings.ssbcSteps,
+              settings.shadowMapSize, settings.directLightSamples, settings.seed);
+  std::printf("vpls        %llu accepted of %llu candidates from %llu light paths (acceptance %.1f%%%s), "
+              "generated in %.3f s\n",
+              static_cast<unsigned long long>(st.accepted), static_cast<unsigned long long>(st.candidates),
+              static_cast<unsigned long long>(st.pathsTraced), 100.0 * st.acceptanceRate,
+              st.candidateCapReached ? ", candidate cap reached" : "", st.generationSeconds);
+  if (!vpls.vpls.empty()) {
+    glm::dvec3 flux(0.0);
+    float rMin = std::numeric_limits<float>::max(), rMax = 0.0f;
+    uint32_t maxBounce = 0;
+    for (const Vpl& v : vpls.vpls) {
+      flux += glm::dvec3(v.flux);
+      rMin = std::min(rMin, v.radius);
+      rMax = std::max(rMax, v.radius);
+      maxBounce = std::max(maxBounce, v.bounce);
+    }
+    std::printf("vpl flux    total (%.4g, %.4g, %.4g), bounces 1..%u, VSL radius %g..%g\n", flux.x, flux.y, flux.z,
+                maxBounce, rMin, rMax);
+  }
+  std::printf("frames      %d%s\n", frames,
+              frames > 1 ? " (timings of the last; shadow maps from the first)" : " (cold: includes shader compilation)");
+  // Shadow maps are rendered once: report them from the first frame.
+  struct Row {
+    const char* name;
+    double gpu, wall;
+  };
+  const Row rows[] = {{"gbuffer", t.gbufferMs, t.gbufferWallMs},
+                      {"light shadows", first.directShadowMs, first.directShadowWallMs},
+                      {"direct", t.directMs, t.directWallMs},
+                      {"vpl shadows", first.vplShadowMs, first.vplShadowWallMs},
+                      {"gather", t.gatherMs, t.gatherWallMs},
+                      {"ssbc", t.ssbcMs, t.ssbcWallMs},
+                      {"tonemap", t.tonemapMs, t.tonemapWallMs}};
+  std::printf("%-16s %10s %10s\n", "pass", "GPU ms", "wall ms");
+  for (const Row& r : rows) std::printf("%-16s %10.2f %10.2f\n", r.name, r.gpu, r.wall);
+  double frameGpu = t.gbufferMs + t.directMs + t.gatherMs + t.ssbcMs + t.tonemapMs;
+  std::printf("%-16s %10.2f %10.2f  (GPU: screen passes; wall: the whole render call)\n", "frame", frameGpu, t.frameWallMs);
+  if (t.gatherMs > 0.0)
+    std::printf("gather      %.3g pixel x VPL evaluations, %.3f G/s\n", t.gatherEvaluations,
+                t.gatherEvaluations / (t.gatherMs * 1e6));
+  if (out) std::printf("wrote       %s (exposure %+.2f EV)\n", out->c_str(), settings.exposure);
+  if (exr) std::printf("wrote       %s\n", exr->c_str());
+  return 0;
+}
+
+}  // namespace vplab::app
