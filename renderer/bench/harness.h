@@ -67,7 +67,8 @@ class PreviewBench {
 
   /// Renders a whole frame from scratch (scene and VPLs invalidated, so shadow maps are re-rendered) and reads back
   /// the part named by settings.components (Direct is not offered by the comparison and is a programmer error).
-  /// renderMs: sum of the GPU pass timings, without the direct-light passes when components is Indirect.
+  /// renderMs: wall time of the whole frame up to glFinish (the faster of two). With Components::Indirect the direct light (not compared)
+  /// is rendered with one shadow-mapped sample (Settings::directLightSamples = 1) so that the time is the VPL work's.
   MeasuredImage render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera);
 
  private:
@@ -76,6 +77,7 @@ class PreviewBench {
   std::string error_;
   std::unique_ptr<HeadlessGlContext> context_;
   std::unique_ptr<PreviewRenderer> renderer_;
+  bool warmedUp_ = false;
 };
 
 /// A reference for (scene, size, spp, components, seed), read from `cacheDir` when it was rendered before, else

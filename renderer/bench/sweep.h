@@ -1,0 +1,74 @@
+#pragma once
+// Speed-versus-accuracy sweeps (MANYLIGHTS.md section 10): every many-light method (plain VPLs, clamp, clamp + SSBC,
+// VSL, rejection, Kollig-Keller) on the CPU and in the GL preview, over its parameters (N, b, r, epsilon, k,
+// shadow-map size), each run measured as time and error against a path-traced reference. Writes bench.csv (one row
+// per run, flushed as measured; a restart with the same output folder skips the rows already there), SVG charts and
+// report.md with the images.
+
+#include "renderer/bench/csv_log.h"
+#include "renderer/bench/harness.h"
+#include "renderer/settings.h"
+
+#include <functional>
+#include <string>
+#include <vector>
+
+namespace vplab {
+
+/// Method names used in bench.csv and --methods.
+inline const std::vector<std::string>& benchMethodNames() {
+  static const std::vector<std::string> names = {"vpl", "clamp", "ssbc", "vsl", "reject", "vpl-kk"};
+  return names;
+}
+
+struct BenchConfig {
+  std::string outDir = "bench-out";
+  int width = 128;
+  int height = 128;
+  bool quick = false;                ///< fewer parameter values and VPLs
+  std::vector<std::string> methods;  ///< subset of benchMethodNames(); empty = all
+  int referenceSpp = 1024;           ///< samples per pixel of the reference
+  int cpuSpp = 4;                    ///< samples per pixel of the CPU VPL renders (anti-aliasing, KK's paths)
+  Components components = Components::Indirect;  ///< what is compared: the indirect part (default) or everything
+  bool gl = true;                                ///< run the GL variants (skipped with a note when no context)
+  GlBackend glBackend = GlBackend::Auto;
+  uint32_t seed = 1;
+  int threads = 0;
+  bool writeImages = true;  ///< per-run PNG and relative-error heatmap under images/
+  /// Progress lines (stderr in the CLI). May be empty.
+  std::function<void(const std::string&)> log;
+};
+
+/// One point of the sweep: a method on a backend with full settings.
+struct BenchCase {
+  std::string method;  ///< one of benchMethodNames()
+  Backend backend = Backend::Cpu;
+  Settings settings;
+};
+
+/// The cases of one scene, in the order they are run. Parameter values scale with the scene: clamp bounds are
+/// b = 1 / (f D)^2 (the residual's radius 1/sqrt(b) a fraction f of the scene diagonal D), VSL radii r = f D.
+std::vector<BenchCase> benchCases(const Scene& scene, const BenchConfig& config);
+
+/// Columns of bench.csv: the key (scene, method, backend, every parameter) then the measurements.
+const std::vector<std::string>& benchCsvHeader();
+/// Number of leading columns of benchCsvHeader() that identify a run.
+std::size_t benchCsvKeyColumns();
+
+struct BenchOutcome {
+  std::string csvPath;
+  std::string reportPath;
+  std::vector<std::string> charts;  ///< every SVG written
+  std::size_t rowsMeasured = 0;     ///< measured in this call
+  std::size_t rowsReused = 0;       ///< found in bench.csv from an earlier call
+  std::string glNote;               ///< why GL rows are missing, empty when they ran
+};
+
+/// Runs the sweep on every scene file and writes the outputs under config.outDir. Throws (SceneError, ImageIoError,
+/// CsvError) on runtime failures, naming the file.
+BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchConfig& config);
+
+/// Rewrites the charts and report.md of config.outDir from its bench.csv (what runBench does at its end).
+BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const BenchConfig& config);
+
+}  // namespace vplab
