@@ -25,7 +25,7 @@ std::vector<OptionSpec> referenceOptions() {
 std::vector<OptionSpec> manyLightOptions() {
   return {
       {"vpls", "N", "number of VPLs (accepted ones with --reject; default 256)"},
-      {"bounces", "K", "maximum VPL bounce (default 4)"},
+      {"bounces", "K", "maximum VPL bounce (default 31 = max depth - 1)"},
       {"clamp", "b", "clamp bound b on the geometry term, 1/m^2, 'inf' = none (default inf)"},
       {"vsl-radius", "r", "virtual spherical light radius in metres, 0 = point VPLs (default 0)"},
       {"vsl-density", "", "derive each VSL radius from the local VPL density (scaled by --vsl-radius)"},

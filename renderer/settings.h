@@ -46,8 +46,10 @@ struct Settings {
   // --- VPL generation (MANYLIGHTS.md section 2) -------------------------------------------------------------
   /// Number of VPLs to generate (accepted VPLs when rejection is on) [0, 1<<20]. Default 256.
   int vplCount = 256;
-  /// Maximum VPL bounce index: VPLs are stored at bounces 1..vplMaxBounces [1, 64]. Default 4.
-  int vplMaxBounces = 4;
+  /// Maximum VPL bounce index: VPLs are stored at bounces 1..vplMaxBounces [1, 64]. A VPL of bounce k lights x1
+  /// through k + 1 reflections, so the default 31 = maxDepth - 1 makes the VPL methods sum the same paths as the
+  /// reference (Russian roulette ends most paths long before). Default 31.
+  int vplMaxBounces = 31;
 
   // --- rejection of unimportant VPLs, Georgiev & Slusallek 2010 (section 3) --------------------------------
   /// Enables rejection sampling of VPL candidates. Default off.

@@ -30,7 +30,7 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   ImGui::TextDisabled("VPL generation (light tracing)");
   changed |= sliderInt("VPLs N", &s.vplCount, 1, 4096, "Expected number of VPLs (accepted ones with rejection)",
                        ImGuiSliderFlags_Logarithmic);
-  changed |= sliderInt("bounces", &s.vplMaxBounces, 1, 16, "VPLs are stored at bounces 1..this");
+  changed |= sliderInt("bounces", &s.vplMaxBounces, 1, 64, "VPLs are stored at bounces 1..this");
   int seed = static_cast<int>(std::min<uint32_t>(s.seed, 1u << 30));
   if (ImGui::InputInt("seed", &seed) && seed >= 0) {
     s.seed = static_cast<uint32_t>(seed);
