@@ -22,6 +22,8 @@ const std::vector<vplab::cli::Command>& commands() {
        vplab::app::cmdReference},
       {"bench", "speed-vs-accuracy sweeps of every method vs a reference: bench.csv, SVG charts, report.md",
        vplab::app::cmdBench},
+      {"stability", "flicker under small light/camera motions, failure maps, parameter extremes (exit 1 on bad pixels)",
+       vplab::app::cmdStability},
       {"info", "print what a glTF scene contains (counts, lights, materials, camera, warnings)", vplab::app::cmdInfo},
       {"compare", "error metrics of an image against a reference (rmse, relmse, energy ratio), heatmap",
        vplab::app::cmdCompare},
