@@ -60,7 +60,20 @@ struct PreviewRenderer::Targets {
   int width, height;
   GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gDepth;
   GlFramebuffer gbuffer;
-  Target direct, indirectRaw, indirect, i0, r1, r2, residual, linear, display;
+  Target direct, indirect, i0, r1, r2, residual, linear, display;
+  // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
+  // blockWidth x blockHeight texels, reallocated when k changes.
+  std::unique_ptr<Target> directRaw, indirectRaw;
+  int rawInterleave = 0, blockWidth = 0, blockHeight = 0;
+
+  void ensureRaw(int k) {
+    if (rawInterleave == k) return;
+    rawInterleave = k;
+    blockWidth = (width + k - 1) / k;
+    blockHeight = (height + k - 1) / k;
+    directRaw = std::make_unique<Target>(blockWidth * k, blockHeight * k);
+    indirectRaw = std::make_unique<Target>(blockWidth * k, blockHeight * k);
+  }
 
   Targets(int w, int h)
       : width(w),
@@ -72,7 +85,6 @@ struct PreviewRenderer::Targets {
         gGeoNormal(w, h, TextureFormat::Rgba32F),
         gDepth(w, h, TextureFormat::Depth32F),
         direct(w, h),
-        indirectRaw(w, h),
         indirect(w, h),
         i0(w, h, 0),
         r1(w, h, 0),
@@ -210,7 +222,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     for (std::size_t i = 0; i < vplPositions.size(); ++i) vplPositions[i] = vpls.vpls[i].position;
     vplMapsChanged = vplMapsChanged || vplPositions != vplShadowPositions_;
   }
-  bool directChanged = cameraChanged || directMapsChanged || settings.shadowBias != last.shadowBias;
+  bool directChanged = cameraChanged || directMapsChanged || settings.shadowBias != last.shadowBias ||
+                       settings.interleave != last.interleave;
   bool gatherChanged = cameraChanged || vplDataChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
                        settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
                        settings.shadowBias != last.shadowBias;
@@ -269,24 +282,50 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   shadowsValid_ = true;
 
   tg.bindGbuffer();
-  // Pass 2: direct light, additive over shadow-map chunks.
+  tg.ensureRaw(settings.interleave);
+  const int k = settings.interleave;
+  // Draws `program` once per interleaving subset into its block of `raw`, then merges the subsets into `merged`
+  // (geometry-aware k x k window, deinterleave.frag.glsl). drawSubset issues the draws of one subset.
+  auto interleaved = [&](ShaderProgram& program, Target& raw, Target& merged, auto&& drawSubset) {
+    raw.framebuffer.bind(tg.blockWidth * k, tg.blockHeight * k);
+    raw.framebuffer.clearColor(0, glm::vec4(0.0f));
+    program.set("uInterleave", k);
+    program.set("uImageSize", glm::ivec2(tg.width, tg.height));
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    for (int sy = 0; sy < k; ++sy)
+      for (int sx = 0; sx < k; ++sx) {
+        glm::ivec2 origin(sx * tg.blockWidth, sy * tg.blockHeight);
+        glViewport(origin.x, origin.y, tg.blockWidth, tg.blockHeight);
+        program.set("uSubsetXY", glm::ivec2(sx, sy));
+        program.set("uBlockOrigin", origin);
+        drawSubset();
+      }
+    glDisable(GL_BLEND);
+    merged.framebuffer.bind(tg.width, tg.height);
+    raw.texture.bind(6);
+    deinterleave_.set("uInterleave", k);
+    deinterleave_.set("uBlockSize", glm::ivec2(tg.blockWidth, tg.blockHeight));
+    deinterleave_.set("uCameraPosition", camera.position);
+    drawFullscreen(deinterleave_);
+  };
+
+  tg.bindGbuffer();
+  // Pass 2: direct light, additive over shadow-map chunks, interleaved over the light samples.
   if (directChanged) {
     t.directMs = timed(timer_, t.directWallMs, [&] {
-      tg.direct.framebuffer.bind(tg.width, tg.height);
-      tg.direct.framebuffer.clearColor(0, glm::vec4(0.0f));
       directLights_.bindStorage(7);
       direct_.set("uCameraPosition", camera.position);
       direct_.set("uShadowFar", far);
       direct_.set("uShadowBias", bias);
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_ONE, GL_ONE);
-      for (int c = 0; c < directShadows_.chunkCount(); ++c) {
-        directShadows_.chunkTexture(c).bind(6);
-        direct_.set("uFirstLight", directShadows_.chunkBegin(c));
-        direct_.set("uLightCount", directShadows_.chunkEnd(c) - directShadows_.chunkBegin(c));
-        drawFullscreen(direct_);
-      }
-      glDisable(GL_BLEND);
+      interleaved(direct_, *tg.directRaw, tg.direct, [&] {
+        for (int c = 0; c < directShadows_.chunkCount(); ++c) {
+          directShadows_.chunkTexture(c).bind(6);
+          direct_.set("uFirstLight", directShadows_.chunkBegin(c));
+          direct_.set("uLightCount", directShadows_.chunkEnd(c) - directShadows_.chunkBegin(c));
+          drawFullscreen(direct_);
+        }
+      });
     });
     ++counters_.direct;
   }
@@ -294,29 +333,20 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // Pass 4: VPL gather with G_b / VSL and interleaving, then the geometry-aware de-interleave.
   if (gatherChanged) {
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
-      tg.indirectRaw.framebuffer.bind(tg.width, tg.height);
-      tg.indirectRaw.framebuffer.clearColor(0, glm::vec4(0.0f));
       vplBuffer_.bindStorage(8);
       gather_.set("uCameraPosition", camera.position);
-      gather_.set("uInterleave", settings.interleave);
       gather_.set("uClampBound", settings.clampBound);
       gather_.set("uVslSamples", settings.vslSamples);
       gather_.set("uShadowFar", far);
       gather_.set("uShadowBias", bias);
-      glEnable(GL_BLEND);
-      glBlendFunc(GL_ONE, GL_ONE);
-      for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
-        vplShadows_.chunkTexture(c).bind(6);
-        gather_.set("uFirstVpl", vplShadows_.chunkBegin(c));
-        gather_.set("uVplEnd", vplShadows_.chunkEnd(c));
-        drawFullscreen(gather_);
-      }
-      glDisable(GL_BLEND);
-      tg.indirect.framebuffer.bind(tg.width, tg.height);
-      tg.indirectRaw.texture.bind(6);
-      deinterleave_.set("uInterleave", settings.interleave);
-      deinterleave_.set("uCameraPosition", camera.position);
-      drawFullscreen(deinterleave_);
+      interleaved(gather_, *tg.indirectRaw, tg.indirect, [&] {
+        for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
+          vplShadows_.chunkTexture(c).bind(6);
+          gather_.set("uFirstVpl", vplShadows_.chunkBegin(c));
+          gather_.set("uVplEnd", vplShadows_.chunkEnd(c));
+          drawFullscreen(gather_);
+        }
+      });
     });
     ++counters_.gather;
   }

@@ -26,7 +26,10 @@ void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& 
   if (!reuse) {
     chunks_.clear();
     for (int c = 0; c < chunks; ++c) {
-      chunks_.push_back(GlTexture::cubeArray(faceSize, chunkEnd(c) - chunkBegin(c), TextureFormat::Depth32F));
+      // A plain 2D array of 6 faces per caster, not a cube-map array: the lookup selects the face itself
+      // (shadow.glsl), because llvmpipe's seamless cube filtering costs several times a 2D-array PCF fetch.
+      chunks_.push_back(GlTexture(faceSize, faceSize, TextureFormat::Depth32F, 1, 6 * (chunkEnd(c) - chunkBegin(c)),
+                                  true));
       chunks_.back().setDepthCompare(true);
     }
     faceSize_ = faceSize;
@@ -38,7 +41,8 @@ void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& 
   casterBuffer_.assign(positions.data(), positions.size() * sizeof(glm::vec4));
   casterBuffer_.bindStorage(6);
 
-  // Cube face orientations of the GL specification (table 8.19), as rotations of the offset from the caster.
+  // Cube face orientations of the GL specification (table 8.19), as rotations of the offset from the caster;
+  // shaders/common/shadow.glsl inverts exactly these.
   static const glm::vec3 kTargets[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
   static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
   glm::mat3 rotations[6];

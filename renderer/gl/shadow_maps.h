@@ -1,12 +1,14 @@
 #pragma once
-// One shadow map per point caster (VPL, area-light sample, punctual light), as cube maps in cube-map arrays.
+// One shadow map per point caster (VPL, area-light sample, punctual light), as cube maps (6 layers of a 2D array).
 //
 // Why cubes and not paraboloids or octahedral maps: a cube face is an ordinary perspective projection, so the
 // rasteriser's straight edges are exact. Paraboloid and octahedral maps are non-linear: a triangle's edges must curve
 // and only come out right for finely tessellated geometry, while vplab's scenes are mostly a few large quads (the
 // Cornell box walls are two triangles each) whose paraboloid images would be badly wrong near the caster, which is
-// exactly where VPL shadows matter. Cubes also cover the whole sphere that punctual lights need, sample with
-// hardware PCF (samplerCubeArrayShadow) and have no seams to handle. The cost is six faces per caster, so each face is
+// exactly where VPL shadows matter. Cubes also cover the whole sphere that punctual lights need and sample with
+// hardware PCF. The faces are stored as layers 6 c + f of a 2D texture array (not a cube-map array) and the lookup
+// picks the face itself: on llvmpipe a 2D-array PCF fetch is several times cheaper than seamless cube filtering, at
+// the price of clamping the 2x2 filter at face edges. The cost is six faces per caster, so each face is
 // shadowMapSize / 2 texels wide: 6 (S/2)^2 = 1.5 S^2 texels per caster, close to one S x S paraboloid. All casters of
 // one chunk render in a single instanced draw (a geometry shader fans each triangle out to the six faces).
 // Depth stores the radial distance / far, so one comparison works on every face.

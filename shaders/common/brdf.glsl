@@ -31,10 +31,13 @@ float brdfSmithVisibility(float cosO, float cosI, float alpha) {
   return denom > 0.0 ? 0.5 / denom : 0.0;
 }
 
-// f(wo, wi) at a point with unit normal n; wo and wi point away from the surface.
+// f(wo, wi) at a point with unit normal n; wo and wi point away from the surface. The diffuse lobe is weighted by
+// the Fresnel transmission at both ends, (1 - s F_d(cos_o)) (1 - s F_d(cos_i)), exactly as brdf.h does.
 vec3 evaluateBrdf(BrdfParams p, vec3 n, vec3 wo, vec3 wi) {
   float cosO = dot(n, wo), cosI = dot(n, wi);
   if (cosO <= 0.0 || cosI <= 0.0) return vec3(0.0);
+  // Pure Lambert (the measured Cornell and furnace materials): the GGX terms would contribute exactly 0.
+  if (p.metallic <= 0.0 && p.specular <= 0.0) return p.baseColor * kInvPi;
   vec3 h = wo + wi;
   float hl = length(h);
   if (!(hl > 0.0)) return vec3(0.0);
@@ -45,7 +48,6 @@ vec3 evaluateBrdf(BrdfParams p, vec3 n, vec3 wo, vec3 wi) {
   vec3 metalF = p.baseColor + (1.0 - p.baseColor) * fw;
   float alpha = max(kMinGgxAlpha, p.roughness * p.roughness);
   float spec = brdfGgxD(max(0.0, dot(n, h)), alpha) * brdfSmithVisibility(cosO, cosI, alpha);
-  // Fresnel transmission at both ends, as in brdf.h (energy-conserving, reciprocal).
   float transmitO = 1.0 - p.specular * (0.04 + 0.96 * brdfSchlickWeight(cosO));
   float transmitI = 1.0 - p.specular * (0.04 + 0.96 * brdfSchlickWeight(cosI));
   vec3 diffuse = (1.0 - p.metallic) * transmitO * transmitI * p.baseColor * kInvPi;

@@ -4,17 +4,23 @@
 // rejected neighbours do not darken the result.
 #include "common/fullscreen.glsl"
 
-layout(binding = 6) uniform sampler2D uInterleaved;
+layout(binding = 6) uniform sampler2D uInterleaved;  // deinterleaved blocks (gather.frag.glsl)
 uniform int uInterleave;
+uniform ivec2 uBlockSize;
 uniform vec3 uCameraPosition;
 layout(location = 0) out vec4 outColor;
 
+// Value of pixel q in the deinterleaved layout: block (q mod k), texel q / k inside it.
+vec3 interleavedAt(ivec2 q) {
+  return texelFetch(uInterleaved, (q % uInterleave) * uBlockSize + q / uInterleave, 0).rgb;
+}
+
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
-  ivec2 size = textureSize(uInterleaved, 0);
+  ivec2 size = textureSize(gPosition, 0);
   vec4 pos = texelFetch(gPosition, px, 0);
   if (pos.w <= 0.0 || uInterleave <= 1) {
-    outColor = texelFetch(uInterleaved, px, 0);
+    outColor = vec4(interleavedAt(px), 1.0);
     return;
   }
   vec3 n = texelFetch(gNormal, px, 0).xyz;
@@ -30,8 +36,8 @@ void main() {
       if (qp.w <= 0.0) continue;
       if (abs(length(qp.xyz - uCameraPosition) - depth) > 0.05 * depth) continue;
       if (dot(texelFetch(gNormal, q, 0).xyz, n) < 0.9) continue;
-      sum += texelFetch(uInterleaved, q, 0).rgb;
+      sum += interleavedAt(q);
       weight += 1.0;
     }
-  outColor = vec4(weight > 0.0 ? sum / weight : texelFetch(uInterleaved, px, 0).rgb, 1.0);
+  outColor = vec4(weight > 0.0 ? sum / weight : interleavedAt(px), 1.0);
 }

@@ -3,6 +3,8 @@
 //  - area-light sample y_k (one-sided):  f(x1) cos1 max(0, n_y.(-w)) / d^2 * Le / (K p_A(y_k)) * V   (weight = Le/(K p_A))
 //  - punctual light:                      f(x1) cos1 I(-w) / d^2 * V   (KHR_lights_punctual spot falloff)
 // The area estimator is unbiased per sample, so the image converges to the exact direct light as K grows.
+// Interleaved like the VPL gather (gather.frag.glsl, same deinterleaved block layout): pixel subset s uses lights
+// s, s + k^2, ... with weight k^2, and the geometry-aware merge recombines the subsets.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/shadow.glsl"
@@ -13,18 +15,26 @@ struct DirectLight {
   vec4 weight;    // rgb: Le / (K p_A) (area) or intensity in candela; w: cos(inner cone)
 };
 layout(std430, binding = 7) readonly buffer DirectLights { DirectLight lights[]; };
-layout(binding = 6) uniform samplerCubeArrayShadow uShadowMaps;
+layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
 uniform vec3 uCameraPosition;
 uniform int uFirstLight;
 uniform int uLightCount;
 uniform float uShadowFar;
 uniform float uShadowBias;
+uniform int uInterleave;
+uniform ivec2 uSubsetXY;
+uniform ivec2 uBlockOrigin;
+uniform ivec2 uImageSize;
 
 layout(location = 0) out vec4 outColor;
 
 void main() {
-  ivec2 px = ivec2(gl_FragCoord.xy);
+  ivec2 px = (ivec2(gl_FragCoord.xy) - uBlockOrigin) * uInterleave + uSubsetXY;
+  if (any(greaterThanEqual(px, uImageSize))) {
+    outColor = vec4(0.0);
+    return;
+  }
   vec4 pos = texelFetch(gPosition, px, 0);
   if (pos.w <= 0.0) {
     outColor = vec4(0.0);
@@ -35,7 +45,10 @@ void main() {
   BrdfParams p = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
   vec3 wo = normalize(uCameraPosition - x1);
   vec3 sum = vec3(0.0);
-  for (int i = 0; i < uLightCount; ++i) {
+  int k2 = uInterleave * uInterleave;
+  int subset = uSubsetXY.y * uInterleave + uSubsetXY.x;
+  // First light of this subset inside the chunk [uFirstLight, uFirstLight + uLightCount).
+  for (int i = ((subset - uFirstLight % k2) + k2) % k2; i < uLightCount; i += k2) {
     DirectLight l = lights[uFirstLight + i];
     vec3 d = l.position.xyz - x1;
     float dist2 = dot(d, d);
@@ -62,5 +75,5 @@ void main() {
     if (v <= 0.0) continue;
     sum += evaluateBrdf(p, n1, wo, w) * cos1 / dist2 * radiantTerm * v;
   }
-  outColor = vec4(sum, 1.0);
+  outColor = vec4(sum * float(k2), 1.0);
 }

@@ -9,6 +9,10 @@
 //               its integrand is bounded by construction. V is the shadow-map visibility toward the sphere centre.
 //   Interleaved sampling (Keller & Heidrich 2001): pixel (x, y) uses the subset s = (y mod k) k + (x mod k), i.e.
 //   VPLs i = s, s + k^2, ..., each with flux * k^2; the de-interleave pass merges the k x k subsets.
+//   Deinterleaved layout (Segovia et al. 2006): the output is split into k x k blocks of ceil(w/k) x ceil(h/k) texels;
+//   block (sx, sy) holds the pixels (x, y) = (local.x k + sx, local.y k + sy), drawn by one draw call whose subset is
+//   a uniform. Every fragment of a draw then reads the same VPL in the same iteration: the SSBO index is uniform, so
+//   the loads are not per-lane gathers (the cost that dominates on llvmpipe), and only N/k^2 VPLs are evaluated.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/hash.glsl"
@@ -23,12 +27,15 @@ struct GlVpl {
   vec4 geoNormal;  // xyz geometric normal
 };
 layout(std430, binding = 8) readonly buffer Vpls { GlVpl vpls[]; };
-layout(binding = 6) uniform samplerCubeArrayShadow uShadowMaps;
+layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
 uniform vec3 uCameraPosition;
 uniform int uFirstVpl;     // first VPL of this shadow-map chunk
 uniform int uVplEnd;       // one past the last VPL of this chunk
 uniform int uInterleave;   // k
+uniform ivec2 uSubsetXY;   // (sx, sy) of this draw's block
+uniform ivec2 uBlockOrigin;  // lower-left texel of the block in the output
+uniform ivec2 uImageSize;  // G-buffer size
 uniform float uClampBound; // b (a large finite value stands for infinity)
 uniform int uVslSamples;
 uniform float uShadowFar;
@@ -51,7 +58,11 @@ mat3 frameAround(vec3 n) {
 }
 
 void main() {
-  ivec2 px = ivec2(gl_FragCoord.xy);
+  ivec2 px = (ivec2(gl_FragCoord.xy) - uBlockOrigin) * uInterleave + uSubsetXY;
+  if (any(greaterThanEqual(px, uImageSize))) {
+    outColor = vec4(0.0);
+    return;
+  }
   vec4 pos = texelFetch(gPosition, px, 0);
   if (pos.w <= 0.0) {
     outColor = vec4(0.0);
@@ -62,7 +73,7 @@ void main() {
   BrdfParams p1 = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
   vec3 wo = normalize(uCameraPosition - x1);
   int k2 = uInterleave * uInterleave;
-  int subset = (px.y % uInterleave) * uInterleave + (px.x % uInterleave);
+  int subset = uSubsetXY.y * uInterleave + uSubsetXY.x;
   // First VPL of this pixel's subset inside the chunk [uFirstVpl, uVplEnd).
   int first = uFirstVpl + ((subset - uFirstVpl % k2) + k2) % k2;
   vec3 sum = vec3(0.0);
@@ -110,7 +121,9 @@ void main() {
           pdf = 1.0 / (2.0 * kPi * (1.0 - cosThetaMax));
         }
         float cos1 = dot(n1, dir), cos2 = -dot(n2, dir);
-        if (cos1 <= 0.0 || cos2 <= 0.0 || dot(ng, dir) <= 0.0 || !(pdf > 0.0)) continue;
+        // One-sided at both ends (geometric normals), as the CPU VSL estimator requires.
+        if (cos1 <= 0.0 || cos2 <= 0.0 || dot(ng, dir) <= 0.0 || dot(vpl.geoNormal.xyz, dir) >= 0.0 || !(pdf > 0.0))
+          continue;
         acc += evaluateBrdf(p1, n1, wo, dir) * evaluateBrdf(p2, n2, vpl.incoming.xyz, -dir) * cos1 * cos2 / pdf;
       }
       sum += acc / float(uVslSamples) * vpl.flux.rgb / (kPi * r * r) * v;

@@ -18,7 +18,7 @@ uniform float uFocalPixels;  // (height / 2) / tan(yfov / 2)
 uniform int uMaxLevel;
 layout(location = 0) out vec4 outColor;
 
-const int kMaxTexels = 6;
+const int kMaxTexels = 3;
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
