@@ -168,8 +168,12 @@ std::vector<double> axisTicks(double lo, double hi, bool logScale, int target) {
     step = m * mag;
     if (step >= raw) break;
   }
-  for (double v = std::ceil(lo / step) * step; v <= hi + 1e-9 * step; v += step)
-    ticks.push_back(std::fabs(v) < 1e-12 * step ? 0.0 : v);
+  // Multiples of the step computed directly (not accumulated), so 0.6 does not come out as 0.6000000000000001.
+  for (double k = std::ceil(lo / step - 1e-9); k * step <= hi + 1e-9 * step; k += 1.0) {
+    double v = k * step;
+    double digits = std::pow(10.0, std::max(0.0, -std::floor(std::log10(step))));
+    ticks.push_back(std::round(v * digits) / digits);
+  }
   return ticks;
 }
 
@@ -289,8 +293,9 @@ std::string renderSvgChart(const ChartSpec& spec) {
   o << "</g>\n";
   if (hidden > 0)
     o << "<text class=\"note\" x=\"" << num(left) << "\" y=\"" << num(H - 8) << "\" font-size=\"11\" fill=\"#a00\">"
-      << hidden << " point(s) not drawn (non-finite" << (spec.logX || spec.logY ? " or <= 0 on a log axis" : "")
-      << ")</text>\n";
+      << xmlEscape(std::to_string(hidden) + " point(s) not drawn (non-finite" +
+                   (spec.logX || spec.logY ? " or <= 0 on a log axis" : "") + ")")
+      << "</text>\n";
   o << "</svg>\n";
   return o.str();
 }
