@@ -3,10 +3,13 @@
 //   T_r(I)(p) = sum over pixels q in the footprint of the sphere of radius 1/sqrt(b) around x1 of
 //               f(x1; wo, w) max(G(x1, x2) - b, 0) L_I(x2 -> x1) dA(q),
 //   dA(q) = omega_pix(q) |x2 - camera|^2 / |cos theta_q|,  omega_pix = A_pix cos^3(alpha) / f^2  (pinhole, f in px)
-// L_I(x2 -> x1) is the image value at q (diffuse assumption: the radiance q sends to the camera). Hierarchical: the
-// footprint is integrated at the mip level where it spans at most 2 * kMaxTexels + 1 texels, each texel standing for
-// 4^level pixels. Conservative: samples off screen, on the background, or straddling a discontinuity (mip-averaged
-// coverage < 1 or averaged normal shorter than 0.9) add nothing; V~ = 1 inside the (local) footprint.
+// L_I(x2 -> x1) is the image value at q (diffuse assumption: the radiance q sends to the camera). Hierarchical, in
+// rings: level 0 covers the pixels within kMaxTexels of p, level l the ring (kMaxTexels 2^(l-1), kMaxTexels 2^l]
+// (pixel distances of the texel centres), each level-l texel standing for 4^l pixels, up to the level whose ring
+// reaches the footprint radius. The integrand (G - b) falls like 1/d^2 while a ring's area grows like d^2, so every
+// octave of distance matters about equally: all of it must be integrated, and finest where the residual is largest
+// (next to p, i.e. at creases). Conservative: samples off screen, on the background, or straddling a discontinuity
+// (mip-averaged coverage < 1 or averaged normal shorter than 0.9) add nothing; V~ = 1 inside the (local) footprint.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 
@@ -18,7 +21,7 @@ uniform float uFocalPixels;  // (height / 2) / tan(yfov / 2)
 uniform int uMaxLevel;
 layout(location = 0) out vec4 outColor;
 
-const int kMaxTexels = 3;
+const int kMaxTexels = 2;
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
@@ -36,42 +39,50 @@ void main() {
   float radius = inversesqrt(uClampBound);
   float z = max(dot(x1 - uCameraPosition, uCameraForward), 1e-4);
   float radiusPx = radius * uFocalPixels / z;
-  int level = clamp(int(ceil(log2(max(radiusPx / float(kMaxTexels), 1.0)))), 0, uMaxLevel);
-  float scale = float(1 << level);
-  vec2 centre = (vec2(px) + 0.5) / scale;
-  int n = int(ceil(radiusPx / scale));
-  ivec2 levelSize = textureSize(gPosition, level);
+  int topLevel = clamp(int(ceil(log2(max(radiusPx / float(kMaxTexels), 1.0)))), 0, uMaxLevel);
   vec2 halfSize = vec2(size) * 0.5;
+  vec2 pc = vec2(px) + 0.5;
   vec3 sum = vec3(0.0);
-  for (int dy = -n; dy <= n; ++dy)
-    for (int dx = -n; dx <= n; ++dx) {
-      ivec2 q = ivec2(floor(centre)) + ivec2(dx, dy);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, levelSize))) continue;
-      vec4 qp = texelFetch(gPosition, q, level);
-      if (qp.w < 0.999) continue;
-      vec3 qn = texelFetch(gNormal, q, level).xyz;
-      float qnLen = length(qn);
-      if (qnLen < 0.9) continue;
-      qn /= qnLen;
-      vec3 x2 = qp.xyz;
-      vec3 d = x2 - x1;
-      float dist2 = dot(d, d);
-      if (!(dist2 > 1e-12)) continue;
-      vec3 w = d * inversesqrt(dist2);
-      float cos1 = dot(n1, w), cos2 = -dot(qn, w);
-      if (cos1 <= 0.0 || cos2 <= 0.0) continue;
-      float g = cos1 * cos2 / dist2;
-      if (g <= uClampBound) continue;
-      // Pixel solid angle from the off-axis angle alpha of the texel centre, times the pixels the texel stands for.
-      vec2 offset = (vec2(q) + 0.5) * scale - halfSize;
-      float cosAlpha = uFocalPixels * inversesqrt(uFocalPixels * uFocalPixels + dot(offset, offset));
-      float omega = scale * scale * cosAlpha * cosAlpha * cosAlpha / (uFocalPixels * uFocalPixels);
-      vec3 toCamera = uCameraPosition - x2;
-      float camDist2 = dot(toCamera, toCamera);
-      float cosQ = max(abs(dot(qn, toCamera * inversesqrt(camDist2))), 0.05);
-      float area = omega * camDist2 / cosQ;
-      vec3 radiance = texelFetch(uInput, q, level).rgb;
-      sum += evaluateBrdf(p1, n1, wo, w) * (g - uClampBound) * radiance * area;
-    }
+  for (int level = 0; level <= topLevel; ++level) {
+    float scale = float(1 << level);
+    float inner = level == 0 ? -1.0 : float(kMaxTexels) * scale * 0.5;
+    float outer = float(kMaxTexels) * scale;
+    ivec2 base = ivec2(floor(pc / scale));
+    ivec2 levelSize = textureSize(gPosition, level);
+    const int n = kMaxTexels + 1;
+    for (int dy = -n; dy <= n; ++dy)
+      for (int dx = -n; dx <= n; ++dx) {
+        ivec2 q = base + ivec2(dx, dy);
+        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, levelSize))) continue;
+        vec2 qc = (vec2(q) + 0.5) * scale;
+        float r = length(qc - pc);
+        if (r <= inner || r > outer) continue;
+        vec4 qp = texelFetch(gPosition, q, level);
+        if (qp.w < 0.999) continue;
+        vec3 qn = texelFetch(gNormal, q, level).xyz;
+        float qnLen = length(qn);
+        if (qnLen < 0.9) continue;
+        qn /= qnLen;
+        vec3 x2 = qp.xyz;
+        vec3 d = x2 - x1;
+        float dist2 = dot(d, d);
+        if (!(dist2 > 1e-12)) continue;
+        vec3 w = d * inversesqrt(dist2);
+        float cos1 = dot(n1, w), cos2 = -dot(qn, w);
+        if (cos1 <= 0.0 || cos2 <= 0.0) continue;
+        float g = cos1 * cos2 / dist2;
+        if (g <= uClampBound) continue;
+        // Pixel solid angle from the off-axis angle alpha of the texel centre, times the pixels the texel stands for.
+        vec2 offset = qc - halfSize;
+        float cosAlpha = uFocalPixels * inversesqrt(uFocalPixels * uFocalPixels + dot(offset, offset));
+        float omega = scale * scale * cosAlpha * cosAlpha * cosAlpha / (uFocalPixels * uFocalPixels);
+        vec3 toCamera = uCameraPosition - x2;
+        float camDist2 = dot(toCamera, toCamera);
+        float cosQ = max(abs(dot(qn, toCamera * inversesqrt(camDist2))), 0.05);
+        float area = omega * camDist2 / cosQ;
+        vec3 radiance = texelFetch(uInput, q, level).rgb;
+        sum += evaluateBrdf(p1, n1, wo, w) * (g - uClampBound) * radiance * area;
+      }
+  }
   outColor = vec4(sum, 1.0);
 }
