@@ -1,14 +1,14 @@
 // vplab bench <scene>...: speed-versus-accuracy sweeps of every many-light method against a cached reference;
 // bench.csv, SVG charts and report.md in the output folder.
 
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
 #include "app/cli.h"
 #include "app/commands.h"
 #include "renderer/bench/sweep.h"
 #include "renderer/gl/context.h"
-
-#include <chrono>
-#include <cstdio>
-#include <sstream>
 
 namespace vplab::app {
 
@@ -28,8 +28,9 @@ int cmdBench(const Args& args) {
        {"no-images", "", "do not write per-run PNGs and heatmaps"}});
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
-    std::printf("Re-running with the same --out reuses the cached reference and skips the runs already in bench.csv;\n"
-                "an interrupted sweep keeps every row measured so far.\n");
+    std::printf(
+        "Re-running with the same --out reuses the cached reference and skips the runs already in bench.csv;\n"
+        "an interrupted sweep keeps every row measured so far.\n");
     return 0;
   }
   cl.requirePositional(1, 64, "one or more scene files");

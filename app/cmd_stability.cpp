@@ -1,21 +1,22 @@
 // vplab stability <scene>: flicker under small light and camera motions (coherent vs reshuffled VPLs), failure maps
 // per method and the grid of parameter extremes. Exits with status 1 when an extreme produces a bad pixel.
 
+#include <chrono>
+#include <cstdio>
+#include <sstream>
+
 #include "app/cli.h"
 #include "app/commands.h"
 #include "renderer/bench/stability.h"
 #include "renderer/gl/context.h"
 
-#include <chrono>
-#include <cstdio>
-#include <sstream>
-
 namespace vplab::app {
 
 int cmdStability(const Args& args) {
   cli::CommandLine cl("vplab stability <scene.gltf> [--out dir] [--frames F] [--quick]",
-                      {{"out", "DIR", "output folder: flicker/failures/extremes CSV, charts/, images/, stability.md "
-                                      "(default stability-out)"},
+                      {{"out", "DIR",
+                        "output folder: flicker/failures/extremes CSV, charts/, images/, stability.md "
+                        "(default stability-out)"},
                        {"frames", "F", "frames of each scripted motion, >= 2 (default 8, 4 with --quick)"},
                        {"quick", "", "fewer methods, VPLs and samples"},
                        {"size", "WxH", "image size (default 96x96, 64x64 with --quick)"},

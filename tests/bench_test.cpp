@@ -2,11 +2,6 @@
 // method, the Pareto front), the resumable CSV log, and a tiny sweep on the Cornell box (expected columns, finite
 // values, restart skips measured rows). GlBench runs the GL variants and needs a context.
 
-#include "renderer/bench/csv_log.h"
-#include "renderer/bench/svg_chart.h"
-#include "renderer/bench/sweep.h"
-#include "renderer/bench/xml_check.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +9,11 @@
 #include <fstream>
 #include <set>
 #include <sstream>
+
+#include "renderer/bench/csv_log.h"
+#include "renderer/bench/svg_chart.h"
+#include "renderer/bench/sweep.h"
+#include "renderer/bench/xml_check.h"
 
 namespace vplab {
 namespace {
@@ -34,7 +34,9 @@ std::string readText(const std::string& path) {
   return ss.str();
 }
 
-std::string cornellBox() { return std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf"; }
+std::string cornellBox() {
+  return std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf";
+}
 
 BenchConfig tinyConfig(const std::string& dir) {
   BenchConfig c;
@@ -150,9 +152,9 @@ TEST(BenchSweep, TinySweepWritesFiniteRowsChartsAndResumes) {
   std::vector<std::string> header;
   std::vector<CsvRow> rows = readCsv(out.csvPath, &header);
   EXPECT_EQ(header, benchCsvHeader());
-  for (const char* col : {"scene", "method", "backend", "vpls", "clamp_b", "vsl_r", "epsilon", "interleave", "ssbc",
-                          "shadow_map", "time_ms", "relmse", "rmse", "energy_ratio", "nonfinite", "negative",
-                          "acceptance_rate"})
+  for (const char* col :
+       {"scene", "method", "backend", "vpls", "clamp_b", "vsl_r", "epsilon", "interleave", "ssbc", "shadow_map",
+        "time_ms", "relmse", "rmse", "energy_ratio", "nonfinite", "negative", "acceptance_rate"})
     EXPECT_NE(std::find(header.begin(), header.end(), col), header.end()) << col;
   // quick: 2 N values, 2 clamp bounds, 3 epsilons on the CPU.
   ASSERT_EQ(rows.size(), 7u);

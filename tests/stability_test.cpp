@@ -3,18 +3,21 @@
 // grid of parameter extremes produces no non-finite or negative pixel. GlStability repeats the GL parts.
 
 #include "renderer/bench/stability.h"
-#include "renderer/scene/gltf_loader.h"
 
 #include <gtest/gtest.h>
 
 #include <filesystem>
+
+#include "renderer/scene/gltf_loader.h"
 
 namespace vplab {
 namespace {
 
 namespace fs = std::filesystem;
 
-Scene cornellBox() { return loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf"); }
+Scene cornellBox() {
+  return loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf");
+}
 
 StabilityConfig tinyConfig(const std::string& name) {
   StabilityConfig c;

@@ -1,5 +1,14 @@
 #include "renderer/bench/harness.h"
 
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cassert>
+#include <chrono>
+#include <cmath>
+#include <filesystem>
+#include <limits>
+
 #include "renderer/core/sampling.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -7,18 +16,11 @@
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/vpl/vpl_generation.h"
 
-#include <glad/gl.h>
-
-#include <algorithm>
-#include <chrono>
-#include <cassert>
-#include <cmath>
-#include <filesystem>
-#include <limits>
-
 namespace vplab {
 
-const char* toString(Backend backend) { return backend == Backend::Cpu ? "cpu" : "gl"; }
+const char* toString(Backend backend) {
+  return backend == Backend::Cpu ? "cpu" : "gl";
+}
 
 SceneSetup::SceneSetup(Scene scene)
     : scene_(std::make_unique<Scene>(std::move(scene))),
@@ -71,10 +73,12 @@ bool PreviewBench::available() {
   return renderer_ != nullptr;
 }
 
-std::string PreviewBench::description() { return available() ? context_->description() : "no GL: " + error_; }
+std::string PreviewBench::description() {
+  return available() ? context_->description() : "no GL: " + error_;
+}
 
 MeasuredImage PreviewBench::render(const Scene& scene, const VplSet& vpls, const Settings& settings,
-                              const Camera& camera) {
+                                   const Camera& camera) {
   assert(settings.components != Components::Direct);
   if (!available()) throw GlError("GL preview unavailable: " + error_);
   context_->makeCurrent();
@@ -100,8 +104,8 @@ MeasuredImage PreviewBench::render(const Scene& scene, const VplSet& vpls, const
     auto start = std::chrono::steady_clock::now();
     renderer_->render(scene, vpls, frame, camera);
     glFinish();
-    m.renderMs = std::min(
-        m.renderMs, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
+    m.renderMs = std::min(m.renderMs,
+                          std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
   if (settings.components == Components::All) {
     m.image = renderer_->readLinear(PreviewOutput::Final);
@@ -115,7 +119,9 @@ MeasuredImage PreviewBench::render(const Scene& scene, const VplSet& vpls, const
   return m;
 }
 
-std::string sceneStem(const std::string& path) { return std::filesystem::path(path).stem().string(); }
+std::string sceneStem(const std::string& path) {
+  return std::filesystem::path(path).stem().string();
+}
 
 MeasuredImage cachedReference(const SceneSetup& setup, const std::string& sceneName, const Settings& settings,
                               const std::string& cacheDir, bool* cached) {

@@ -5,6 +5,10 @@
 // indirect light only (CPU: renderVpl's indirect component; GL: the de-interleaved gather plus the screen-space
 // residual), which is the part the many-light methods approximate; with Components::All the full image.
 
+#include <memory>
+#include <optional>
+#include <string>
+
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image.h"
@@ -13,10 +17,6 @@
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 #include "renderer/vpl/vpl.h"
-
-#include <memory>
-#include <optional>
-#include <string>
 
 namespace vplab {
 
@@ -67,8 +67,9 @@ class PreviewBench {
 
   /// Renders a whole frame from scratch (scene and VPLs invalidated, so shadow maps are re-rendered) and reads back
   /// the part named by settings.components (Direct is not offered by the comparison and is a programmer error).
-  /// renderMs: wall time of the whole frame up to glFinish (the faster of two). With Components::Indirect the direct light (not compared)
-  /// is rendered with one shadow-mapped sample (Settings::directLightSamples = 1) so that the time is the VPL work's.
+  /// renderMs: wall time of the whole frame up to glFinish (the faster of two). With Components::Indirect the direct
+  /// light (not compared) is rendered with one shadow-mapped sample (Settings::directLightSamples = 1) so that the time
+  /// is the VPL work's.
   MeasuredImage render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera);
 
  private:

@@ -1,11 +1,5 @@
 #include "renderer/bench/stability.h"
 
-#include "renderer/bench/svg_chart.h"
-#include "renderer/image/heatmap.h"
-#include "renderer/image/image_io.h"
-#include "renderer/image/metrics.h"
-#include "renderer/scene/gltf_loader.h"
-
 #include <algorithm>
 #include <chrono>
 #include <cmath>
@@ -14,6 +8,12 @@
 #include <fstream>
 #include <map>
 #include <sstream>
+
+#include "renderer/bench/svg_chart.h"
+#include "renderer/image/heatmap.h"
+#include "renderer/image/image_io.h"
+#include "renderer/image/metrics.h"
+#include "renderer/scene/gltf_loader.h"
 
 namespace vplab {
 
@@ -281,9 +281,9 @@ std::vector<FailureRow> failureMaps(const SceneSetup& setup, const StabilityConf
   Settings refSettings = base;
   refSettings.samplesPerPixel = config.referenceSpp;
   bool cached = false;
-  Image ref = cachedReference(setup, sceneStem(setup.scene().sourcePath), refSettings, config.outDir + "/references",
-                              &cached)
-                  .image;
+  Image ref =
+      cachedReference(setup, sceneStem(setup.scene().sourcePath), refSettings, config.outDir + "/references", &cached)
+          .image;
   const float exposure = autoExposure(ref);
   bool haveGl = gl && config.gl && gl->available();
   if (config.writeImages) {
@@ -414,8 +414,8 @@ std::vector<ExtremeRow> runExtremes(const SceneSetup& setup, const StabilityConf
                     }});
   for (int steps : {0, 2})
     for (const char* b : {"mid", "0"})
-      grid.push_back({"ssbc", std::to_string(steps) + " (b=" + std::string(std::string(b) == "mid" ? fmt(midB) : "0") +
-                                  ")",
+      grid.push_back({"ssbc",
+                      std::to_string(steps) + " (b=" + std::string(std::string(b) == "mid" ? fmt(midB) : "0") + ")",
                       "ssbc", Backend::Gl, [steps, b, midB](Settings& s) {
                         s.ssbcSteps = steps;
                         s.clampBound = std::string(b) == "mid" ? midB : 0.0f;
@@ -434,7 +434,7 @@ std::vector<ExtremeRow> runExtremes(const SceneSetup& setup, const StabilityConf
     } else {
       m = gl->render(setup.scene(), vpls, s, setup.scene().camera);
     }
-    ExtremeRow row{e.parameter, e.value, e.method, e.backend, m.totalMs(), countBadPixels(m.image),
+    ExtremeRow row{e.parameter,          e.value, e.method, e.backend, m.totalMs(), countBadPixels(m.image),
                    meanRadiance(m.image)};
     say(config, "extreme " + e.parameter + " = " + e.value + ", " + e.method + " (" + toString(e.backend) +
                     "): " + std::to_string(row.bad.nonFinite) + " non-finite, " + std::to_string(row.bad.negative) +
@@ -479,8 +479,8 @@ StabilityOutcome runStability(const std::string& scenePath, const StabilityConfi
     f << "scene,map,against,relmse,energy_ratio,worst5_share,worst_tile_x,worst_tile_y,worst_tile_error,heatmap\n";
     for (const FailureRow& r : out.failures)
       f << name << ",\"" << r.method << "\",\"" << r.against << "\"," << fmt(r.relMse) << "," << fmt(r.energyRatio)
-        << "," << fmt(r.worstShare) << "," << r.worstTileX << "," << r.worstTileY << "," << fmt(r.worstTileError)
-        << "," << r.heatmap << "\n";
+        << "," << fmt(r.worstShare) << "," << r.worstTileX << "," << r.worstTileY << "," << fmt(r.worstTileError) << ","
+        << r.heatmap << "\n";
   }
   {
     std::ofstream f(config.outDir + "/extremes.csv");
@@ -503,7 +503,8 @@ StabilityOutcome runStability(const std::string& scenePath, const StabilityConfi
       if (r.motion != motion) continue;
       ChartSeries s;
       s.name = r.method == "reference" ? "path-traced" : r.method + " " + r.vplMode;
-      for (std::size_t t = 0; t < r.perFrame.size(); ++t) s.points.push_back({static_cast<double>(t + 1), r.perFrame[t]});
+      for (std::size_t t = 0; t < r.perFrame.size(); ++t)
+        s.points.push_back({static_cast<double>(t + 1), r.perFrame[t]});
       c.series.push_back(std::move(s));
     }
     std::string file = "charts/" + name + "-flicker-" + motion + ".svg";
@@ -521,7 +522,8 @@ StabilityOutcome runStability(const std::string& scenePath, const StabilityConfi
      << " sideways). *reference* is the path-traced frames' own change; *excess* = mean |dI - dR| is change "
         "the scene does not explain. Coherent VPLs use one seed (QMC light paths move a little with the light); "
         "reshuffled VPLs take a new seed each frame.\n\n"
-     << "| motion | method | VPLs | flicker | reference | flicker / reference | excess |\n|---|---|---|---:|---:|---:|---:|\n";
+     << "| motion | method | VPLs | flicker | reference | flicker / reference | excess "
+        "|\n|---|---|---|---:|---:|---:|---:|\n";
   for (const FlickerRow& r : out.flicker)
     md << "| " << r.motion << " | " << r.method << " | " << r.vplMode << " | " << fmt(r.flicker) << " | "
        << fmt(r.referenceFlicker) << " | " << fmt(r.referenceFlicker > 0 ? r.flicker / r.referenceFlicker : 0.0)
@@ -542,8 +544,8 @@ StabilityOutcome runStability(const std::string& scenePath, const StabilityConfi
         "|---|---|---|---:|---:|---:|---|---|---|\n";
   for (const FailureRow& r : out.failures)
     md << "| " << r.method << " | " << r.against << " | " << r.expected << " | " << fmt(r.relMse) << " | "
-       << fmt(r.energyRatio) << " | " << fmt(r.worstShare) << " | (" << r.worstTileX << ", " << r.worstTileY
-       << ") " << fmt(r.worstTileError) << " | " << (r.heatmap.empty() ? "-" : "![](" + r.heatmap + ")") << " | "
+       << fmt(r.energyRatio) << " | " << fmt(r.worstShare) << " | (" << r.worstTileX << ", " << r.worstTileY << ") "
+       << fmt(r.worstTileError) << " | " << (r.heatmap.empty() ? "-" : "![](" + r.heatmap + ")") << " | "
        << (r.image.empty() ? "-" : "![](" + r.image + ")") << " |\n";
   md << "\n## 3. Extremes\n\nEvery image must be free of non-finite and negative pixels.\n\n"
         "| parameter | value | method | backend | time [ms] | non-finite | negative | mean radiance |\n"

@@ -7,13 +7,13 @@
 //     borders and occlusions; shadow maps: leaks and acne), as heatmaps with their numbers;
 //   3 extremes: a grid of parameter extremes, each checked for non-finite and negative pixels and timed.
 
-#include "renderer/bench/harness.h"
-#include "renderer/scene/scene.h"
-#include "renderer/settings.h"
-
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "renderer/bench/harness.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
 
 namespace vplab {
 
@@ -25,13 +25,13 @@ struct StabilityConfig {
   std::string outDir = "stability-out";
   int width = 96;
   int height = 96;
-  int frames = 8;            ///< frames of each scripted motion (>= 2)
-  bool quick = false;        ///< fewer methods and VPLs
-  int vplCount = 256;        ///< N of every method unless an extreme sets it
-  int cpuSpp = 2;            ///< samples per pixel of the CPU VPL renders
-  int referenceSpp = 256;    ///< samples per pixel of the reference frames
-  float lightStep = 0.004f;  ///< light translation per frame, as a fraction of the scene diagonal
-  float cameraStep = 0.004f; ///< camera translation per frame (sideways), as a fraction of the scene diagonal
+  int frames = 8;             ///< frames of each scripted motion (>= 2)
+  bool quick = false;         ///< fewer methods and VPLs
+  int vplCount = 256;         ///< N of every method unless an extreme sets it
+  int cpuSpp = 2;             ///< samples per pixel of the CPU VPL renders
+  int referenceSpp = 256;     ///< samples per pixel of the reference frames
+  float lightStep = 0.004f;   ///< light translation per frame, as a fraction of the scene diagonal
+  float cameraStep = 0.004f;  ///< camera translation per frame (sideways), as a fraction of the scene diagonal
   bool gl = true;
   GlBackend glBackend = GlBackend::Auto;
   uint32_t seed = 1;
@@ -44,9 +44,9 @@ struct StabilityConfig {
 
 /// One method under one motion. Flicker values are mean |I_t - I_{t-1}| over pixels, channels and frames 1..F-1.
 struct FlickerRow {
-  std::string motion;    ///< "light" or "camera"
-  std::string method;    ///< e.g. "vpl", "clamp", "vpl-gl"
-  std::string vplMode;   ///< "coherent" (one seed) or "reshuffled" (a new seed per frame)
+  std::string motion;             ///< "light" or "camera"
+  std::string method;             ///< e.g. "vpl", "clamp", "vpl-gl"
+  std::string vplMode;            ///< "coherent" (one seed) or "reshuffled" (a new seed per frame)
   double flicker = 0.0;           ///< the method's frame-to-frame change
   double referenceFlicker = 0.0;  ///< the path-traced frames' own change (the true change plus their noise)
   double excess = 0.0;            ///< mean |(I_t - I_{t-1}) - (R_t - R_{t-1})|: change that is not in the scene
@@ -61,12 +61,12 @@ std::vector<FlickerRow> measureFlicker(const Scene& scene, const StabilityConfig
 
 /// Where one method errs most.
 struct FailureRow {
-  std::string method;   ///< what is mapped, e.g. "clamp (cpu)" or "shadow maps 16 (gl vs cpu)"
-  std::string against;  ///< "reference" or "cpu exact VPL (same VPLs)"
-  std::string expected; ///< where the course notes say this method fails
+  std::string method;    ///< what is mapped, e.g. "clamp (cpu)" or "shadow maps 16 (gl vs cpu)"
+  std::string against;   ///< "reference" or "cpu exact VPL (same VPLs)"
+  std::string expected;  ///< where the course notes say this method fails
   double relMse = 0.0;
   double energyRatio = 1.0;
-  double worstShare = 0.0;  ///< share of the summed error held by the worst 5% of pixels
+  double worstShare = 0.0;             ///< share of the summed error held by the worst 5% of pixels
   int worstTileX = 0, worstTileY = 0;  ///< top-left pixel of the 8x8 tile with the largest mean error
   double worstTileError = 0.0;         ///< its mean relative error
   std::string heatmap;                 ///< PNG written (relative to outDir), empty when images are off

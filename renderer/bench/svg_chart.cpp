@@ -87,12 +87,12 @@ std::string marker(int shape, double x, double y, const char* colour) {
   switch (shape % 4) {
     case 0: s << "<circle cx=\"" << num(x) << "\" cy=\"" << num(y) << "\" r=\"" << r << "\""; break;
     case 1:
-      s << "<rect x=\"" << num(x - r) << "\" y=\"" << num(y - r) << "\" width=\"" << 2 * r << "\" height=\""
-        << 2 * r << "\"";
+      s << "<rect x=\"" << num(x - r) << "\" y=\"" << num(y - r) << "\" width=\"" << 2 * r << "\" height=\"" << 2 * r
+        << "\"";
       break;
     case 2:
-      s << "<polygon points=\"" << num(x) << "," << num(y - r - 1) << " " << num(x - r - 1) << "," << num(y + r)
-        << " " << num(x + r + 1) << "," << num(y + r) << "\"";
+      s << "<polygon points=\"" << num(x) << "," << num(y - r - 1) << " " << num(x - r - 1) << "," << num(y + r) << " "
+        << num(x + r + 1) << "," << num(y + r) << "\"";
       break;
     default:
       s << "<polygon points=\"" << num(x) << "," << num(y - r - 1) << " " << num(x + r + 1) << "," << num(y) << " "
@@ -212,8 +212,8 @@ std::string renderSvgChart(const ChartSpec& spec) {
   std::vector<double> xt = axisTicks(axisValue(ax, ax.lo), axisValue(ax, ax.hi), ax.log);
   std::vector<double> yt = axisTicks(axisValue(ay, ay.lo), axisValue(ay, ay.hi), ay.log);
   for (double v : xt)
-    o << "<line x1=\"" << num(ax.toPixel(v)) << "\" y1=\"" << num(top) << "\" x2=\"" << num(ax.toPixel(v))
-      << "\" y2=\"" << num(bottom) << "\"/>\n";
+    o << "<line x1=\"" << num(ax.toPixel(v)) << "\" y1=\"" << num(top) << "\" x2=\"" << num(ax.toPixel(v)) << "\" y2=\""
+      << num(bottom) << "\"/>\n";
   for (double v : yt)
     o << "<line x1=\"" << num(left) << "\" y1=\"" << num(ay.toPixel(v)) << "\" x2=\"" << num(right) << "\" y2=\""
       << num(ay.toPixel(v)) << "\"/>\n";
@@ -280,9 +280,9 @@ std::string renderSvgChart(const ChartSpec& spec) {
   double lx = W - legendW, ly = top + 4;
   for (std::size_t si = 0; si < spec.series.size(); ++si) {
     const char* colour = kPalette[si % kPaletteSize];
-    o << "<g class=\"legend-entry\">" << marker(static_cast<int>(si), lx + 8, ly + 18.0 * si, colour)
-      << "<text x=\"" << num(lx + 20) << "\" y=\"" << num(ly + 18.0 * si + 4) << "\">"
-      << xmlEscape(spec.series[si].name) << "</text></g>\n";
+    o << "<g class=\"legend-entry\">" << marker(static_cast<int>(si), lx + 8, ly + 18.0 * si, colour) << "<text x=\""
+      << num(lx + 20) << "\" y=\"" << num(ly + 18.0 * si + 4) << "\">" << xmlEscape(spec.series[si].name)
+      << "</text></g>\n";
   }
   if (!front.empty()) {
     double y = ly + 18.0 * spec.series.size();

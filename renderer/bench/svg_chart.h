@@ -7,9 +7,8 @@
 // <g class="pareto-front">. Points that cannot be drawn (non-finite, or <= 0 on a log axis) are left out and counted in
 // a note under the plot, so a chart never silently hides a bad measurement.
 
-#include <glm/glm.hpp>
-
 #include <cstddef>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
 

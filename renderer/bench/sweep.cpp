@@ -1,11 +1,5 @@
 #include "renderer/bench/sweep.h"
 
-#include "renderer/bench/svg_chart.h"
-#include "renderer/image/heatmap.h"
-#include "renderer/image/image_io.h"
-#include "renderer/image/metrics.h"
-#include "renderer/scene/gltf_loader.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -14,6 +8,12 @@
 #include <map>
 #include <set>
 #include <sstream>
+
+#include "renderer/bench/svg_chart.h"
+#include "renderer/image/heatmap.h"
+#include "renderer/image/image_io.h"
+#include "renderer/image/metrics.h"
+#include "renderer/scene/gltf_loader.h"
 
 namespace vplab {
 
@@ -59,7 +59,8 @@ std::string hashId(const std::string& text) {
 }
 
 bool wanted(const BenchConfig& config, const std::string& method) {
-  return config.methods.empty() || std::find(config.methods.begin(), config.methods.end(), method) != config.methods.end();
+  return config.methods.empty() ||
+         std::find(config.methods.begin(), config.methods.end(), method) != config.methods.end();
 }
 
 std::vector<std::string> keyOf(const std::string& scene, const BenchCase& c, const BenchConfig& config) {
@@ -136,15 +137,16 @@ std::map<SeriesKey, std::vector<const CsvRow*>> groupRows(const std::vector<cons
 
 const std::vector<std::string>& benchCsvHeader() {
   static const std::vector<std::string> header = {
-      "scene",     "method",     "backend",   "components",   "width",       "height",          "seed",
-      "vpls",      "bounces",    "clamp_b",   "vsl_r",        "rejection",   "epsilon",         "interleave",
-      "ssbc",      "shadow_map", "spp",       "ref_spp",      "gen_ms",      "render_ms",       "time_ms",
-      "relmse",    "rmse",       "energy_ratio", "nonfinite", "negative",    "acceptance_rate", "vpls_accepted",
-      "image_id"};
+      "scene",     "method",   "backend",         "components",    "width",   "height",     "seed", "vpls",
+      "bounces",   "clamp_b",  "vsl_r",           "rejection",     "epsilon", "interleave", "ssbc", "shadow_map",
+      "spp",       "ref_spp",  "gen_ms",          "render_ms",     "time_ms", "relmse",     "rmse", "energy_ratio",
+      "nonfinite", "negative", "acceptance_rate", "vpls_accepted", "image_id"};
   return header;
 }
 
-std::size_t benchCsvKeyColumns() { return 18; }
+std::size_t benchCsvKeyColumns() {
+  return 18;
+}
 
 std::vector<BenchCase> benchCases(const Scene& scene, const BenchConfig& config) {
   const float diag = std::max(scene.bounds.diagonal(), 1e-3f);
@@ -229,7 +231,9 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
                     std::to_string(config.referenceSpp) + " spp, " + toString(config.components));
     bool cached = false;
     MeasuredImage ref = cachedReference(setup, name, refSettings, config.outDir + "/references", &cached);
-    say(config, name + ": reference " + (cached ? std::string("reused from the cache") : "rendered in " + fmt(ref.renderMs / 1000.0) + " s"));
+    say(config,
+        name + ": reference " +
+            (cached ? std::string("reused from the cache") : "rendered in " + fmt(ref.renderMs / 1000.0) + " s"));
     const float exposure = autoExposure(ref.image);
     const std::string imageDir = config.outDir + "/images/" + name;
     if (config.writeImages) {
@@ -274,11 +278,10 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
         return k;
       }());
       std::vector<std::string> row = key;
-      for (const std::string& v :
-           {fmt(m.generationMs), fmt(m.renderMs), fmt(m.totalMs()), fmt(metrics.relMse), fmt(metrics.rmse),
-            fmt(metrics.energyRatioOverall), std::to_string(metrics.nonFinitePixels),
-            std::to_string(metrics.negativePixels), fmt(m.vplStats.acceptanceRate),
-            std::to_string(m.vplStats.accepted), id})
+      for (const std::string& v : {fmt(m.generationMs), fmt(m.renderMs), fmt(m.totalMs()), fmt(metrics.relMse),
+                                   fmt(metrics.rmse), fmt(metrics.energyRatioOverall),
+                                   std::to_string(metrics.nonFinitePixels), std::to_string(metrics.negativePixels),
+                                   fmt(m.vplStats.acceptanceRate), std::to_string(m.vplStats.accepted), id})
         row.push_back(v);
       log.append(row);
       ++outcome.rowsMeasured;
@@ -289,7 +292,7 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
         writeHeatmap(imageDir + "/" + id + "-err.png", relativeErrorImage(m.image, ref.image), h);
       }
       char line[256];
-      std::snprintf(line, sizeof line, ": %s  time %.1f ms (gen %.1f)  relMSE %.4g  energy %.3f", 
+      std::snprintf(line, sizeof line, ": %s  time %.1f ms (gen %.1f)  relMSE %.4g  energy %.3f",
                     describeRow(log.rows().back()).c_str(), m.totalMs(), m.generationMs, metrics.relMse,
                     metrics.energyRatioOverall);
       say(config, head + line);
@@ -320,7 +323,8 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
                "pass and shadow-mapped in GL, so it is left out of the comparison)"
              : " (the full image)")
      << ".\n"
-     << "- **Time** = VPL generation (pilot and rejection included) + render. CPU: wall time of the exact VPL render on "
+     << "- **Time** = VPL generation (pilot and rejection included) + render. CPU: wall time of the exact VPL render "
+        "on "
         "all threads. GL: wall time of a whole preview frame from scratch up to glFinish (VPL shadow maps included; "
         "the faster of two)"
      << (config.components == Components::Indirect
@@ -430,8 +434,8 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
       err.series.push_back(std::move(e));
     }
     if (!acc.series.empty()) {
-      for (auto [spec, file] : {std::pair{&acc, scene + "-epsilon-acceptance.svg"},
-                                std::pair{&err, scene + "-epsilon-relmse.svg"}}) {
+      for (auto [spec, file] :
+           {std::pair{&acc, scene + "-epsilon-acceptance.svg"}, std::pair{&err, scene + "-epsilon-relmse.svg"}}) {
         writeSvgChart(chartDir + "/" + file, *spec);
         outcome.charts.push_back(chartDir + "/" + file);
         md << "![" << spec->title << "](charts/" << file << ")\n\n";
@@ -464,9 +468,8 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
     for (const auto& [k, g] : groups)
       for (const CsvRow* r : g)
         md << "| " << k.method << " | " << k.backend << " | " << describeRow(*r) << " | " << r->at("gen_ms") << " | "
-           << r->at("render_ms") << " | " << r->at("relmse") << " | " << r->at("rmse") << " | "
-           << r->at("energy_ratio") << " | " << r->at("acceptance_rate") << " | " << r->at("nonfinite") << " | "
-           << r->at("negative") << " |\n";
+           << r->at("render_ms") << " | " << r->at("relmse") << " | " << r->at("rmse") << " | " << r->at("energy_ratio")
+           << " | " << r->at("acceptance_rate") << " | " << r->at("nonfinite") << " | " << r->at("negative") << " |\n";
     md << "\n";
   }
   std::ofstream out(outcome.reportPath);

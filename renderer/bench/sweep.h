@@ -5,13 +5,13 @@
 // per run, flushed as measured; a restart with the same output folder skips the rows already there), SVG charts and
 // report.md with the images.
 
-#include "renderer/bench/csv_log.h"
-#include "renderer/bench/harness.h"
-#include "renderer/settings.h"
-
 #include <functional>
 #include <string>
 #include <vector>
+
+#include "renderer/bench/csv_log.h"
+#include "renderer/bench/harness.h"
+#include "renderer/settings.h"
 
 namespace vplab {
 

@@ -82,11 +82,16 @@ class Parser {
         std::size_t semi = s_.find(';', pos_);
         if (semi == std::string::npos || semi - pos_ > 12) fail("unterminated entity reference");
         std::string ent = s_.substr(pos_ + 1, semi - pos_ - 1);
-        if (ent == "amp") out += '&';
-        else if (ent == "lt") out += '<';
-        else if (ent == "gt") out += '>';
-        else if (ent == "quot") out += '"';
-        else if (ent == "apos") out += '\'';
+        if (ent == "amp")
+          out += '&';
+        else if (ent == "lt")
+          out += '<';
+        else if (ent == "gt")
+          out += '>';
+        else if (ent == "quot")
+          out += '"';
+        else if (ent == "apos")
+          out += '\'';
         else if (ent.size() > 1 && ent[0] == '#') {
           bool hex = ent[1] == 'x';
           std::string digits = ent.substr(hex ? 2 : 1);
@@ -183,6 +188,8 @@ std::vector<const XmlElement*> XmlElement::findAll(const std::string& elementNam
   return out;
 }
 
-XmlElement parseXml(const std::string& text) { return Parser(text).document(); }
+XmlElement parseXml(const std::string& text) {
+  return Parser(text).document();
+}
 
 }  // namespace vplab
