@@ -120,9 +120,11 @@ struct RunResult {
 };
 
 RunResult runEditor(const std::string& script, const std::string& extraArgs) {
-  const std::string scriptPath = tmp("script.txt");
+  // Per-test file names: CTest runs tests in parallel, and a shared script file let one test run the other's script.
+  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
+  const std::string scriptPath = tmp(test + "_script.txt");
   std::ofstream(scriptPath) << script;
-  const std::string log = tmp("run.log");
+  const std::string log = tmp(test + "_run.log");
   std::string cmd = "xvfb-run -a -s \"-screen 0 1280x720x24\" " + std::string(VPLAB_BINARY) + " edit " +
                     std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf --script " + scriptPath + " " +
                     extraArgs + " > " + log + " 2>&1";
