@@ -14,5 +14,11 @@ fi
 out="$root/out"
 mkdir -p "$out"
 echo "no DISPLAY: rendering $scene headless into $out (run 'vplab edit' with a display for the editor)"
-"$build/app/vplab" reference "$scene" --spp 256 --size 512x512 \
-  --out "$out/cornell-box.exr" --png "$out/cornell-box.png"
+vplab="$build/app/vplab"
+# The path-traced reference (Embree), then the GL preview of the same scene and settings (EGL or OSMesa), then the
+# error of the preview against the reference.
+"$vplab" reference "$scene" --spp 256 --size 512x512 --out "$out/reference.exr" --png "$out/reference.png"
+"$vplab" preview "$scene" --size 512x512 --clamp 20 --ssbc 2 --interleave 2 \
+  --out "$out/preview.png" --exr "$out/preview.exr"
+"$vplab" compare "$out/preview.exr" "$out/reference.exr" --heatmap "$out/preview-error.png"
+echo "images: $out/reference.png $out/preview.png $out/preview-error.png"
