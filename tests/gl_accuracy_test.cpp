@@ -29,20 +29,9 @@
 namespace vplab {
 namespace {
 
-/// A scene with its BVH and light sampler; heap-allocated because both keep a reference to the scene.
-struct Loaded {
-  Scene scene;
-  std::unique_ptr<EmbreeScene> embree;
-  std::unique_ptr<LightSampler> lights;
-};
+using Loaded = test::LoadedScene;
 
-std::unique_ptr<Loaded> load(const std::string& name) {
-  auto l = std::make_unique<Loaded>();
-  l->scene = loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/" + name + ".gltf");
-  l->embree = std::make_unique<EmbreeScene>(l->scene);
-  l->lights = std::make_unique<LightSampler>(l->scene);
-  return l;
-}
+std::unique_ptr<Loaded> load(const std::string& name) { return test::loadAssetScene(name); }
 
 Settings baseSettings(int size, int vpls) {
   Settings s;
@@ -164,11 +153,13 @@ struct SsbcMeasurement {
 
 enum class Truth { Unclamped, Furnace, Reference };
 
-SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int vplCount, Truth truthKind) {
+SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int vplCount, Truth truthKind,
+                            int divisor = 1) {
   auto l = load(sceneName);
   Settings s = baseSettings(size, vplCount);
   VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
   PreviewRenderer renderer;
+  renderer.setSsbcResolutionDivisor(divisor);
   renderer.render(l->scene, vpls, s, l->scene.camera);
   Image unclamped = renderer.readLinear(PreviewOutput::Indirect);
   s.clampBound = b;
@@ -189,9 +180,9 @@ SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int
   m.recovered = meanLuminance(residual);
   m.relMseClamped = compareImages(clamped, truth).relMse;
   m.relMseCompensated = compareImages(compensated, truth).relMse;
-  std::printf("[ measured ] %s b = %g: clamp removes %.1f%% of the indirect energy, 2 SSBC steps recover %.1f%% of "
-              "it; relMSE vs %s %.5f -> %.5f\n",
-              sceneName.c_str(), b, 100.0 * m.removed / meanLuminance(unclamped), 100.0 * m.recovered / m.removed,
+  std::printf("[ measured ] %s b = %g, SSBC at 1/%d resolution: clamp removes %.1f%% of the indirect energy, 2 SSBC "
+              "steps recover %.1f%% of it; relMSE vs %s %.5f -> %.5f\n",
+              sceneName.c_str(), b, divisor, 100.0 * m.removed / meanLuminance(unclamped), 100.0 * m.recovered / m.removed,
               truthKind == Truth::Furnace ? "exact 0.5" : truthKind == Truth::Reference ? "path-traced" : "unclamped",
               m.relMseClamped, m.relMseCompensated);
   EXPECT_GE(m.removed, 0.10 * meanLuminance(unclamped)) << "b must remove at least 10% for the test to mean anything";
@@ -223,6 +214,22 @@ TEST_P(GlAccuracy, SsbcLowersRelMseFurnace) {
   SsbcMeasurement m = measureSsbc("furnace", kFurnaceSsbcBound, 128, 256, Truth::Furnace);
   EXPECT_LT(m.relMseCompensated, m.relMseClamped);
 }
+
+// Half-resolution compensation (PreviewRenderer::setSsbcResolutionDivisor(2)) must meet the same bars as the full
+// resolution, and recover nearly the same energy.
+void expectHalfResolutionMatches(const std::string& sceneName, float b) {
+  SsbcMeasurement full = measureSsbc(sceneName, b, 128, 256, Truth::Unclamped, 1);
+  SsbcMeasurement half = measureSsbc(sceneName, b, 128, 256, Truth::Unclamped, 2);
+  EXPECT_GE(half.recovered, 0.5 * half.removed);
+  EXPECT_LE(half.recovered, 1.2 * half.removed);
+  EXPECT_NEAR(half.recovered / full.recovered, 1.0, 0.05);
+  SsbcMeasurement truth = measureSsbc(sceneName, b, 128, 256, sceneName == "furnace" ? Truth::Furnace : Truth::Reference, 2);
+  EXPECT_LT(truth.relMseCompensated, truth.relMseClamped);
+}
+
+TEST_P(GlAccuracy, SsbcHalfResolutionMatchesFullCornell) { expectHalfResolutionMatches("cornell-box", kCornellSsbcBound); }
+
+TEST_P(GlAccuracy, SsbcHalfResolutionMatchesFullFurnace) { expectHalfResolutionMatches("furnace", kFurnaceSsbcBound); }
 
 // --- extremes and determinism ------------------------------------------------------------------------------------
 TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {

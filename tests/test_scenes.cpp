@@ -1,10 +1,20 @@
 #include "tests/test_scenes.h"
 
+#include "renderer/scene/gltf_loader.h"
+
 #include <algorithm>
 #include <cmath>
 #include <string>
 
 namespace vplab::test {
+
+std::unique_ptr<LoadedScene> loadAssetScene(const std::string& name) {
+  auto l = std::make_unique<LoadedScene>();
+  l->scene = loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/" + name + ".gltf");
+  l->embree = std::make_unique<EmbreeScene>(l->scene);
+  l->lights = std::make_unique<LightSampler>(l->scene);
+  return l;
+}
 
 uint32_t addLambertMaterial(Scene& scene, const glm::vec3& albedo, const glm::vec3& emission) {
   Material m;

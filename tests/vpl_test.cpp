@@ -9,6 +9,7 @@
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vpl_json.h"
+#include "tests/test_scenes.h"
 
 #include <gtest/gtest.h>
 
@@ -20,20 +21,9 @@
 namespace vplab {
 namespace {
 
-/// A scene with its BVH and light sampler; heap-allocated because both keep a reference to the scene.
-struct Loaded {
-  Scene scene;
-  std::unique_ptr<EmbreeScene> embree;
-  std::unique_ptr<LightSampler> lights;
-};
+using Loaded = test::LoadedScene;
 
-std::unique_ptr<Loaded> load(const std::string& name) {
-  auto l = std::make_unique<Loaded>();
-  l->scene = loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/" + name + ".gltf");
-  l->embree = std::make_unique<EmbreeScene>(l->scene);
-  l->lights = std::make_unique<LightSampler>(l->scene);
-  return l;
-}
+std::unique_ptr<Loaded> load(const std::string& name) { return test::loadAssetScene(name); }
 
 Settings smallSettings(int size, int vpls) {
   Settings s;
