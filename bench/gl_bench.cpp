@@ -5,7 +5,7 @@
 // over several frames; the table shows the median frame.
 //
 // usage: vplab_bench_gl_bench [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv out.csv] [--scene file.gltf]
-//                             [--ssbc S] [--clamp b] [--quick]
+//                             [--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--quick]
 
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
@@ -35,7 +35,7 @@ int main(int argc, char** argv) {
   std::string scenePath = std::string(VPLAB_ASSET_DIR) + "/scenes/cornell-box.gltf";
   std::string csvPath = "gl_bench.csv";
   GlBackend backend = GlBackend::Auto;
-  int width = 640, height = 480, frames = 5, ssbc = 2;
+  int width = 640, height = 480, frames = 5, ssbc = 2, ssbcDivisor = 1;
   float clamp = 20.0f;
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
@@ -61,11 +61,13 @@ int main(int argc, char** argv) {
       ssbc = std::atoi(next().c_str());
     } else if (a == "--clamp") {
       clamp = std::strtof(next().c_str(), nullptr);
+    } else if (a == "--ssbc-divisor") {
+      ssbcDivisor = std::atoi(next().c_str());
     } else if (a == "--quick") {
       quick = true;
     } else {
       std::fprintf(stderr, "usage: %s [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv F] [--scene F] "
-                           "[--ssbc S] [--clamp b] [--quick]\n", argv[0]);
+                           "[--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--quick]\n", argv[0]);
       return a == "--help" ? 0 : 2;
     }
   }
@@ -74,8 +76,8 @@ int main(int argc, char** argv) {
   EmbreeScene embree(scene);
   LightSampler lights(scene);
   HeadlessGlContext context(backend);
-  std::printf("gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d, median of %d frames after warm-up\n\n",
-              context.description().c_str(), scene.sourcePath.c_str(), width, height, clamp, ssbc, frames);
+  std::printf("gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (resolution / %d), median of %d frames after warm-up\n\n",
+              context.description().c_str(), scene.sourcePath.c_str(), width, height, clamp, ssbc, ssbcDivisor, frames);
 
   std::ofstream csv(csvPath);
   csv << "vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
@@ -93,6 +95,7 @@ int main(int argc, char** argv) {
     settings.ssbcSteps = ssbc;
     VplSet vpls = generateVpls(scene, embree, lights, settings);
     PreviewRenderer renderer;
+    renderer.setSsbcResolutionDivisor(ssbcDivisor);
     double shadowMs = 0.0;  // VPL shadow maps are rendered once per VPL set, with the first k
     for (int k : ks) {
       settings.interleave = k;

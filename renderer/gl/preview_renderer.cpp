@@ -9,6 +9,8 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <stdexcept>
+#include <string>
 
 namespace vplab {
 
@@ -61,6 +63,8 @@ struct PreviewRenderer::Targets {
   GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gDepth;
   GlFramebuffer gbuffer;
   Target direct, indirect, i0, r1, r2, residual, linear, display;
+  // Half-resolution compensation step (ssbc.frag.glsl with uScale 2): the samples at the even pixels.
+  Target ssbcHalf;
   // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
   // blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
@@ -91,7 +95,8 @@ struct PreviewRenderer::Targets {
         r2(w, h),
         residual(w, h),
         linear(w, h),
-        display(w, h) {
+        display(w, h),
+        ssbcHalf((w + 1) / 2, (h + 1) / 2) {
     gbuffer.attachColor(0, gPosition);
     gbuffer.attachColor(1, gNormal);
     gbuffer.attachColor(2, gBaseColor);
@@ -116,6 +121,7 @@ PreviewRenderer::PreviewRenderer()
       gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}),
       deinterleave_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}),
       ssbc_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}),
+      ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
       add_({"preview/fullscreen.vert.glsl", "preview/add.frag.glsl"}) {}
@@ -125,6 +131,12 @@ PreviewRenderer::~PreviewRenderer() = default;
 void PreviewRenderer::invalidateScene() { sceneDirty_ = true; }
 void PreviewRenderer::invalidateVpls() { vplsDirty_ = true; }
 void PreviewRenderer::invalidateFrame() { haveFrame_ = false; }
+
+void PreviewRenderer::setSsbcResolutionDivisor(int divisor) {
+  if (divisor != 1 && divisor != 2)
+    throw std::invalid_argument("SSBC resolution divisor must be 1 or 2, got " + std::to_string(divisor));
+  ssbcDivisor_ = divisor;
+}
 
 void PreviewRenderer::ensureTargets(int width, int height) {
   if (targets_ && targets_->width == width && targets_->height == height) return;
@@ -227,7 +239,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   bool gatherChanged = cameraChanged || vplDataChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
                        settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
                        settings.shadowBias != last.shadowBias;
-  bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps;
+  bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps ||
+                     ssbcDivisor_ != lastSsbcDivisor_;
   bool tonemapChanged = ssbcChanged || settings.exposure != last.exposure;
 
   float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
@@ -364,18 +377,29 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
       if (compensate) {
         float focal = 0.5f * static_cast<float>(tg.height) / std::tan(0.5f * camera.yfov);
-        ssbc_.set("uCameraPosition", camera.position);
-        ssbc_.set("uCameraForward", camera.forward);
-        ssbc_.set("uClampBound", settings.clampBound);
-        ssbc_.set("uFocalPixels", focal);
-        ssbc_.set("uMaxLevel", tg.gPosition.levels() - 1);
+        for (ShaderProgram* program : {&ssbc_, &ssbcUpsample_}) {
+          program->set("uCameraPosition", camera.position);
+          program->set("uCameraForward", camera.forward);
+          program->set("uClampBound", settings.clampBound);
+          program->set("uFocalPixels", focal);
+          program->set("uMaxLevel", tg.gPosition.levels() - 1);
+        }
+        ssbc_.set("uScale", ssbcDivisor_);
         Target* input = &tg.i0;
         Target* outputs[2] = {&tg.r1, &tg.r2};
         for (int step = 0; step < settings.ssbcSteps; ++step) {
           input->texture.generateMipmaps();
           input->texture.bind(6);
-          outputs[step]->framebuffer.bind(tg.width, tg.height);
-          drawFullscreen(ssbc_);
+          if (ssbcDivisor_ == 2) {
+            tg.ssbcHalf.framebuffer.bind(tg.ssbcHalf.texture.width(), tg.ssbcHalf.texture.height());
+            drawFullscreen(ssbc_);
+            outputs[step]->framebuffer.bind(tg.width, tg.height);
+            tg.ssbcHalf.texture.bind(7);
+            drawFullscreen(ssbcUpsample_);
+          } else {
+            outputs[step]->framebuffer.bind(tg.width, tg.height);
+            drawFullscreen(ssbc_);
+          }
           // Accumulate R_step into the residual sum.
           tg.residual.framebuffer.bind(tg.width, tg.height);
           outputs[step]->texture.bind(6);
@@ -418,6 +442,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   haveFrame_ = true;
   lastCamera_ = camera;
   lastSettings_ = settings;
+  lastSsbcDivisor_ = ssbcDivisor_;
   return t;
 }
 

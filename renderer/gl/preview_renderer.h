@@ -77,6 +77,12 @@ class PreviewRenderer {
 
   const PreviewCounters& counters() const { return counters_; }
 
+  /// Resolution divisor of the screen-space compensation: 1 evaluates T_r at every pixel; 2 evaluates it at every
+  /// second pixel in x and y and upsamples geometry-aware (ssbc_upsample.frag.glsl), about 4x cheaper. The
+  /// difference is measured in tests/gl_accuracy_test.cpp.
+  void setSsbcResolutionDivisor(int divisor);
+  int ssbcResolutionDivisor() const { return ssbcDivisor_; }
+
  private:
   struct Targets;
   void ensureTargets(int width, int height);
@@ -98,7 +104,7 @@ class PreviewRenderer {
   CubeShadowMaps directShadows_, vplShadows_;
   GlBuffer directLights_, vplBuffer_;
   std::vector<glm::vec3> directPositions_;
-  ShaderProgram gbuffer_, direct_, gather_, deinterleave_, ssbc_, compose_, tonemap_, add_;
+  ShaderProgram gbuffer_, direct_, gather_, deinterleave_, ssbc_, ssbcUpsample_, compose_, tonemap_, add_;
   GlVertexArray vao_;
   GlTimerQuery timer_;
 
@@ -106,6 +112,7 @@ class PreviewRenderer {
   bool haveFrame_ = false;
   Camera lastCamera_;
   Settings lastSettings_;
+  int ssbcDivisor_ = 1, lastSsbcDivisor_ = 1;
 
   PreviewCounters counters_;
 };

@@ -1,88 +1,15 @@
 #version 450 core
-// Pass 5, one step of screen-space bias compensation (Novak, Engelhardt, Dachsbacher 2011; MANYLIGHTS 6):
-//   T_r(I)(p) = sum over pixels q in the footprint of the sphere of radius 1/sqrt(b) around x1 of
-//               f(x1; wo, w) max(G(x1, x2) - b, 0) L_I(x2 -> x1) dA(q),
-//   dA(q) = omega_pix(q) |x2 - camera|^2 / |cos theta_q|,  omega_pix = A_pix cos^3(alpha) / f^2  (pinhole, f in px)
-// L_I(x2 -> x1) is the image value at q (diffuse assumption: the radiance q sends to the camera). Hierarchical, in
-// rings: level 0 covers the pixels within kMaxTexels of p, level l the ring (kMaxTexels 2^(l-1), kMaxTexels 2^l]
-// (pixel distances of the texel centres), each level-l texel standing for 4^l pixels, up to the level whose ring
-// reaches the footprint radius. The integrand (G - b) falls like 1/d^2 while a ring's area grows like d^2, so every
-// octave of distance matters about equally: all of it must be integrated, and finest where the residual is largest
-// (next to p, i.e. at creases). Conservative: samples off screen, on the background, or straddling a discontinuity
-// (mip-averaged coverage < 1 or averaged normal shorter than 0.9) add nothing; V~ = 1 inside the (local) footprint.
+// Pass 5, one step of screen-space bias compensation (common/ssbc.glsl) at every uScale-th pixel: output texel t
+// holds T_r(I) at the full-resolution pixel t * uScale (uScale 1: every pixel; 2: the half-resolution grid that
+// ssbc_upsample.frag.glsl interpolates).
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
+#include "common/ssbc.glsl"
 
-layout(binding = 6) uniform sampler2D uInput;  // I (reflected light only, no emission), with mips
-uniform vec3 uCameraPosition;
-uniform vec3 uCameraForward;
-uniform float uClampBound;
-uniform float uFocalPixels;  // (height / 2) / tan(yfov / 2)
-uniform int uMaxLevel;
+uniform int uScale;
 layout(location = 0) out vec4 outColor;
 
-const int kMaxTexels = 2;
-
 void main() {
-  ivec2 px = ivec2(gl_FragCoord.xy);
-  ivec2 size = textureSize(gPosition, 0);
-  vec4 pos = texelFetch(gPosition, px, 0);
-  if (pos.w <= 0.0 || isinf(uClampBound)) {
-    outColor = vec4(0.0);
-    return;
-  }
-  vec4 nm = texelFetch(gNormal, px, 0), bc = texelFetch(gBaseColor, px, 0), em = texelFetch(gEmission, px, 0);
-  vec3 x1 = pos.xyz, n1 = nm.xyz;
-  BrdfParams p1 = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
-  vec3 wo = normalize(uCameraPosition - x1);
-  // Footprint: the residual is non-zero only where |x1 - x2| < 1/sqrt(b) (MANYLIGHTS 4).
-  float radius = inversesqrt(uClampBound);
-  float z = max(dot(x1 - uCameraPosition, uCameraForward), 1e-4);
-  float radiusPx = radius * uFocalPixels / z;
-  int topLevel = clamp(int(ceil(log2(max(radiusPx / float(kMaxTexels), 1.0)))), 0, uMaxLevel);
-  vec2 halfSize = vec2(size) * 0.5;
-  vec2 pc = vec2(px) + 0.5;
-  vec3 sum = vec3(0.0);
-  for (int level = 0; level <= topLevel; ++level) {
-    float scale = float(1 << level);
-    float inner = level == 0 ? -1.0 : float(kMaxTexels) * scale * 0.5;
-    float outer = float(kMaxTexels) * scale;
-    ivec2 base = ivec2(floor(pc / scale));
-    ivec2 levelSize = textureSize(gPosition, level);
-    const int n = kMaxTexels + 1;
-    for (int dy = -n; dy <= n; ++dy)
-      for (int dx = -n; dx <= n; ++dx) {
-        ivec2 q = base + ivec2(dx, dy);
-        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, levelSize))) continue;
-        vec2 qc = (vec2(q) + 0.5) * scale;
-        float r = length(qc - pc);
-        if (r <= inner || r > outer) continue;
-        vec4 qp = texelFetch(gPosition, q, level);
-        if (qp.w < 0.999) continue;
-        vec3 qn = texelFetch(gNormal, q, level).xyz;
-        float qnLen = length(qn);
-        if (qnLen < 0.9) continue;
-        qn /= qnLen;
-        vec3 x2 = qp.xyz;
-        vec3 d = x2 - x1;
-        float dist2 = dot(d, d);
-        if (!(dist2 > 1e-12)) continue;
-        vec3 w = d * inversesqrt(dist2);
-        float cos1 = dot(n1, w), cos2 = -dot(qn, w);
-        if (cos1 <= 0.0 || cos2 <= 0.0) continue;
-        float g = cos1 * cos2 / dist2;
-        if (g <= uClampBound) continue;
-        // Pixel solid angle from the off-axis angle alpha of the texel centre, times the pixels the texel stands for.
-        vec2 offset = qc - halfSize;
-        float cosAlpha = uFocalPixels * inversesqrt(uFocalPixels * uFocalPixels + dot(offset, offset));
-        float omega = scale * scale * cosAlpha * cosAlpha * cosAlpha / (uFocalPixels * uFocalPixels);
-        vec3 toCamera = uCameraPosition - x2;
-        float camDist2 = dot(toCamera, toCamera);
-        float cosQ = max(abs(dot(qn, toCamera * inversesqrt(camDist2))), 0.05);
-        float area = omega * camDist2 / cosQ;
-        vec3 radiance = texelFetch(uInput, q, level).rgb;
-        sum += evaluateBrdf(p1, n1, wo, w) * (g - uClampBound) * radiance * area;
-      }
-  }
-  outColor = vec4(sum, 1.0);
+  ivec2 px = ivec2(gl_FragCoord.xy) * uScale;
+  outColor = vec4(any(greaterThanEqual(px, textureSize(gPosition, 0))) ? vec3(0.0) : ssbcAt(px), 1.0);
 }
