@@ -63,6 +63,8 @@ struct PreviewRenderer::Targets {
   GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gDepth;
   GlFramebuffer gbuffer;
   Target direct, indirect, i0, r1, r2, residual, linear, display;
+  // The direct and indirect targets as two colour attachments: the de-interleave merges both in one pass.
+  GlFramebuffer merged;
   // Half-resolution compensation step (ssbc.frag.glsl with uScale 2): the samples at the even pixels.
   Target ssbcHalf;
   // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
@@ -104,6 +106,9 @@ struct PreviewRenderer::Targets {
     gbuffer.attachColor(4, gGeoNormal);
     gbuffer.attachDepth(gDepth);
     gbuffer.finalize(5);
+    merged.attachColor(0, direct.texture);
+    merged.attachColor(1, indirect.texture);
+    merged.finalize(2);
   }
 
   void bindGbuffer() const {
@@ -297,9 +302,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   tg.bindGbuffer();
   tg.ensureRaw(settings.interleave);
   const int k = settings.interleave;
-  // Draws `program` once per interleaving subset into its block of `raw`, then merges the subsets into `merged`
-  // (geometry-aware k x k window, deinterleave.frag.glsl). drawSubset issues the draws of one subset.
-  auto interleaved = [&](ShaderProgram& program, Target& raw, Target& merged, auto&& drawSubset) {
+  // Draws `program` once per interleaving subset into its block of `raw` (the deinterleaved layout of
+  // gather.frag.glsl); drawSubset issues the draws of one subset. The merge of the subsets follows both passes.
+  auto interleaved = [&](ShaderProgram& program, Target& raw, auto&& drawSubset) {
     raw.framebuffer.bind(tg.blockWidth * k, tg.blockHeight * k);
     raw.framebuffer.clearColor(0, glm::vec4(0.0f));
     program.set("uInterleave", k);
@@ -315,12 +320,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         drawSubset();
       }
     glDisable(GL_BLEND);
-    merged.framebuffer.bind(tg.width, tg.height);
-    raw.texture.bind(6);
-    deinterleave_.set("uInterleave", k);
-    deinterleave_.set("uBlockSize", glm::ivec2(tg.blockWidth, tg.blockHeight));
-    deinterleave_.set("uCameraPosition", camera.position);
-    drawFullscreen(deinterleave_);
   };
 
   tg.bindGbuffer();
@@ -331,7 +330,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       direct_.set("uCameraPosition", camera.position);
       direct_.set("uShadowFar", far);
       direct_.set("uShadowBias", bias);
-      interleaved(direct_, *tg.directRaw, tg.direct, [&] {
+      interleaved(direct_, *tg.directRaw, [&] {
         for (int c = 0; c < directShadows_.chunkCount(); ++c) {
           directShadows_.chunkTexture(c).bind(6);
           direct_.set("uFirstLight", directShadows_.chunkBegin(c));
@@ -352,7 +351,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       gather_.set("uVslSamples", settings.vslSamples);
       gather_.set("uShadowFar", far);
       gather_.set("uShadowBias", bias);
-      interleaved(gather_, *tg.indirectRaw, tg.indirect, [&] {
+      interleaved(gather_, *tg.indirectRaw, [&] {
         for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
           vplShadows_.chunkTexture(c).bind(6);
           gather_.set("uFirstVpl", vplShadows_.chunkBegin(c));
@@ -362,6 +361,24 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       });
     });
     ++counters_.gather;
+  }
+
+  // Geometry-aware de-interleave of the direct light and the gather together (deinterleave.frag.glsl): the weights
+  // depend on the G-buffer only, so one pass serves both and reads each neighbour's geometry once. Its time is
+  // counted in the gather pass (in the direct pass when only that one ran).
+  if (directChanged || gatherChanged) {
+    double wallMs = 0.0;
+    double gpuMs = timed(timer_, wallMs, [&] {
+      tg.merged.bind(tg.width, tg.height);
+      tg.directRaw->texture.bind(6);
+      tg.indirectRaw->texture.bind(7);
+      deinterleave_.set("uInterleave", k);
+      deinterleave_.set("uBlockSize", glm::ivec2(tg.blockWidth, tg.blockHeight));
+      deinterleave_.set("uCameraPosition", camera.position);
+      drawFullscreen(deinterleave_);
+    });
+    (gatherChanged ? t.gatherMs : t.directMs) += gpuMs;
+    (gatherChanged ? t.gatherWallMs : t.directWallMs) += wallMs;
   }
 
   // Pass 5: I0 = direct + indirect, then R1 = T_r(I0), R2 = T_r(R1), final = Le + I0 + R1 + R2.

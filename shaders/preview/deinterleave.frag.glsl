@@ -1,32 +1,34 @@
 #version 450 core
 // Geometry-aware de-interleaving (MANYLIGHTS 8): average the k x k window, which holds every VPL subset once, over
 // neighbours on the same surface (relative depth and normal tests), renormalised by the accepted weight so that
-// rejected neighbours do not darken the result.
+// rejected neighbours do not darken the result. The direct light and the VPL gather are interleaved alike and share
+// the weights, so both are merged here at once (two outputs).
 #include "common/fullscreen.glsl"
 
-layout(binding = 6) uniform sampler2D uInterleaved;  // deinterleaved blocks (gather.frag.glsl)
+layout(binding = 6) uniform sampler2D uDirectRaw;    // deinterleaved blocks (direct.frag.glsl)
+layout(binding = 7) uniform sampler2D uIndirectRaw;  // deinterleaved blocks (gather.frag.glsl)
 uniform int uInterleave;
 uniform ivec2 uBlockSize;
 uniform vec3 uCameraPosition;
-layout(location = 0) out vec4 outColor;
+layout(location = 0) out vec4 outDirect;
+layout(location = 1) out vec4 outIndirect;
 
-// Value of pixel q in the deinterleaved layout: block (q mod k), texel q / k inside it.
-vec3 interleavedAt(ivec2 q) {
-  return texelFetch(uInterleaved, (q % uInterleave) * uBlockSize + q / uInterleave, 0).rgb;
-}
+// Texel of pixel q in the deinterleaved layout: block (q mod k), texel q / k inside it.
+ivec2 rawTexel(ivec2 q) { return (q % uInterleave) * uBlockSize + q / uInterleave; }
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(gPosition, 0);
   vec4 pos = texelFetch(gPosition, px, 0);
   if (pos.w <= 0.0 || uInterleave <= 1) {
-    outColor = vec4(interleavedAt(px), 1.0);
+    outDirect = vec4(texelFetch(uDirectRaw, rawTexel(px), 0).rgb, 1.0);
+    outIndirect = vec4(texelFetch(uIndirectRaw, rawTexel(px), 0).rgb, 1.0);
     return;
   }
   vec3 n = texelFetch(gNormal, px, 0).xyz;
   float depth = length(pos.xyz - uCameraPosition);
   int lo = -(uInterleave / 2);
-  vec3 sum = vec3(0.0);
+  vec3 sumDirect = vec3(0.0), sumIndirect = vec3(0.0);
   float weight = 0.0;
   for (int dy = lo; dy < lo + uInterleave; ++dy)
     for (int dx = lo; dx < lo + uInterleave; ++dx) {
@@ -36,8 +38,16 @@ void main() {
       if (qp.w <= 0.0) continue;
       if (abs(length(qp.xyz - uCameraPosition) - depth) > 0.05 * depth) continue;
       if (dot(texelFetch(gNormal, q, 0).xyz, n) < 0.9) continue;
-      sum += interleavedAt(q);
+      ivec2 t = rawTexel(q);
+      sumDirect += texelFetch(uDirectRaw, t, 0).rgb;
+      sumIndirect += texelFetch(uIndirectRaw, t, 0).rgb;
       weight += 1.0;
     }
-  outColor = vec4(weight > 0.0 ? sum / weight : interleavedAt(px), 1.0);
+  if (weight > 0.0) {
+    outDirect = vec4(sumDirect / weight, 1.0);
+    outIndirect = vec4(sumIndirect / weight, 1.0);
+  } else {
+    outDirect = vec4(texelFetch(uDirectRaw, rawTexel(px), 0).rgb, 1.0);
+    outIndirect = vec4(texelFetch(uIndirectRaw, rawTexel(px), 0).rgb, 1.0);
+  }
 }
