@@ -124,6 +124,7 @@ PreviewRenderer::PreviewRenderer()
     : gbuffer_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}),
       direct_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"}),
       gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}),
+      gatherVsl_({"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"}),
       deinterleave_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}),
       ssbc_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}),
       ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
@@ -196,8 +197,10 @@ void PreviewRenderer::uploadDirectLights(const Scene& scene, const Settings& set
 
 void PreviewRenderer::uploadVpls(const Scene& scene, const VplSet& set) {
   std::vector<VplGpu> gpu(set.vpls.size());
+  vplsHaveRadius_ = false;
   for (std::size_t i = 0; i < gpu.size(); ++i) {
     const Vpl& v = set.vpls[i];
+    vplsHaveRadius_ = vplsHaveRadius_ || v.radius > 0.0f;
     const Material& m = scene.materials[v.material];
     gpu[i] = {glm::vec4(v.position, v.radius), glm::vec4(v.normal, m.metallic), glm::vec4(v.incoming, m.roughness),
               glm::vec4(v.flux, m.specular), glm::vec4(scene.baseColorAt(v.material, v.uv), 0.0f),
@@ -342,21 +345,23 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     ++counters_.direct;
   }
 
-  // Pass 4: VPL gather with G_b / VSL and interleaving, then the geometry-aware de-interleave.
+  // Pass 4: VPL gather with G_b / VSL and interleaving (the de-interleave follows).
   if (gatherChanged) {
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
+      // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
+      ShaderProgram& gather = vplsHaveRadius_ ? gatherVsl_ : gather_;
       vplBuffer_.bindStorage(8);
-      gather_.set("uCameraPosition", camera.position);
-      gather_.set("uClampBound", settings.clampBound);
-      gather_.set("uVslSamples", settings.vslSamples);
-      gather_.set("uShadowFar", far);
-      gather_.set("uShadowBias", bias);
-      interleaved(gather_, *tg.indirectRaw, [&] {
+      gather.set("uCameraPosition", camera.position);
+      gather.set("uClampBound", settings.clampBound);
+      gather.set("uVslSamples", settings.vslSamples);
+      gather.set("uShadowFar", far);
+      gather.set("uShadowBias", bias);
+      interleaved(gather, *tg.indirectRaw, [&] {
         for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
           vplShadows_.chunkTexture(c).bind(6);
-          gather_.set("uFirstVpl", vplShadows_.chunkBegin(c));
-          gather_.set("uVplEnd", vplShadows_.chunkEnd(c));
-          drawFullscreen(gather_);
+          gather.set("uFirstVpl", vplShadows_.chunkBegin(c));
+          gather.set("uVplEnd", vplShadows_.chunkEnd(c));
+          drawFullscreen(gather);
         }
       });
     });

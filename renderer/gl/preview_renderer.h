@@ -104,7 +104,9 @@ class PreviewRenderer {
   CubeShadowMaps directShadows_, vplShadows_;
   GlBuffer directLights_, vplBuffer_;
   std::vector<glm::vec3> directPositions_;
-  ShaderProgram gbuffer_, direct_, gather_, deinterleave_, ssbc_, ssbcUpsample_, compose_, tonemap_, add_;
+  /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
+  bool vplsHaveRadius_ = false;
+  ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleave_, ssbc_, ssbcUpsample_, compose_, tonemap_, add_;
   GlVertexArray vao_;
   GlTimerQuery timer_;
 
