@@ -130,7 +130,11 @@ PreviewRenderer::PreviewRenderer()
       ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
-      add_({"preview/fullscreen.vert.glsl", "preview/add.frag.glsl"}) {}
+      add_({"preview/fullscreen.vert.glsl", "preview/add.frag.glsl"}),
+      gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
+      ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
+      ssbcUpsampleLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
+                           {"BRDF_LAMBERT_ONLY 1"}) {}
 
 PreviewRenderer::~PreviewRenderer() = default;
 
@@ -217,6 +221,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (&scene != scene_ || sceneDirty_ || !glScene_) {
     glScene_ = std::make_unique<GlScene>(scene);
     scene_ = &scene;
+    // The same test as evaluateBrdf's Lambert fast path (metallic and specular are per material, never textured).
+    lambertOnly_ = std::all_of(scene.materials.begin(), scene.materials.end(),
+                               [](const Material& m) { return m.metallic <= 0.0f && m.specular <= 0.0f; });
     sceneDirty_ = false;
     haveFrame_ = false;
     shadowsValid_ = false;
@@ -349,7 +356,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (gatherChanged) {
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
       // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
-      ShaderProgram& gather = vplsHaveRadius_ ? gatherVsl_ : gather_;
+      ShaderProgram& gather = vplsHaveRadius_ ? gatherVsl_ : lambertOnly_ ? gatherLambert_ : gather_;
       vplBuffer_.bindStorage(8);
       gather.set("uCameraPosition", camera.position);
       gather.set("uClampBound", settings.clampBound);
@@ -399,14 +406,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
       if (compensate) {
         float focal = 0.5f * static_cast<float>(tg.height) / std::tan(0.5f * camera.yfov);
-        for (ShaderProgram* program : {&ssbc_, &ssbcUpsample_}) {
+        ShaderProgram& ssbc = lambertOnly_ ? ssbcLambert_ : ssbc_;
+        ShaderProgram& upsample = lambertOnly_ ? ssbcUpsampleLambert_ : ssbcUpsample_;
+        for (ShaderProgram* program : {&ssbc, &upsample}) {
           program->set("uCameraPosition", camera.position);
           program->set("uCameraForward", camera.forward);
           program->set("uClampBound", settings.clampBound);
           program->set("uFocalPixels", focal);
           program->set("uMaxLevel", tg.gPosition.levels() - 1);
         }
-        ssbc_.set("uScale", ssbcDivisor_);
+        ssbc.set("uScale", ssbcDivisor_);
         Target* input = &tg.i0;
         Target* outputs[2] = {&tg.r1, &tg.r2};
         for (int step = 0; step < settings.ssbcSteps; ++step) {
@@ -414,13 +423,13 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           input->texture.bind(6);
           if (ssbcDivisor_ == 2) {
             tg.ssbcHalf.framebuffer.bind(tg.ssbcHalf.texture.width(), tg.ssbcHalf.texture.height());
-            drawFullscreen(ssbc_);
+            drawFullscreen(ssbc);
             outputs[step]->framebuffer.bind(tg.width, tg.height);
             tg.ssbcHalf.texture.bind(7);
-            drawFullscreen(ssbcUpsample_);
+            drawFullscreen(upsample);
           } else {
             outputs[step]->framebuffer.bind(tg.width, tg.height);
-            drawFullscreen(ssbc_);
+            drawFullscreen(ssbc);
           }
           // Accumulate R_step into the residual sum.
           tg.residual.framebuffer.bind(tg.width, tg.height);

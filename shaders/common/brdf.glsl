@@ -37,6 +37,11 @@ vec3 evaluateBrdf(BrdfParams p, vec3 n, vec3 wo, vec3 wi) {
   float cosO = dot(n, wo), cosI = dot(n, wi);
   if (cosO <= 0.0 || cosI <= 0.0) return vec3(0.0);
   // Pure Lambert (the measured Cornell and furnace materials): the GGX terms would contribute exactly 0.
+#ifdef BRDF_LAMBERT_ONLY
+  // Defined by the renderer when every material of the scene is pure Lambert: llvmpipe would otherwise run the GGX
+  // code below under a lane mask even though no lane needs it.
+  return p.baseColor * kInvPi;
+#else
   if (p.metallic <= 0.0 && p.specular <= 0.0) return p.baseColor * kInvPi;
   vec3 h = wo + wi;
   float hl = length(h);
@@ -52,4 +57,5 @@ vec3 evaluateBrdf(BrdfParams p, vec3 n, vec3 wo, vec3 wi) {
   float transmitI = 1.0 - p.specular * (0.04 + 0.96 * brdfSchlickWeight(cosI));
   vec3 diffuse = (1.0 - p.metallic) * transmitO * transmitI * p.baseColor * kInvPi;
   return diffuse + spec * ((1.0 - p.metallic) * p.specular * dielectricF + p.metallic * metalF);
+#endif
 }
