@@ -20,6 +20,14 @@ uniform float uFocalPixels;  // (height / 2) / tan(yfov / 2)
 uniform int uMaxLevel;
 
 const int kSsbcRingTexels = 2;
+// Window offsets of the ring taps for kSsbcRingTexels = 2 (see ssbcAt).
+const ivec2 kSsbcLevel0Taps[12] = ivec2[](ivec2(0, -2), ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-2, 0),
+                                          ivec2(-1, 0), ivec2(1, 0), ivec2(2, 0), ivec2(-1, 1), ivec2(0, 1),
+                                          ivec2(1, 1), ivec2(0, 2));
+const ivec2 kSsbcRingTaps[20] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(1, -2), ivec2(-2, -1), ivec2(-1, -1),
+                                        ivec2(0, -1), ivec2(1, -1), ivec2(2, -1), ivec2(-2, 0), ivec2(-1, 0),
+                                        ivec2(1, 0), ivec2(2, 0), ivec2(-2, 1), ivec2(-1, 1), ivec2(0, 1),
+                                        ivec2(1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2), ivec2(1, 2));
 
 vec3 ssbcAt(ivec2 px) {
   vec4 pos = texelFetch(gPosition, px, 0);
@@ -44,45 +52,45 @@ vec3 ssbcAt(ivec2 px) {
     float outer = float(kSsbcRingTexels) * scale;
     ivec2 base = ivec2(floor(pc / scale));
     ivec2 levelSize = textureSize(gPosition, level);
-    // A texel centre within kSsbcRingTexels texels of p lies at most kSsbcRingTexels texels from p's own texel (the
-    // sub-texel offset of p is < 1 and the centres sit at +0.5), so the window is (2 kSsbcRingTexels + 1)^2 texels.
-    const int n = kSsbcRingTexels;
-    for (int dy = -n; dy <= n; ++dy)
-      for (int dx = -n; dx <= n; ++dx) {
-        ivec2 q = base + ivec2(dx, dy);
-        if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, levelSize))) continue;
-        vec2 qc = (vec2(q) + 0.5) * scale;
-        float r = length(qc - pc);
-        if (r <= inner || r > outer) continue;
-        vec4 qp = texelFetch(gPosition, q, level);
-        if (qp.w < 0.999) continue;
-        vec3 x2 = qp.xyz;
-        vec3 d = x2 - x1;
-        float dist2 = dot(d, d);
-        // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (MANYLIGHTS 4).
-        if (!(dist2 > 1e-12) || dist2 * uClampBound >= 1.0) continue;
-        vec3 w = d * inversesqrt(dist2);
-        float cos1 = dot(n1, w);
-        if (cos1 <= 0.0) continue;
-        vec3 qn = texelFetch(gNormal, q, level).xyz;
-        float qnLen = length(qn);
-        if (qnLen < 0.9) continue;
-        qn /= qnLen;
-        float cos2 = -dot(qn, w);
-        if (cos2 <= 0.0) continue;
-        float g = cos1 * cos2 / dist2;
-        if (g <= uClampBound) continue;
-        // Pixel solid angle from the off-axis angle alpha of the texel centre, times the pixels the texel stands for.
-        vec2 offset = qc - halfSize;
-        float cosAlpha = uFocalPixels * inversesqrt(uFocalPixels * uFocalPixels + dot(offset, offset));
-        float omega = scale * scale * cosAlpha * cosAlpha * cosAlpha * invFocal2;
-        vec3 toCamera = uCameraPosition - x2;
-        float camDist2 = dot(toCamera, toCamera);
-        float cosQ = max(abs(dot(qn, toCamera * inversesqrt(camDist2))), 0.05);
-        float area = omega * camDist2 / cosQ;
-        vec3 radiance = texelFetch(uInput, q, level).rgb;
-        sum += evaluateBrdf(p1, n1, wo, w) * (g - uClampBound) * radiance * area;
-      }
+    // Only window texels that can lie in the ring are visited (llvmpipe evaluates a skipped tap under a lane mask
+    // at full cost): at level 0 the 12 pixels with 0 < |q - p| <= 2 (p itself has x2 = x1 and adds nothing); above,
+    // the 5 x 5 window without its corners (>= 1.5 sqrt 2 texels away) and its centre (<= 0.5 sqrt 2 texels away).
+    int tapCount = level == 0 ? 12 : 20;
+    for (int tap = 0; tap < tapCount; ++tap) {
+      ivec2 q = base + (level == 0 ? kSsbcLevel0Taps[tap] : kSsbcRingTaps[tap]);
+      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, levelSize))) continue;
+      vec2 qc = (vec2(q) + 0.5) * scale;
+      float r = length(qc - pc);
+      if (r <= inner || r > outer) continue;
+      vec4 qp = texelFetch(gPosition, q, level);
+      if (qp.w < 0.999) continue;
+      vec3 x2 = qp.xyz;
+      vec3 d = x2 - x1;
+      float dist2 = dot(d, d);
+      // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (MANYLIGHTS 4).
+      if (!(dist2 > 1e-12) || dist2 * uClampBound >= 1.0) continue;
+      vec3 w = d * inversesqrt(dist2);
+      float cos1 = dot(n1, w);
+      if (cos1 <= 0.0) continue;
+      vec3 qn = texelFetch(gNormal, q, level).xyz;
+      float qnLen = length(qn);
+      if (qnLen < 0.9) continue;
+      qn /= qnLen;
+      float cos2 = -dot(qn, w);
+      if (cos2 <= 0.0) continue;
+      float g = cos1 * cos2 / dist2;
+      if (g <= uClampBound) continue;
+      // Pixel solid angle from the off-axis angle alpha of the texel centre, times the pixels the texel stands for.
+      vec2 offset = qc - halfSize;
+      float cosAlpha = uFocalPixels * inversesqrt(uFocalPixels * uFocalPixels + dot(offset, offset));
+      float omega = scale * scale * cosAlpha * cosAlpha * cosAlpha * invFocal2;
+      vec3 toCamera = uCameraPosition - x2;
+      float camDist2 = dot(toCamera, toCamera);
+      float cosQ = max(abs(dot(qn, toCamera * inversesqrt(camDist2))), 0.05);
+      float area = omega * camDist2 / cosQ;
+      vec3 radiance = texelFetch(uInput, q, level).rgb;
+      sum += evaluateBrdf(p1, n1, wo, w) * (g - uClampBound) * radiance * area;
+    }
   }
   return sum;
 }
