@@ -7,19 +7,19 @@
 // usage: vplab_bench_gl_bench [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv out.csv] [--scene file.gltf]
 //                             [--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--quick]
 
-#include "renderer/gl/context.h"
-#include "renderer/gl/preview_renderer.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
-#include "renderer/scene/gltf_loader.h"
-#include "renderer/vpl/vpl_generation.h"
-
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
 #include <string>
 #include <vector>
+
+#include "renderer/gl/context.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/vpl_generation.h"
 
 namespace {
 
@@ -50,7 +50,8 @@ int main(int argc, char** argv) {
     if (a == "--gl") {
       if (!parseGlBackend(next(), backend)) return std::fprintf(stderr, "gl_bench: bad --gl\n"), 2;
     } else if (a == "--size") {
-      if (std::sscanf(next().c_str(), "%dx%d", &width, &height) != 2) return std::fprintf(stderr, "gl_bench: bad --size\n"), 2;
+      if (std::sscanf(next().c_str(), "%dx%d", &width, &height) != 2)
+        return std::fprintf(stderr, "gl_bench: bad --size\n"), 2;
     } else if (a == "--frames") {
       frames = std::max(1, std::atoi(next().c_str()));
     } else if (a == "--csv") {
@@ -66,8 +67,10 @@ int main(int argc, char** argv) {
     } else if (a == "--quick") {
       quick = true;
     } else {
-      std::fprintf(stderr, "usage: %s [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv F] [--scene F] "
-                           "[--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--quick]\n", argv[0]);
+      std::fprintf(stderr,
+                   "usage: %s [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv F] [--scene F] "
+                   "[--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--quick]\n",
+                   argv[0]);
       return a == "--help" ? 0 : 2;
     }
   }
@@ -121,11 +124,10 @@ int main(int argc, char** argv) {
       double fm = median(frame), gm = median(ga);
       double rate = gm > 0.0 ? evals / (gm * 1e6) : 0.0;
       std::printf("%6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f\n", vpls.vpls.size(), k, fm,
-                  1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm), shadowMs, median(wall),
-                  rate);
-      csv << vpls.vpls.size() << ',' << k << ',' << fm << ',' << 1000.0 / fm << ',' << median(gb) << ','
-          << median(di) << ',' << gm << ',' << median(ss) << ',' << median(tm) << ',' << shadowMs << ','
-          << median(wall) << ',' << evals << ',' << rate << '\n';
+                  1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm), shadowMs, median(wall), rate);
+      csv << vpls.vpls.size() << ',' << k << ',' << fm << ',' << 1000.0 / fm << ',' << median(gb) << ',' << median(di)
+          << ',' << gm << ',' << median(ss) << ',' << median(tm) << ',' << shadowMs << ',' << median(wall) << ','
+          << evals << ',' << rate << '\n';
     }
   }
   std::printf("\nwrote %s\n", csvPath.c_str());

@@ -7,17 +7,6 @@
 // is the same VPL sum with exact shadow rays. The direct light of the two differs by construction (K shadow-mapped
 // light samples against the reference's area-light sampling) and is not what these tests are about.
 
-#include "renderer/gl/context.h"
-#include "renderer/gl/preview_renderer.h"
-#include "renderer/image/metrics.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/path_tracer.h"
-#include "renderer/offline/light_sampler.h"
-#include "renderer/offline/vpl_renderer.h"
-#include "renderer/scene/gltf_loader.h"
-#include "renderer/vpl/vpl_generation.h"
-#include "tests/test_scenes.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
@@ -26,12 +15,25 @@
 #include <memory>
 #include <string>
 
+#include "renderer/gl/context.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/image/metrics.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/path_tracer.h"
+#include "renderer/offline/vpl_renderer.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/vpl_generation.h"
+#include "tests/test_scenes.h"
+
 namespace vplab {
 namespace {
 
 using Loaded = test::LoadedScene;
 
-std::unique_ptr<Loaded> load(const std::string& name) { return test::loadAssetScene(name); }
+std::unique_ptr<Loaded> load(const std::string& name) {
+  return test::loadAssetScene(name);
+}
 
 Settings baseSettings(int size, int vpls) {
   Settings s;
@@ -93,8 +95,8 @@ TEST_P(GlAccuracy, PointVplsMatchCpuExactRender) {
   Image gl = preview(l->scene, vpls, s, PreviewOutput::Indirect);
   Image cpu = cpuIndirect(*l, vpls, Method::Vpl, s, 16);
   ImageMetrics m = compareImages(gl, cpu);
-  std::printf("[ measured ] cornell-box 128x128, %zu VPLs, b = 20: relMSE %.5f, energy ratio %.4f\n",
-              vpls.vpls.size(), m.relMse, m.energyRatioOverall);
+  std::printf("[ measured ] cornell-box 128x128, %zu VPLs, b = 20: relMSE %.5f, energy ratio %.4f\n", vpls.vpls.size(),
+              m.relMse, m.energyRatioOverall);
   EXPECT_LE(m.relMse, 0.01);
   EXPECT_NEAR(m.energyRatioOverall, 1.0, 0.02);
   EXPECT_EQ(m.nonFinitePixels, 0u);
@@ -180,11 +182,14 @@ SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int
   m.recovered = meanLuminance(residual);
   m.relMseClamped = compareImages(clamped, truth).relMse;
   m.relMseCompensated = compareImages(compensated, truth).relMse;
-  std::printf("[ measured ] %s b = %g, SSBC at 1/%d resolution: clamp removes %.1f%% of the indirect energy, 2 SSBC "
-              "steps recover %.1f%% of it; relMSE vs %s %.5f -> %.5f\n",
-              sceneName.c_str(), b, divisor, 100.0 * m.removed / meanLuminance(unclamped), 100.0 * m.recovered / m.removed,
-              truthKind == Truth::Furnace ? "exact 0.5" : truthKind == Truth::Reference ? "path-traced" : "unclamped",
-              m.relMseClamped, m.relMseCompensated);
+  std::printf(
+      "[ measured ] %s b = %g, SSBC at 1/%d resolution: clamp removes %.1f%% of the indirect energy, 2 SSBC "
+      "steps recover %.1f%% of it; relMSE vs %s %.5f -> %.5f\n",
+      sceneName.c_str(), b, divisor, 100.0 * m.removed / meanLuminance(unclamped), 100.0 * m.recovered / m.removed,
+      truthKind == Truth::Furnace     ? "exact 0.5"
+      : truthKind == Truth::Reference ? "path-traced"
+                                      : "unclamped",
+      m.relMseClamped, m.relMseCompensated);
   EXPECT_GE(m.removed, 0.10 * meanLuminance(unclamped)) << "b must remove at least 10% for the test to mean anything";
   return m;
 }
@@ -223,13 +228,18 @@ void expectHalfResolutionMatches(const std::string& sceneName, float b) {
   EXPECT_GE(half.recovered, 0.5 * half.removed);
   EXPECT_LE(half.recovered, 1.2 * half.removed);
   EXPECT_NEAR(half.recovered / full.recovered, 1.0, 0.05);
-  SsbcMeasurement truth = measureSsbc(sceneName, b, 128, 256, sceneName == "furnace" ? Truth::Furnace : Truth::Reference, 2);
+  SsbcMeasurement truth =
+      measureSsbc(sceneName, b, 128, 256, sceneName == "furnace" ? Truth::Furnace : Truth::Reference, 2);
   EXPECT_LT(truth.relMseCompensated, truth.relMseClamped);
 }
 
-TEST_P(GlAccuracy, SsbcHalfResolutionMatchesFullCornell) { expectHalfResolutionMatches("cornell-box", kCornellSsbcBound); }
+TEST_P(GlAccuracy, SsbcHalfResolutionMatchesFullCornell) {
+  expectHalfResolutionMatches("cornell-box", kCornellSsbcBound);
+}
 
-TEST_P(GlAccuracy, SsbcHalfResolutionMatchesFullFurnace) { expectHalfResolutionMatches("furnace", kFurnaceSsbcBound); }
+TEST_P(GlAccuracy, SsbcHalfResolutionMatchesFullFurnace) {
+  expectHalfResolutionMatches("furnace", kFurnaceSsbcBound);
+}
 
 // --- extremes and determinism ------------------------------------------------------------------------------------
 TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
@@ -247,7 +257,8 @@ TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
       {"N = 1", [](Settings& s) { s.vplCount = 1; }},
       {"k = 8", [](Settings& s) { s.interleave = 8; }},
       {"shadow map 16", [](Settings& s) { s.shadowMapSize = 16; }},
-      {"ssbc 2, b = 1e-3", [](Settings& s) {
+      {"ssbc 2, b = 1e-3",
+       [](Settings& s) {
          s.ssbcSteps = 2;
          s.clampBound = 1e-3f;
        }},
@@ -371,8 +382,10 @@ TEST_P(GlAccuracy, ThinWallDoesNotLeakVplLight) {
       worst = std::max(worst, static_cast<double>(withWall.at(x, y).g / std::max(noWall.at(x, y).g, 1e-12f)));
       ++counted;
     }
-  std::printf("[ measured ] thin wall: %d floor pixels behind it receive %.4f%% of their unoccluded VPL light "
-              "(worst pixel %.2f%%)\n", counted, 100.0 * leaked / unoccluded, 100.0 * worst);
+  std::printf(
+      "[ measured ] thin wall: %d floor pixels behind it receive %.4f%% of their unoccluded VPL light "
+      "(worst pixel %.2f%%)\n",
+      counted, 100.0 * leaked / unoccluded, 100.0 * worst);
   ASSERT_GT(counted, 1000);
   ASSERT_GT(unoccluded, 0.0);
   EXPECT_LE(leaked, 0.002 * unoccluded);

@@ -1,16 +1,15 @@
 #include "renderer/gl/preview_renderer.h"
 
-#include "renderer/core/sampling.h"
-
 #include <glad/gl.h>
-
-#include <glm/gtc/matrix_transform.hpp>
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 #include <stdexcept>
 #include <string>
+
+#include "renderer/core/sampling.h"
 
 namespace vplab {
 
@@ -35,8 +34,8 @@ struct VplGpu {
 };
 
 bool sameCamera(const Camera& a, const Camera& b) {
-  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov &&
-         a.znear == b.znear && a.zfar == b.zfar;
+  return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov && a.znear == b.znear &&
+         a.zfar == b.zfar;
 }
 
 double msSince(std::chrono::steady_clock::time_point start) {
@@ -138,9 +137,15 @@ PreviewRenderer::PreviewRenderer()
 
 PreviewRenderer::~PreviewRenderer() = default;
 
-void PreviewRenderer::invalidateScene() { sceneDirty_ = true; }
-void PreviewRenderer::invalidateVpls() { vplsDirty_ = true; }
-void PreviewRenderer::invalidateFrame() { haveFrame_ = false; }
+void PreviewRenderer::invalidateScene() {
+  sceneDirty_ = true;
+}
+void PreviewRenderer::invalidateVpls() {
+  vplsDirty_ = true;
+}
+void PreviewRenderer::invalidateFrame() {
+  haveFrame_ = false;
+}
 
 void PreviewRenderer::setSsbcResolutionDivisor(int divisor) {
   if (divisor != 1 && divisor != 2)
@@ -206,8 +211,11 @@ void PreviewRenderer::uploadVpls(const Scene& scene, const VplSet& set) {
     const Vpl& v = set.vpls[i];
     vplsHaveRadius_ = vplsHaveRadius_ || v.radius > 0.0f;
     const Material& m = scene.materials[v.material];
-    gpu[i] = {glm::vec4(v.position, v.radius), glm::vec4(v.normal, m.metallic), glm::vec4(v.incoming, m.roughness),
-              glm::vec4(v.flux, m.specular), glm::vec4(scene.baseColorAt(v.material, v.uv), 0.0f),
+    gpu[i] = {glm::vec4(v.position, v.radius),
+              glm::vec4(v.normal, m.metallic),
+              glm::vec4(v.incoming, m.roughness),
+              glm::vec4(v.flux, m.specular),
+              glm::vec4(scene.baseColorAt(v.material, v.uv), 0.0f),
               glm::vec4(v.geometricNormal, 0.0f)};
   }
   vplBuffer_.assign(gpu.data(), gpu.size() * sizeof(VplGpu));
@@ -238,8 +246,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // Invalidation (header comment): decide which passes the changes since the last frame affect.
   bool cameraChanged = !haveFrame_ || !sameCamera(camera, lastCamera_);
   bool shadowLayout = !shadowsValid_ || settings.shadowMapSize != last.shadowMapSize;
-  bool directMapsChanged = shadowLayout || settings.directLightSamples != last.directLightSamples ||
-                           settings.seed != last.seed;
+  bool directMapsChanged =
+      shadowLayout || settings.directLightSamples != last.directLightSamples || settings.seed != last.seed;
   // VPL shadow maps depend on the caster positions only: flux, radius or material edits just re-upload the VPLs.
   bool vplDataChanged = vplsDirty_;
   std::vector<glm::vec3> vplPositions;
@@ -254,8 +262,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   bool gatherChanged = cameraChanged || vplDataChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
                        settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
                        settings.shadowBias != last.shadowBias;
-  bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps ||
-                     ssbcDivisor_ != lastSsbcDivisor_;
+  bool ssbcChanged =
+      directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps || ssbcDivisor_ != lastSsbcDivisor_;
   bool tonemapChanged = ssbcChanged || settings.exposure != last.exposure;
 
   float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
@@ -303,7 +311,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   vplsDirty_ = false;
   // Pass 3: one cube shadow map per VPL, only when a VPL position (or the map size, or the scene) changes.
   if (vplMapsChanged) {
-    t.vplShadowMs = timed(timer_, t.vplShadowWallMs, [&] { vplShadows_.render(*glScene_, vplPositions, faceSize, far); });
+    t.vplShadowMs =
+        timed(timer_, t.vplShadowWallMs, [&] { vplShadows_.render(*glScene_, vplPositions, faceSize, far); });
     vplShadowPositions_ = std::move(vplPositions);
     ++counters_.vplShadowMaps;
   }
@@ -466,9 +475,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   checkGlError("PreviewRenderer::render");
 
-  if (gatherChanged) t.gatherEvaluations = static_cast<double>(settings.width) * settings.height *
-                                           static_cast<double>(vpls.vpls.size()) /
-                                           static_cast<double>(settings.interleave * settings.interleave);
+  if (gatherChanged)
+    t.gatherEvaluations = static_cast<double>(settings.width) * settings.height *
+                          static_cast<double>(vpls.vpls.size()) /
+                          static_cast<double>(settings.interleave * settings.interleave);
   t.frameWallMs = msSince(frameStart);
   haveFrame_ = true;
   lastCamera_ = camera;

@@ -11,6 +11,9 @@
 // shadow map size) -> direct shadow maps, 2, 5, 6. A VPL shadow map depends only on its caster's position and the
 // scene, so a new VplSet (or invalidateVpls()) whose positions are unchanged keeps the maps.
 
+#include <cstdint>
+#include <memory>
+
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/resources.h"
 #include "renderer/gl/shader.h"
@@ -18,9 +21,6 @@
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 #include "renderer/vpl/vpl.h"
-
-#include <cstdint>
-#include <memory>
 
 namespace vplab {
 
