@@ -64,6 +64,10 @@ struct PreviewRenderer::Targets {
   Target direct, indirect, i0, r1, r2, residual, linear, display;
   // The direct and indirect targets as two colour attachments: the de-interleave merges both in one pass.
   GlFramebuffer merged;
+  // Per mip texel of the G-buffer: unit normal and dA of a compensation tap (ssbc_taps.frag.glsl), one framebuffer
+  // per level.
+  GlTexture ssbcTaps;
+  std::vector<GlFramebuffer> ssbcTapLevels;
   // Half-resolution compensation step (ssbc.frag.glsl with uScale 2): the samples at the even pixels.
   Target ssbcHalf;
   // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
@@ -97,7 +101,13 @@ struct PreviewRenderer::Targets {
         residual(w, h),
         linear(w, h),
         display(w, h),
+        ssbcTaps(w, h, TextureFormat::Rgba32F, 0),
         ssbcHalf((w + 1) / 2, (h + 1) / 2) {
+    ssbcTapLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
+    for (int level = 0; level < ssbcTaps.levels(); ++level) {
+      ssbcTapLevels[static_cast<std::size_t>(level)].attachColor(0, ssbcTaps, level);
+      ssbcTapLevels[static_cast<std::size_t>(level)].finalize(1);
+    }
     gbuffer.attachColor(0, gPosition);
     gbuffer.attachColor(1, gNormal);
     gbuffer.attachColor(2, gBaseColor);
@@ -133,7 +143,8 @@ PreviewRenderer::PreviewRenderer()
       gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
       ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
       ssbcUpsampleLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
-                           {"BRDF_LAMBERT_ONLY 1"}) {}
+                           {"BRDF_LAMBERT_ONLY 1"}),
+      ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}) {}
 
 PreviewRenderer::~PreviewRenderer() = default;
 
@@ -425,6 +436,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           program->set("uMaxLevel", tg.gPosition.levels() - 1);
         }
         ssbc.set("uScale", ssbcDivisor_);
+        // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
+        ssbcTaps_.set("uCameraPosition", camera.position);
+        ssbcTaps_.set("uFocalPixels", focal);
+        for (int level = 0; level < tg.ssbcTaps.levels(); ++level) {
+          tg.ssbcTapLevels[static_cast<std::size_t>(level)].bind(std::max(1, tg.width >> level),
+                                                                 std::max(1, tg.height >> level));
+          ssbcTaps_.set("uLevel", level);
+          drawFullscreen(ssbcTaps_);
+        }
+        tg.ssbcTaps.bind(9);
         Target* input = &tg.i0;
         Target* outputs[2] = {&tg.r1, &tg.r2};
         for (int step = 0; step < settings.ssbcSteps; ++step) {

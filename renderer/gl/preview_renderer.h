@@ -109,6 +109,7 @@ class PreviewRenderer {
   ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleave_, ssbc_, ssbcUpsample_, compose_, tonemap_, add_;
   // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
   ShaderProgram gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
+  ShaderProgram ssbcTaps_;
   bool lambertOnly_ = false;
   GlVertexArray vao_;
   GlTimerQuery timer_;

@@ -9,10 +9,12 @@
 // d^2, so every octave of distance matters about equally: all of it must be integrated, and finest where the residual
 // is largest (next to p, i.e. at creases). Conservative: samples off screen, on the background, or straddling a
 // discontinuity (mip-averaged coverage < 1 or averaged normal shorter than 0.9) add nothing; V~ = 1 inside the
-// (local) footprint.
+// (local) footprint. The factors of a tap that depend on q alone (unit normal, dA, whether it takes part) are
+// precomputed per mip texel (uTaps, ssbc_taps.frag.glsl).
 // Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included before it.
 
 layout(binding = 6) uniform sampler2D uInput;  // I (reflected light only, no emission), with mips
+layout(binding = 9) uniform sampler2D uTaps;   // per mip texel: unit normal, dA (0: not used) (ssbc_taps.frag.glsl)
 uniform vec3 uCameraPosition;
 uniform vec3 uCameraForward;
 uniform float uClampBound;
@@ -32,7 +34,6 @@ const ivec2 kSsbcRingTaps[20] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(1, -2
 vec3 ssbcAt(ivec2 px) {
   vec4 pos = texelFetch(gPosition, px, 0);
   if (pos.w <= 0.0 || isinf(uClampBound)) return vec3(0.0);
-  ivec2 size = textureSize(gPosition, 0);
   vec4 nm = texelFetch(gNormal, px, 0), bc = texelFetch(gBaseColor, px, 0), em = texelFetch(gEmission, px, 0);
   vec3 x1 = pos.xyz, n1 = nm.xyz;
   BrdfParams p1 = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
@@ -42,9 +43,7 @@ vec3 ssbcAt(ivec2 px) {
   float z = max(dot(x1 - uCameraPosition, uCameraForward), 1e-4);
   float radiusPx = radius * uFocalPixels / z;
   int topLevel = clamp(int(ceil(log2(max(radiusPx / float(kSsbcRingTexels), 1.0)))), 0, uMaxLevel);
-  vec2 halfSize = vec2(size) * 0.5;
   vec2 pc = vec2(px) + 0.5;
-  float invFocal2 = 1.0 / (uFocalPixels * uFocalPixels);
   vec3 sum = vec3(0.0);
   for (int level = 0; level <= topLevel; ++level) {
     float scale = float(1 << level);
@@ -62,32 +61,19 @@ vec3 ssbcAt(ivec2 px) {
       vec2 qc = (vec2(q) + 0.5) * scale;
       float r = length(qc - pc);
       if (r <= inner || r > outer) continue;
-      vec4 qp = texelFetch(gPosition, q, level);
-      if (qp.w < 0.999) continue;
-      vec3 x2 = qp.xyz;
+      vec4 tapData = texelFetch(uTaps, q, level);
+      float area = tapData.w;
+      if (area <= 0.0) continue;
+      vec3 x2 = texelFetch(gPosition, q, level).xyz;
       vec3 d = x2 - x1;
       float dist2 = dot(d, d);
       // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (MANYLIGHTS 4).
       if (!(dist2 > 1e-12) || dist2 * uClampBound >= 1.0) continue;
       vec3 w = d * inversesqrt(dist2);
-      float cos1 = dot(n1, w);
-      if (cos1 <= 0.0) continue;
-      vec3 qn = texelFetch(gNormal, q, level).xyz;
-      float qnLen = length(qn);
-      if (qnLen < 0.9) continue;
-      qn /= qnLen;
-      float cos2 = -dot(qn, w);
-      if (cos2 <= 0.0) continue;
+      float cos1 = dot(n1, w), cos2 = -dot(tapData.xyz, w);
+      if (cos1 <= 0.0 || cos2 <= 0.0) continue;
       float g = cos1 * cos2 / dist2;
       if (g <= uClampBound) continue;
-      // Pixel solid angle from the off-axis angle alpha of the texel centre, times the pixels the texel stands for.
-      vec2 offset = qc - halfSize;
-      float cosAlpha = uFocalPixels * inversesqrt(uFocalPixels * uFocalPixels + dot(offset, offset));
-      float omega = scale * scale * cosAlpha * cosAlpha * cosAlpha * invFocal2;
-      vec3 toCamera = uCameraPosition - x2;
-      float camDist2 = dot(toCamera, toCamera);
-      float cosQ = max(abs(dot(qn, toCamera * inversesqrt(camDist2))), 0.05);
-      float area = omega * camDist2 / cosQ;
       vec3 radiance = texelFetch(uInput, q, level).rgb;
       sum += evaluateBrdf(p1, n1, wo, w) * (g - uClampBound) * radiance * area;
     }

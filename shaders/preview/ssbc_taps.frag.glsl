@@ -1,0 +1,33 @@
+#version 450 core
+// Per-texel factors of the compensation integral (common/ssbc.glsl) that depend on the tap texel q alone, computed
+// once per camera for every mip level instead of once per (pixel, tap, step): the unit normal at q and
+//   dA(q) = omega_pix(q) |x2 - camera|^2 / |cos theta_q|,  omega_pix = 4^l cos^3(alpha) / f^2   (pinhole, f in px)
+// with dA = 0 for a texel that must not take part (background or straddling a discontinuity: mip-averaged coverage
+// < 1 or averaged normal shorter than 0.9).
+#include "common/fullscreen.glsl"
+
+uniform vec3 uCameraPosition;
+uniform float uFocalPixels;
+uniform int uLevel;
+layout(location = 0) out vec4 outTap;  // xyz unit normal, w dA(q)
+
+void main() {
+  ivec2 q = ivec2(gl_FragCoord.xy);
+  vec4 qp = texelFetch(gPosition, q, uLevel);
+  vec3 qn = texelFetch(gNormal, q, uLevel).xyz;
+  float qnLen = length(qn);
+  if (qp.w < 0.999 || qnLen < 0.9) {
+    outTap = vec4(0.0);
+    return;
+  }
+  qn /= qnLen;
+  // Pixel solid angle from the off-axis angle alpha of the texel centre, times the pixels the texel stands for.
+  float scale = float(1 << uLevel);
+  vec2 offset = (vec2(q) + 0.5) * scale - vec2(textureSize(gPosition, 0)) * 0.5;
+  float cosAlpha = uFocalPixels * inversesqrt(uFocalPixels * uFocalPixels + dot(offset, offset));
+  float omega = scale * scale * cosAlpha * cosAlpha * cosAlpha / (uFocalPixels * uFocalPixels);
+  vec3 toCamera = uCameraPosition - qp.xyz;
+  float camDist2 = dot(toCamera, toCamera);
+  float cosQ = max(abs(dot(qn, toCamera * inversesqrt(camDist2))), 0.05);
+  outTap = vec4(qn, omega * camDist2 / cosQ);
+}
