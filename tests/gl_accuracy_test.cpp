@@ -60,8 +60,9 @@ Image add(const Image& a, const Image& b) {
 }
 
 /// Renders the preview once with a fresh renderer and returns the requested output.
-Image preview(const Scene& scene, const VplSet& vpls, const Settings& s, PreviewOutput which) {
+Image preview(const Scene& scene, const VplSet& vpls, const Settings& s, PreviewOutput which, int ssbcDivisor = 1) {
   PreviewRenderer renderer;
+  renderer.setSsbcResolutionDivisor(ssbcDivisor);
   renderer.render(scene, vpls, s, scene.camera);
   return renderer.readLinear(which);
 }
@@ -247,6 +248,7 @@ TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
   struct Case {
     const char* name;
     void (*apply)(Settings&);
+    int ssbcDivisor = 1;
   };
   const Case cases[] = {
       {"b = 0", [](Settings& s) { s.clampBound = 0.0f; }},
@@ -262,14 +264,29 @@ TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
          s.ssbcSteps = 2;
          s.clampBound = 1e-3f;
        }},
+      {"ssbc 2 at half resolution, b = 1e-3",
+       [](Settings& s) {
+         s.ssbcSteps = 2;
+         s.clampBound = 1e-3f;
+       },
+       2},
+      // Odd sizes: the last row and column have no half-resolution sample beyond them.
+      {"ssbc 2 at half resolution, 47x45, b = 15",
+       [](Settings& s) {
+         s.width = 47;
+         s.height = 45;
+         s.ssbcSteps = 2;
+         s.clampBound = 15.0f;
+       },
+       2},
   };
   for (const Case& c : cases) {
     Settings s = baseSettings(48, 32);
     s.vslSamples = 4;
     c.apply(s);
     VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
-    Image a = preview(l->scene, vpls, s, PreviewOutput::Final);
-    Image b = preview(l->scene, vpls, s, PreviewOutput::Final);
+    Image a = preview(l->scene, vpls, s, PreviewOutput::Final, c.ssbcDivisor);
+    Image b = preview(l->scene, vpls, s, PreviewOutput::Final, c.ssbcDivisor);
     ImageMetrics m = compareImages(a, a);
     EXPECT_EQ(m.nonFinitePixels, 0u) << c.name;
     EXPECT_EQ(m.negativePixels, 0u) << c.name;
