@@ -59,7 +59,7 @@ double timed(GlTimerQuery& timer, double& wallMs, F&& body) {
 
 struct PreviewRenderer::Targets {
   int width, height;
-  GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gDepth;
+  GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gMergeKey, gDepth;
   GlFramebuffer gbuffer;
   Target direct, indirect, i0, r1, r2, residual, linear, display;
   // The direct and indirect targets as two colour attachments: the de-interleave merges both in one pass.
@@ -92,6 +92,7 @@ struct PreviewRenderer::Targets {
         gBaseColor(w, h, TextureFormat::Rgba32F),
         gEmission(w, h, TextureFormat::Rgba32F),
         gGeoNormal(w, h, TextureFormat::Rgba32F),
+        gMergeKey(w, h, TextureFormat::Rgba32F),
         gDepth(w, h, TextureFormat::Depth32F),
         direct(w, h),
         indirect(w, h),
@@ -113,8 +114,9 @@ struct PreviewRenderer::Targets {
     gbuffer.attachColor(2, gBaseColor);
     gbuffer.attachColor(3, gEmission);
     gbuffer.attachColor(4, gGeoNormal);
+    gbuffer.attachColor(5, gMergeKey);
     gbuffer.attachDepth(gDepth);
-    gbuffer.finalize(5);
+    gbuffer.finalize(6);
     merged.attachColor(0, direct.texture);
     merged.attachColor(1, indirect.texture);
     merged.finalize(2);
@@ -126,6 +128,7 @@ struct PreviewRenderer::Targets {
     gBaseColor.bind(2);
     gEmission.bind(3);
     gGeoNormal.bind(4);
+    gMergeKey.bind(10);
   }
 };
 
@@ -291,13 +294,14 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (cameraChanged) {
     t.gbufferMs = timed(timer_, t.gbufferWallMs, [&] {
       tg.gbuffer.bind(tg.width, tg.height);
-      for (int i = 0; i < 5; ++i) tg.gbuffer.clearColor(i, glm::vec4(0.0f));
+      for (int i = 0; i < 6; ++i) tg.gbuffer.clearColor(i, glm::vec4(0.0f));
       tg.gbuffer.clearDepth(1.0f);
       glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
       glDisable(GL_CULL_FACE);
       glScene_->bind(5);
       gbuffer_.set("uViewProj", proj * view);
+      gbuffer_.set("uCameraPosition", camera.position);
       gbuffer_.use();
       vao_.bind();
       drawProceduralTriangles(3 * glScene_->triangleCount());

@@ -7,6 +7,7 @@
 
 layout(binding = 6) uniform sampler2D uDirectRaw;    // deinterleaved blocks (direct.frag.glsl)
 layout(binding = 7) uniform sampler2D uIndirectRaw;  // deinterleaved blocks (gather.frag.glsl)
+layout(binding = 10) uniform sampler2D gMergeKey;   // xyz shading normal, w distance to the camera (0: background)
 uniform int uInterleave;
 uniform ivec2 uBlockSize;
 uniform vec3 uCameraPosition;
@@ -25,8 +26,9 @@ void main() {
     outIndirect = vec4(texelFetch(uIndirectRaw, rawTexel(px), 0).rgb, 1.0);
     return;
   }
-  vec3 n = texelFetch(gNormal, px, 0).xyz;
-  float depth = length(pos.xyz - uCameraPosition);
+  vec4 key = texelFetch(gMergeKey, px, 0);
+  vec3 n = key.xyz;
+  float depth = key.w;
   int lo = -(uInterleave / 2);
   vec3 sumDirect = vec3(0.0), sumIndirect = vec3(0.0);
   float weight = 0.0;
@@ -34,10 +36,10 @@ void main() {
     for (int dx = lo; dx < lo + uInterleave; ++dx) {
       ivec2 q = px + ivec2(dx, dy);
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-      vec4 qp = texelFetch(gPosition, q, 0);
-      if (qp.w <= 0.0) continue;
-      if (abs(length(qp.xyz - uCameraPosition) - depth) > 0.05 * depth) continue;
-      if (dot(texelFetch(gNormal, q, 0).xyz, n) < 0.9) continue;
+      vec4 qk = texelFetch(gMergeKey, q, 0);
+      if (qk.w <= 0.0) continue;
+      if (abs(qk.w - depth) > 0.05 * depth) continue;
+      if (dot(qk.xyz, n) < 0.9) continue;
       ivec2 t = rawTexel(q);
       sumDirect += texelFetch(uDirectRaw, t, 0).rgb;
       sumIndirect += texelFetch(uIndirectRaw, t, 0).rgb;

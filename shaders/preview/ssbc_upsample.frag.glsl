@@ -10,7 +10,8 @@
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
 
-layout(binding = 7) uniform sampler2D uLow;  // T_r(I) at the pixels 2 t
+layout(binding = 7) uniform sampler2D uLow;        // T_r(I) at the pixels 2 t
+layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
 layout(location = 0) out vec4 outColor;
 
 void main() {
@@ -22,8 +23,9 @@ void main() {
   }
   ivec2 size = textureSize(gPosition, 0);
   ivec2 lowSize = textureSize(uLow, 0);
-  vec3 n = texelFetch(gNormal, px, 0).xyz;
-  float depth = length(pos.xyz - uCameraPosition);
+  vec4 key = texelFetch(gMergeKey, px, 0);
+  vec3 n = key.xyz;
+  float depth = key.w;
   ivec2 base = px >> 1;
   // p sits on a low-resolution sample (even coordinate) or halfway between two (odd).
   vec2 f = vec2(px & 1) * 0.5;
@@ -36,9 +38,8 @@ void main() {
       ivec2 q = t * 2;
       if (wb <= 0.0) continue;
       bool inside = all(lessThan(t, lowSize)) && all(lessThan(q, size));
-      vec4 qp = inside ? texelFetch(gPosition, q, 0) : vec4(0.0);
-      if (qp.w <= 0.0 || abs(length(qp.xyz - uCameraPosition) - depth) > 0.02 * depth ||
-          dot(texelFetch(gNormal, q, 0).xyz, n) < 0.95) {
+      vec4 qk = inside ? texelFetch(gMergeKey, q, 0) : vec4(0.0);
+      if (qk.w <= 0.0 || abs(qk.w - depth) > 0.02 * depth || dot(qk.xyz, n) < 0.95) {
         complete = false;
         break;
       }
