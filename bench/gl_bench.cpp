@@ -96,9 +96,9 @@ int main(int argc, char** argv) {
     settings.vplCount = n;
     settings.clampBound = clamp;
     settings.ssbcSteps = ssbc;
+    settings.ssbcResolutionDivisor = ssbcDivisor;
     VplSet vpls = generateVpls(scene, embree, lights, settings);
     PreviewRenderer renderer;
-    renderer.setSsbcResolutionDivisor(ssbcDivisor);
     double shadowMs = 0.0;  // VPL shadow maps are rendered once per VPL set, with the first k
     for (int k : ks) {
       settings.interleave = k;

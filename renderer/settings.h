@@ -69,6 +69,10 @@ struct Settings {
   float clampBound = kInfinity;
   /// Screen-space bias compensation steps in the GL preview (Novak et al. 2011) [0, 2]. Default 0.
   int ssbcSteps = 0;
+  /// Resolution divisor of the compensation [1, 2]: 2 evaluates T_r at every second pixel in x and y and upsamples
+  /// along surfaces (crease and silhouette pixels stay at full resolution), about 2x cheaper for slightly less
+  /// recovered energy (tests/gl_accuracy_test.cpp measures both). Default 1.
+  int ssbcResolutionDivisor = 1;
 
   // --- virtual spherical lights, Hasan et al. 2009 (section 7) ----------------------------------------------
   /// VSL radius r in scene units (metres) [0, inf); 0 = point VPLs. Default 0.

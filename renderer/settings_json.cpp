@@ -42,6 +42,7 @@ const std::vector<Field>& fields() {
       {"rejectionMaxCandidateFactor", &Settings::rejectionMaxCandidateFactor},
       {"clampBound", &Settings::clampBound},
       {"ssbcSteps", &Settings::ssbcSteps},
+      {"ssbcResolutionDivisor", &Settings::ssbcResolutionDivisor},
       {"vslRadius", &Settings::vslRadius},
       {"vslRadiusFromDensity", &Settings::vslRadiusFromDensity},
       {"vslSamples", &Settings::vslSamples},

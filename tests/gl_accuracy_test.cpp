@@ -60,9 +60,9 @@ Image add(const Image& a, const Image& b) {
 }
 
 /// Renders the preview once with a fresh renderer and returns the requested output.
-Image preview(const Scene& scene, const VplSet& vpls, const Settings& s, PreviewOutput which, int ssbcDivisor = 1) {
+Image preview(const Scene& scene, const VplSet& vpls, Settings s, PreviewOutput which, int ssbcDivisor = 1) {
   PreviewRenderer renderer;
-  renderer.setSsbcResolutionDivisor(ssbcDivisor);
+  s.ssbcResolutionDivisor = ssbcDivisor;
   renderer.render(scene, vpls, s, scene.camera);
   return renderer.readLinear(which);
 }
@@ -160,9 +160,9 @@ SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int
                             int divisor = 1) {
   auto l = load(sceneName);
   Settings s = baseSettings(size, vplCount);
+  s.ssbcResolutionDivisor = divisor;
   VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
   PreviewRenderer renderer;
-  renderer.setSsbcResolutionDivisor(divisor);
   renderer.render(l->scene, vpls, s, l->scene.camera);
   Image unclamped = renderer.readLinear(PreviewOutput::Indirect);
   s.clampBound = b;
@@ -221,7 +221,7 @@ TEST_P(GlAccuracy, SsbcLowersRelMseFurnace) {
   EXPECT_LT(m.relMseCompensated, m.relMseClamped);
 }
 
-// Half-resolution compensation (PreviewRenderer::setSsbcResolutionDivisor(2)) must meet the same bars as the full
+// Half-resolution compensation (Settings::ssbcResolutionDivisor = 2) must meet the same bars as the full
 // resolution, and recover nearly the same energy.
 void expectHalfResolutionMatches(const std::string& sceneName, float b) {
   SsbcMeasurement full = measureSsbc(sceneName, b, 128, 256, Truth::Unclamped, 1);

@@ -59,6 +59,8 @@ TEST(Invalidation, RejectionParametersMatterOnlyWhileRejectionIsOn) {
 TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
   Staleness ssbc = change([](Settings& x) { x.ssbcSteps = 2; });
   EXPECT_EQ(toString(ssbc), "ssbc tonemap");
+  Staleness ssbcHalf = change([](Settings& x) { x.ssbcResolutionDivisor = 2; });
+  EXPECT_EQ(toString(ssbcHalf), "ssbc tonemap");
   Staleness exposure = change([](Settings& x) { x.exposure = 1.0f; });
   EXPECT_EQ(toString(exposure), "tonemap");
   Staleness interleave = change([](Settings& x) { x.interleave = 4; });

@@ -67,6 +67,11 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   else
     ImGui::TextDisabled("clamp energy removed: not measured");
   changed |= sliderInt("SSBC steps", &s.ssbcSteps, 0, 2, "Screen-space bias compensation (Novak et al. 2011)");
+  bool ssbcHalf = s.ssbcResolutionDivisor == 2;
+  if (ImGui::Checkbox("SSBC at half resolution", &ssbcHalf)) {
+    s.ssbcResolutionDivisor = ssbcHalf ? 2 : 1;
+    changed = true;
+  }
 
   ImGui::Separator();
   ImGui::TextDisabled("Virtual spherical lights (Hasan et al. 2009)");

@@ -161,12 +161,6 @@ void PreviewRenderer::invalidateFrame() {
   haveFrame_ = false;
 }
 
-void PreviewRenderer::setSsbcResolutionDivisor(int divisor) {
-  if (divisor != 1 && divisor != 2)
-    throw std::invalid_argument("SSBC resolution divisor must be 1 or 2, got " + std::to_string(divisor));
-  ssbcDivisor_ = divisor;
-}
-
 void PreviewRenderer::ensureTargets(int width, int height) {
   if (targets_ && targets_->width == width && targets_->height == height) return;
   targets_ = std::make_unique<Targets>(width, height);
@@ -277,7 +271,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                        settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
                        settings.shadowBias != last.shadowBias;
   bool ssbcChanged =
-      directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps || ssbcDivisor_ != lastSsbcDivisor_;
+      directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps ||
+                     settings.ssbcResolutionDivisor != last.ssbcResolutionDivisor;
   bool tonemapChanged = ssbcChanged || settings.exposure != last.exposure;
 
   float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
@@ -439,7 +434,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           program->set("uFocalPixels", focal);
           program->set("uMaxLevel", tg.gPosition.levels() - 1);
         }
-        ssbc.set("uScale", ssbcDivisor_);
+        // Half resolution (Settings::ssbcResolutionDivisor 2) is evaluated at every second pixel and upsampled along
+        // surfaces (ssbc_upsample.frag.glsl).
+        const int ssbcDivisor = settings.ssbcResolutionDivisor;
+        ssbc.set("uScale", ssbcDivisor);
         // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
         ssbcTaps_.set("uCameraPosition", camera.position);
         ssbcTaps_.set("uFocalPixels", focal);
@@ -455,7 +453,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         for (int step = 0; step < settings.ssbcSteps; ++step) {
           input->texture.generateMipmaps();
           input->texture.bind(6);
-          if (ssbcDivisor_ == 2) {
+          if (ssbcDivisor == 2) {
             tg.ssbcHalf.framebuffer.bind(tg.ssbcHalf.texture.width(), tg.ssbcHalf.texture.height());
             drawFullscreen(ssbc);
             outputs[step]->framebuffer.bind(tg.width, tg.height);
@@ -508,7 +506,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   haveFrame_ = true;
   lastCamera_ = camera;
   lastSettings_ = settings;
-  lastSsbcDivisor_ = ssbcDivisor_;
   return t;
 }
 

@@ -77,12 +77,6 @@ class PreviewRenderer {
 
   const PreviewCounters& counters() const { return counters_; }
 
-  /// Resolution divisor of the screen-space compensation: 1 evaluates T_r at every pixel; 2 evaluates it at every
-  /// second pixel in x and y and upsamples geometry-aware (ssbc_upsample.frag.glsl), about 4x cheaper. The
-  /// difference is measured in tests/gl_accuracy_test.cpp.
-  void setSsbcResolutionDivisor(int divisor);
-  int ssbcResolutionDivisor() const { return ssbcDivisor_; }
-
  private:
   struct Targets;
   void ensureTargets(int width, int height);
@@ -118,7 +112,6 @@ class PreviewRenderer {
   bool haveFrame_ = false;
   Camera lastCamera_;
   Settings lastSettings_;
-  int ssbcDivisor_ = 1, lastSsbcDivisor_ = 1;
 
   PreviewCounters counters_;
 };
