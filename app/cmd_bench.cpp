@@ -7,6 +7,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/sweep_options.h"
 #include "renderer/bench/sweep.h"
 #include "renderer/gl/context.h"
 
@@ -21,11 +22,8 @@ int cmdBench(const Args& args) {
        {"methods", "LIST", "comma-separated subset of vpl,clamp,ssbc,vsl,reject,vpl-kk (default all)"},
        {"ref-spp", "N", "reference samples per pixel (default 1024, 256 with --quick)"},
        {"spp", "N", "samples per pixel of the CPU VPL renders (default 4, 2 with --quick)"},
-       {"components", "indirect|all", "what is compared with the reference (default indirect)"},
-       {"gl", "auto|egl|osmesa|off", "GL context for the preview variants (default auto; off = CPU only)"},
-       {"seed", "S", "seed of every sequence (default 1)"},
-       {"threads", "T", "CPU worker threads, 0 = all cores (default 0)"},
-       {"no-images", "", "do not write per-run PNGs and heatmaps"}});
+       {"components", "indirect|all", "what is compared with the reference (default indirect)"}});
+  cl.addOptions(cli::sweepOptions("variants"));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     std::printf(
@@ -63,21 +61,7 @@ int cmdBench(const Args& args) {
     config.components = Components::All;
   else
     throw cli::CliError("option --components: '" + comp + "' is not indirect or all");
-  std::string glName = cl.getString("gl", "auto");
-  if (glName == "off")
-    config.gl = false;
-  else if (!parseGlBackend(glName, config.glBackend))
-    throw cli::CliError("option --gl: '" + glName + "' is not auto, egl, osmesa or off");
-  int seed = cl.getInt("seed", 1);
-  if (seed < 0) throw cli::CliError("option --seed: must be >= 0");
-  config.seed = static_cast<uint32_t>(seed);
-  config.threads = cl.getInt("threads", 0);
-  config.writeImages = !cl.has("no-images");
-  auto start = std::chrono::steady_clock::now();
-  config.log = [start](const std::string& line) {
-    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "[bench %6.1fs] %s\n", s, line.c_str());
-  };
+  cli::applySweepOptions(cl, "bench", config);
 
   BenchOutcome out = runBench(cl.positional(), config);
   std::printf("runs        %zu measured, %zu reused from %s\n", out.rowsMeasured, out.rowsReused, out.csvPath.c_str());

@@ -4,6 +4,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/settings_options.h"
+#include "app/sweep_options.h"
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
@@ -41,9 +42,7 @@ int cmdPreview(const Args& args) {
   if (exr && imageFormatFromPath(*exr) == ImageFormat::Png)
     throw cli::CliError("option --exr: '" + *exr + "' is not .exr or .pfm");
   GlBackend backend = GlBackend::Auto;
-  std::string backendName = cl.getString("gl", "auto");
-  if (!parseGlBackend(backendName, backend))
-    throw cli::CliError("option --gl: '" + backendName + "' is not auto, egl or osmesa");
+  cli::parseGlOption(cl, backend, false);
   int frames = cl.getInt("frames", 1);
   if (frames < 1 || frames > 10000) throw cli::CliError("option --frames: must be in [1, 10000]");
 

@@ -7,6 +7,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/sweep_options.h"
 #include "renderer/bench/stability.h"
 #include "renderer/gl/context.h"
 
@@ -22,11 +23,8 @@ int cmdStability(const Args& args) {
                        {"size", "WxH", "image size (default 96x96, 64x64 with --quick)"},
                        {"vpls", "N", "VPLs of every method (default 256, 64 with --quick)"},
                        {"ref-spp", "N", "samples per pixel of the reference frames (default 256, 64 with --quick)"},
-                       {"methods", "LIST", "flicker methods: vpl,clamp,vsl,reject,vpl-gl,ssbc-gl"},
-                       {"gl", "auto|egl|osmesa|off", "GL context for the preview parts (default auto)"},
-                       {"seed", "S", "seed (default 1)"},
-                       {"threads", "T", "CPU worker threads, 0 = all cores (default 0)"},
-                       {"no-images", "", "do not write heatmaps and images"}});
+                       {"methods", "LIST", "flicker methods: vpl,clamp,vsl,reject,vpl-gl,ssbc-gl"}});
+  cl.addOptions(cli::sweepOptions("parts"));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     return 0;
@@ -56,21 +54,7 @@ int cmdStability(const Args& args) {
       if (n != "vpl" && n != "clamp" && n != "vsl" && n != "reject" && n != "vpl-gl" && n != "ssbc-gl")
         throw cli::CliError("option --methods: unknown flicker method '" + n + "'");
   }
-  std::string glName = cl.getString("gl", "auto");
-  if (glName == "off")
-    config.gl = false;
-  else if (!parseGlBackend(glName, config.glBackend))
-    throw cli::CliError("option --gl: '" + glName + "' is not auto, egl, osmesa or off");
-  int seed = cl.getInt("seed", 1);
-  if (seed < 0) throw cli::CliError("option --seed: must be >= 0");
-  config.seed = static_cast<uint32_t>(seed);
-  config.threads = cl.getInt("threads", 0);
-  config.writeImages = !cl.has("no-images");
-  auto start = std::chrono::steady_clock::now();
-  config.log = [start](const std::string& line) {
-    double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
-    std::fprintf(stderr, "[stability %6.1fs] %s\n", s, line.c_str());
-  };
+  cli::applySweepOptions(cl, "stability", config);
 
   StabilityOutcome out = runStability(cl.positional()[0], config);
   for (const FlickerRow& r : out.flicker)
