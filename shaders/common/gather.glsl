@@ -17,6 +17,7 @@
 //   the loads are not per-lane gathers (the cost that dominates on llvmpipe), and only N/k^2 VPLs are evaluated.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
+#include "common/interleaved.glsl"
 #if GATHER_VSL
 #include "common/hash.glsl"
 #endif
@@ -33,13 +34,8 @@ struct GlVpl {
 layout(std430, binding = 8) readonly buffer Vpls { GlVpl vpls[]; };
 layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
-uniform vec3 uCameraPosition;
 uniform int uFirstVpl;     // first VPL of this shadow-map chunk
 uniform int uVplEnd;       // one past the last VPL of this chunk
-uniform int uInterleave;   // k
-uniform ivec2 uSubsetXY;   // (sx, sy) of this draw's block
-uniform ivec2 uBlockOrigin;  // lower-left texel of the block in the output
-uniform ivec2 uImageSize;  // G-buffer size
 uniform float uClampBound; // b (a large finite value stands for infinity)
 uniform int uVslSamples;
 uniform float uShadowFar;
@@ -64,24 +60,17 @@ mat3 frameAround(vec3 n) {
 #endif
 
 void main() {
-  ivec2 px = (ivec2(gl_FragCoord.xy) - uBlockOrigin) * uInterleave + uSubsetXY;
-  if (any(greaterThanEqual(px, uImageSize))) {
+  InterleavedSurface surface;
+  if (!interleavedSurface(surface)) {
     outColor = vec4(0.0);
     return;
   }
-  vec4 pos = texelFetch(gPosition, px, 0);
-  if (pos.w <= 0.0) {
-    outColor = vec4(0.0);
-    return;
-  }
-  vec4 nm = texelFetch(gNormal, px, 0), bc = texelFetch(gBaseColor, px, 0), em = texelFetch(gEmission, px, 0);
-  vec3 x1 = pos.xyz, n1 = nm.xyz, ng = texelFetch(gGeoNormal, px, 0).xyz;
-  BrdfParams p1 = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
-  vec3 wo = normalize(uCameraPosition - x1);
+  ivec2 px = surface.px;
+  vec3 x1 = surface.x1, n1 = surface.n1, ng = surface.ng, wo = surface.wo;
+  BrdfParams p1 = surface.brdf;
   int k2 = uInterleave * uInterleave;
-  int subset = uSubsetXY.y * uInterleave + uSubsetXY.x;
   // First VPL of this pixel's subset inside the chunk [uFirstVpl, uVplEnd).
-  int first = uFirstVpl + ((subset - uFirstVpl % k2) + k2) % k2;
+  int first = uFirstVpl + firstOfSubsetInChunk(uFirstVpl);
   vec3 sum = vec3(0.0);
   for (int i = first; i < uVplEnd; i += k2) {
     GlVpl vpl = vpls[i];

@@ -7,6 +7,7 @@
 // s, s + k^2, ... with weight k^2, and the geometry-aware merge recombines the subsets.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
+#include "common/interleaved.glsl"
 #include "common/shadow.glsl"
 
 struct DirectLight {
@@ -17,38 +18,25 @@ struct DirectLight {
 layout(std430, binding = 7) readonly buffer DirectLights { DirectLight lights[]; };
 layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
-uniform vec3 uCameraPosition;
 uniform int uFirstLight;
 uniform int uLightCount;
 uniform float uShadowFar;
 uniform float uShadowBias;
-uniform int uInterleave;
-uniform ivec2 uSubsetXY;
-uniform ivec2 uBlockOrigin;
-uniform ivec2 uImageSize;
 
 layout(location = 0) out vec4 outColor;
 
 void main() {
-  ivec2 px = (ivec2(gl_FragCoord.xy) - uBlockOrigin) * uInterleave + uSubsetXY;
-  if (any(greaterThanEqual(px, uImageSize))) {
+  InterleavedSurface s;
+  if (!interleavedSurface(s)) {
     outColor = vec4(0.0);
     return;
   }
-  vec4 pos = texelFetch(gPosition, px, 0);
-  if (pos.w <= 0.0) {
-    outColor = vec4(0.0);
-    return;
-  }
-  vec4 nm = texelFetch(gNormal, px, 0), bc = texelFetch(gBaseColor, px, 0), em = texelFetch(gEmission, px, 0);
-  vec3 x1 = pos.xyz, n1 = nm.xyz, ng = texelFetch(gGeoNormal, px, 0).xyz;
-  BrdfParams p = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
-  vec3 wo = normalize(uCameraPosition - x1);
+  vec3 x1 = s.x1, n1 = s.n1, ng = s.ng, wo = s.wo;
+  BrdfParams p = s.brdf;
   vec3 sum = vec3(0.0);
   int k2 = uInterleave * uInterleave;
-  int subset = uSubsetXY.y * uInterleave + uSubsetXY.x;
   // First light of this subset inside the chunk [uFirstLight, uFirstLight + uLightCount).
-  for (int i = ((subset - uFirstLight % k2) + k2) % k2; i < uLightCount; i += k2) {
+  for (int i = firstOfSubsetInChunk(uFirstLight); i < uLightCount; i += k2) {
     DirectLight l = lights[uFirstLight + i];
     vec3 d = l.position.xyz - x1;
     float dist2 = dot(d, d);

@@ -1,0 +1,43 @@
+// The pixel and the surface one fragment of an interleaved pass shades (Keller & Heidrich 2001; deinterleaved block
+// layout, Segovia et al. 2006 — see common/gather.glsl). The direct-light and the VPL gather passes share it, so both
+// split the lights into the same k x k subsets and the de-interleave pass can merge them with one set of weights.
+// Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included first.
+
+uniform vec3 uCameraPosition;
+uniform int uInterleave;     // k
+uniform ivec2 uSubsetXY;     // (sx, sy) of this draw's block
+uniform ivec2 uBlockOrigin;  // lower-left texel of the block in the output
+uniform ivec2 uImageSize;    // G-buffer size
+
+struct InterleavedSurface {
+  ivec2 px;         // pixel in the full image
+  vec3 x1;          // world position
+  vec3 n1;          // shading normal
+  vec3 ng;          // geometric normal
+  vec3 wo;          // unit direction toward the camera
+  BrdfParams brdf;
+};
+
+// The surface seen by this fragment's pixel; false outside the image or where the pixel sees no surface.
+bool interleavedSurface(out InterleavedSurface s) {
+  ivec2 px = (ivec2(gl_FragCoord.xy) - uBlockOrigin) * uInterleave + uSubsetXY;
+  if (any(greaterThanEqual(px, uImageSize))) return false;
+  vec4 pos = texelFetch(gPosition, px, 0);
+  if (pos.w <= 0.0) return false;
+  s.px = px;
+  vec4 nm = texelFetch(gNormal, px, 0), bc = texelFetch(gBaseColor, px, 0), em = texelFetch(gEmission, px, 0);
+  s.x1 = pos.xyz;
+  s.n1 = nm.xyz;
+  s.ng = texelFetch(gGeoNormal, px, 0).xyz;
+  s.wo = normalize(uCameraPosition - s.x1);
+  s.brdf = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
+  return true;
+}
+
+// Lights of this draw's subset are i = s, s + k^2, ... in a global numbering; a chunk of lights starting at global
+// index chunkStart holds the subset's first light at this offset into the chunk.
+int firstOfSubsetInChunk(int chunkStart) {
+  int k2 = uInterleave * uInterleave;
+  int subset = uSubsetXY.y * uInterleave + uSubsetXY.x;
+  return ((subset - chunkStart % k2) + k2) % k2;
+}
