@@ -3,11 +3,18 @@
 // (G-buffer, direct, gather, SSBC, tonemap; VPL shadow maps are kept); shadow-map time is reported on its own.
 // Every configuration is warmed up first (llvmpipe compiles shaders on first use, STACK.md pitfall 5), then timed
 // over several frames; the table shows the median frame.
+// Beside every configuration, on the same context and at the same size, a ceiling probe
+// (shaders/bench/ceiling_probe.frag.glsl: per pixel and light 2 UBO reads + 1 shadow fetch + ~40 flops, STACK.md
+// "Measured speed") runs the same number of pixel x light evaluations as the gather; "of ceiling" is the gather's
+// evaluation rate over the probe's. The probe is timed with glFinish and the wall clock (llvmpipe's first timer query
+// is unreliable), median of 5 draws after a warm-up draw.
 //
 // usage: vplab_bench_gl_bench [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv out.csv] [--scene file.gltf]
 //                             [--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--quick]
 
 #include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
@@ -16,6 +23,8 @@
 
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
+#include "renderer/gl/resources.h"
+#include "renderer/gl/shader.h"
 #include "renderer/offline/embree_scene.h"
 #include "renderer/offline/light_sampler.h"
 #include "renderer/scene/gltf_loader.h"
@@ -27,6 +36,71 @@ double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
+
+// The fragment-shading ceiling probe and what it draws with; sizes match ceiling_probe.frag.glsl.
+class CeilingProbe {
+ public:
+  static constexpr int kLights = 1024, kCubes = 16, kFace = 128;
+
+  CeilingProbe(int width, int height)
+      : program_({"preview/fullscreen.vert.glsl", "bench/ceiling_probe.frag.glsl"}),
+        target_(width, height, vplab::TextureFormat::Rgba32F),
+        shadows_(kFace, kFace, vplab::TextureFormat::Depth32F, 1, 6 * kCubes),
+        width_(width),
+        height_(height) {
+    targetFramebuffer_.attachColor(0, target_);
+    targetFramebuffer_.finalize(1);
+    shadows_.setDepthCompare(true);
+    shadows_.setLinearFiltering(true);
+    vplab::GlFramebuffer clear;
+    clear.attachDepth(shadows_, 0, -1);
+    clear.clearDepth(1.0f);  // every fetch passes the comparison: the sum stays non-zero
+    // Lights above the receiver plane z = -1, facing it, so that both cosines are positive.
+    std::vector<glm::vec4> table;
+    for (int j = 0; j < kLights; ++j) {
+      float t = (static_cast<float>(j) + 0.5f) / kLights;
+      table.emplace_back(std::cos(40.0f * t), std::sin(40.0f * t), 0.5f + t, 20.0f);
+      table.emplace_back(glm::normalize(glm::vec3(0.1f * t, -0.1f * t, -1.0f)), 1.0f + t);
+    }
+    lights_ = vplab::GlBuffer(table.size() * sizeof(glm::vec4), table.data());
+    program_.set("uInvSize", glm::vec2(1.0f / width, 1.0f / height));
+  }
+
+  // Median wall milliseconds of one full-screen draw with `lightCount` lights per pixel; meanOut receives the mean
+  // of the written sums (finite and non-zero unless the work was dropped).
+  double measure(int lightCount, double& meanOut) {
+    program_.set("uLightCount", lightCount);
+    targetFramebuffer_.bind(width_, height_);
+    shadows_.bind(6);
+    lights_.bindUniform(1);
+    program_.use();
+    vao_.bind();
+    std::vector<double> ms;
+    for (int i = 0; i < 6; ++i) {
+      vplab::glFinishAll();
+      auto start = std::chrono::steady_clock::now();
+      vplab::drawProceduralTriangles(3);
+      vplab::glFinishAll();
+      double t = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+      if (i > 0) ms.push_back(t);  // the first draw is the warm-up
+    }
+    std::vector<glm::vec4> pixels = vplab::readFramebufferRgba(targetFramebuffer_, 0, width_, height_);
+    double sum = 0.0;
+    for (const glm::vec4& p : pixels) sum += p.x;
+    meanOut = sum / static_cast<double>(pixels.size());
+    vplab::checkGlError("ceiling probe");
+    return median(ms);
+  }
+
+ private:
+  vplab::ShaderProgram program_;
+  vplab::GlTexture target_;
+  vplab::GlFramebuffer targetFramebuffer_;
+  vplab::GlTexture shadows_;
+  vplab::GlBuffer lights_;
+  vplab::GlVertexArray vao_;
+  int width_, height_;
+};
 
 }  // namespace
 
@@ -84,9 +158,11 @@ int main(int argc, char** argv) {
 
   std::ofstream csv(csvPath);
   csv << "vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
-         "gather_evals,gather_gevals_per_s\n";
-  std::printf("%6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s\n", "VPLs", "k", "frame ms", "fps", "gbuffer",
-              "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms", "gather G/s");
+         "gather_evals,gather_gevals_per_s,probe_lights,probe_ms,probe_gevals_per_s,gather_of_ceiling\n";
+  std::printf("%6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s\n", "VPLs", "k", "frame ms", "fps",
+              "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms", "gather G/s", "probe", "probe ms",
+              "probe G/s", "ceiling");
+  CeilingProbe probe(width, height);
   std::vector<int> counts = quick ? std::vector<int>{256} : std::vector<int>{64, 256, 1024};
   std::vector<int> ks = quick ? std::vector<int>{4} : std::vector<int>{1, 2, 4};
   for (int n : counts) {
@@ -123,11 +199,22 @@ int main(int argc, char** argv) {
       }
       double fm = median(frame), gm = median(ga);
       double rate = gm > 0.0 ? evals / (gm * 1e6) : 0.0;
-      std::printf("%6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f\n", vpls.vpls.size(), k, fm,
-                  1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm), shadowMs, median(wall), rate);
+      // Ceiling probe over the same pixel x light evaluations (lights per pixel = N / k^2, rounded).
+      int probeLights = std::max(1, static_cast<int>(std::lround(evals / (static_cast<double>(width) * height))));
+      double probeMean = 0.0;
+      double probeMs = probe.measure(probeLights, probeMean);
+      double probeEvals = static_cast<double>(width) * height * probeLights;
+      double probeRate = probeMs > 0.0 ? probeEvals / (probeMs * 1e6) : 0.0;
+      double ofCeiling = probeRate > 0.0 ? rate / probeRate : 0.0;
+      if (!(probeMean > 0.0) || !std::isfinite(probeMean))
+        std::fprintf(stderr, "gl_bench: ceiling probe wrote %g: its work was not done\n", probeMean);
+      std::printf("%6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f %6d %9.1f %9.3f %7.0f%%\n",
+                  vpls.vpls.size(), k, fm, 1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm), shadowMs,
+                  median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling);
       csv << vpls.vpls.size() << ',' << k << ',' << fm << ',' << 1000.0 / fm << ',' << median(gb) << ',' << median(di)
           << ',' << gm << ',' << median(ss) << ',' << median(tm) << ',' << shadowMs << ',' << median(wall) << ','
-          << evals << ',' << rate << '\n';
+          << evals << ',' << rate << ',' << probeLights << ',' << probeMs << ',' << probeRate << ',' << ofCeiling
+          << '\n';
     }
   }
   std::printf("\nwrote %s\n", csvPath.c_str());
