@@ -6,6 +6,7 @@
 #include <chrono>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <numeric>
 #include <stdexcept>
 #include <string>
 
@@ -32,6 +33,16 @@ struct DirectLightGpu {
 struct VplGpu {
   glm::vec4 position, normal, incoming, flux, baseColor, geoNormal;
 };
+
+// VPLs one gather draw reads from its uniform block (common/gather.glsl): what GL_MAX_UNIFORM_BLOCK_SIZE allows,
+// bounded so that the shader's array stays small where a driver allows very large blocks.
+int gatherUboCapacity() {
+  GLint bytes = 0;
+  glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &bytes);
+  return std::clamp(static_cast<int>(bytes / static_cast<GLint>(sizeof(VplGpu))), 1, 1024);
+}
+
+std::string gatherUboDefine() { return "GATHER_UBO_VPLS " + std::to_string(gatherUboCapacity()); }
 
 bool sameCamera(const Camera& a, const Camera& b) {
   return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov && a.znear == b.znear &&
@@ -137,19 +148,28 @@ struct PreviewRenderer::Targets {
 PreviewRenderer::PreviewRenderer()
     : gbuffer_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}),
       direct_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"}),
-      gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}),
-      gatherVsl_({"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"}),
+      gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}, {gatherUboDefine()}),
+      gatherVsl_({"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"}, {gatherUboDefine()}),
       deinterleave_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}),
       ssbc_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}),
       ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
       add_({"preview/fullscreen.vert.glsl", "preview/add.frag.glsl"}),
-      gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
+      gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
+                     {"BRDF_LAMBERT_ONLY 1", gatherUboDefine()}),
       ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
       ssbcUpsampleLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
                            {"BRDF_LAMBERT_ONLY 1"}),
-      ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}) {}
+      ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}) {
+  gatherUboVpls_ = gatherUboCapacity();
+  // A bound range must start at a multiple of the offset alignment; VPL i starts at i * sizeof(VplGpu), so ranges
+  // start at VPLs that are multiples of alignment / gcd(alignment, sizeof(VplGpu)).
+  GLint alignment = 1;
+  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &alignment);
+  gatherUboAlignVpls_ = std::max(1, alignment / std::gcd(alignment, static_cast<GLint>(sizeof(VplGpu))));
+  if (gatherUboAlignVpls_ > gatherUboVpls_) throw GlError("uniform buffer offset alignment larger than a block");
+}
 
 PreviewRenderer::~PreviewRenderer() = default;
 
@@ -378,7 +398,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
       // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
       ShaderProgram& gather = vplsHaveRadius_ ? gatherVsl_ : lambertOnly_ ? gatherLambert_ : gather_;
-      vplBuffer_.bindStorage(8);
       gather.set("uCameraPosition", camera.position);
       gather.set("uClampBound", settings.clampBound);
       gather.set("uVslSamples", settings.vslSamples);
@@ -388,8 +407,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
           vplShadows_.chunkTexture(c).bind(6);
           gather.set("uFirstVpl", vplShadows_.chunkBegin(c));
-          gather.set("uVplEnd", vplShadows_.chunkEnd(c));
-          drawFullscreen(gather);
+          // One draw per range of VPLs that fits a uniform block (common/gather.glsl).
+          for (int begin = vplShadows_.chunkBegin(c); begin < vplShadows_.chunkEnd(c);) {
+            int base = begin / gatherUboAlignVpls_ * gatherUboAlignVpls_;
+            int end = std::min(vplShadows_.chunkEnd(c), base + gatherUboVpls_);
+            vplBuffer_.bindUniformRange(8, static_cast<std::size_t>(base) * sizeof(VplGpu),
+                                        static_cast<std::size_t>(end - base) * sizeof(VplGpu));
+            gather.set("uUboBase", base);
+            gather.set("uVplBegin", begin);
+            gather.set("uVplEnd", end);
+            drawFullscreen(gather);
+            begin = end;
+          }
         }
       });
     });

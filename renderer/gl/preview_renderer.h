@@ -105,6 +105,8 @@ class PreviewRenderer {
   ShaderProgram gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
   ShaderProgram ssbcTaps_;
   bool lambertOnly_ = false;
+  // VPLs per gather draw (uniform-block capacity) and the VPL multiple a bound range must start at.
+  int gatherUboVpls_ = 1, gatherUboAlignVpls_ = 1;
   GlVertexArray vao_;
   GlTimerQuery timer_;
 

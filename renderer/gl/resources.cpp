@@ -187,6 +187,11 @@ void GlBuffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
 
 void GlBuffer::bindStorage(int binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id()); }
 void GlBuffer::bindUniform(int binding) const { glBindBufferBase(GL_UNIFORM_BUFFER, binding, id()); }
+void GlBuffer::bindUniformRange(int binding, std::size_t offset, std::size_t bytes) const {
+  assert(offset + bytes <= size_);
+  glBindBufferRange(GL_UNIFORM_BUFFER, static_cast<GLuint>(binding), id(), static_cast<GLintptr>(offset),
+                    static_cast<GLsizeiptr>(bytes));
+}
 
 GlVertexArray::GlVertexArray() : object_(GlObject::Kind::VertexArray, createName(GlObject::Kind::VertexArray)) {}
 void GlVertexArray::bind() const { glBindVertexArray(object_.id()); }

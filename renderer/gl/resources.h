@@ -108,6 +108,9 @@ class GlBuffer {
   void assign(const void* data, std::size_t bytes);
   void bindStorage(int binding) const;
   void bindUniform(int binding) const;
+  /// Binds bytes [offset, offset + bytes) as a uniform block; offset must be a multiple of
+  /// GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT.
+  void bindUniformRange(int binding, std::size_t offset, std::size_t bytes) const;
   std::size_t size() const { return size_; }
   uint32_t id() const { return object_.id(); }
 

@@ -13,8 +13,11 @@
 //   VPLs i = s, s + k^2, ..., each with flux * k^2; the de-interleave pass merges the k x k subsets.
 //   Deinterleaved layout (Segovia et al. 2006): the output is split into k x k blocks of ceil(w/k) x ceil(h/k) texels;
 //   block (sx, sy) holds the pixels (x, y) = (local.x k + sx, local.y k + sy), drawn by one draw call whose subset is
-//   a uniform. Every fragment of a draw then reads the same VPL in the same iteration: the SSBO index is uniform, so
+//   a uniform. Every fragment of a draw then reads the same VPL in the same iteration: the buffer index is uniform, so
 //   the loads are not per-lane gathers (the cost that dominates on llvmpipe), and only N/k^2 VPLs are evaluated.
+//   The VPLs come from a uniform buffer, not a storage buffer: llvmpipe reads a UBO faster. A UBO holds at most
+//   GATHER_UBO_VPLS VPLs (set by the renderer from GL_MAX_UNIFORM_BLOCK_SIZE), so each draw covers a sub-range of a
+//   shadow-map chunk, bound with glBindBufferRange from VPL uUboBase on.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/interleaved.glsl"
@@ -31,11 +34,13 @@ struct GlVpl {
   vec4 baseColor;  // rgb (texture included)
   vec4 geoNormal;  // xyz geometric normal
 };
-layout(std430, binding = 8) readonly buffer Vpls { GlVpl vpls[]; };
+layout(std140, binding = 8) uniform Vpls { GlVpl vpls[GATHER_UBO_VPLS]; };
 layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
-uniform int uFirstVpl;     // first VPL of this shadow-map chunk
-uniform int uVplEnd;       // one past the last VPL of this chunk
+uniform int uFirstVpl;     // first VPL of this shadow-map chunk (its layer 0)
+uniform int uVplBegin;     // first VPL of this draw's range, inside the chunk
+uniform int uVplEnd;       // one past the last VPL of this draw's range
+uniform int uUboBase;      // VPL at the start of the bound uniform-buffer range (<= uVplBegin)
 uniform float uClampBound; // b (a large finite value stands for infinity)
 uniform int uVslSamples;
 uniform float uShadowFar;
@@ -69,11 +74,11 @@ void main() {
   vec3 x1 = surface.x1, n1 = surface.n1, ng = surface.ng, wo = surface.wo;
   BrdfParams p1 = surface.brdf;
   int k2 = uInterleave * uInterleave;
-  // First VPL of this pixel's subset inside the chunk [uFirstVpl, uVplEnd).
-  int first = uFirstVpl + firstOfSubsetInChunk(uFirstVpl);
+  // First VPL of this pixel's subset inside the range [uVplBegin, uVplEnd).
+  int first = uVplBegin + firstOfSubsetInChunk(uVplBegin);
   vec3 sum = vec3(0.0);
   for (int i = first; i < uVplEnd; i += k2) {
-    GlVpl vpl = vpls[i];
+    GlVpl vpl = vpls[i - uUboBase];
     vec3 x2 = vpl.position.xyz, n2 = vpl.normal.xyz;
     BrdfParams p2 = BrdfParams(vpl.baseColor.rgb, vpl.normal.w, vpl.incoming.w, vpl.flux.w);
     vec3 d = x2 - x1;
