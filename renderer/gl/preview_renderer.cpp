@@ -42,7 +42,16 @@ int gatherUboCapacity() {
   return std::clamp(static_cast<int>(bytes / static_cast<GLint>(sizeof(VplGpu))), 1, 1024);
 }
 
-std::string gatherUboDefine() { return "GATHER_UBO_VPLS " + std::to_string(gatherUboCapacity()); }
+std::string gatherUboDefine() {
+  return "GATHER_UBO_VPLS " + std::to_string(gatherUboCapacity());
+}
+
+// Interleaved sampling: subset s of a k x k pattern takes the lights i = s, s + k^2, ...; this is how far the first of
+// them lies after `rangeBegin`, the first light of a draw's range (common/interleaved.glsl).
+int subsetOffset(int rangeBegin, int subset, int k) {
+  int k2 = k * k;
+  return ((subset - rangeBegin % k2) + k2) % k2;
+}
 
 bool sameCamera(const Camera& a, const Camera& b) {
   return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov && a.znear == b.znear &&
@@ -292,8 +301,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   bool gatherChanged = cameraChanged || vplDataChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
                        settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
                        settings.shadowBias != last.shadowBias;
-  bool ssbcChanged =
-      directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps ||
+  bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps ||
                      settings.ssbcResolutionDivisor != last.ssbcResolutionDivisor;
   bool tonemapChanged = ssbcChanged || settings.exposure != last.exposure;
 
@@ -368,7 +376,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         glViewport(origin.x, origin.y, tg.blockWidth, tg.blockHeight);
         program.set("uSubsetXY", glm::ivec2(sx, sy));
         program.set("uBlockOrigin", origin);
-        drawSubset();
+        drawSubset(sy * k + sx);
       }
     glDisable(GL_BLEND);
   };
@@ -381,10 +389,11 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       direct_.set("uCameraPosition", camera.position);
       direct_.set("uShadowFar", far);
       direct_.set("uShadowBias", bias);
-      interleaved(direct_, *tg.directRaw, [&] {
+      interleaved(direct_, *tg.directRaw, [&](int subset) {
         for (int c = 0; c < directShadows_.chunkCount(); ++c) {
           directShadows_.chunkTexture(c).bind(6);
           direct_.set("uFirstLight", directShadows_.chunkBegin(c));
+          direct_.set("uSubsetOffset", subsetOffset(directShadows_.chunkBegin(c), subset, k));
           direct_.set("uLightCount", directShadows_.chunkEnd(c) - directShadows_.chunkBegin(c));
           drawFullscreen(direct_);
         }
@@ -403,7 +412,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       gather.set("uVslSamples", settings.vslSamples);
       gather.set("uShadowFar", far);
       gather.set("uShadowBias", bias);
-      interleaved(gather, *tg.indirectRaw, [&] {
+      interleaved(gather, *tg.indirectRaw, [&](int subset) {
         for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
           vplShadows_.chunkTexture(c).bind(6);
           gather.set("uFirstVpl", vplShadows_.chunkBegin(c));
@@ -415,6 +424,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                                         static_cast<std::size_t>(end - base) * sizeof(VplGpu));
             gather.set("uUboBase", base);
             gather.set("uVplBegin", begin);
+            gather.set("uSubsetOffset", subsetOffset(begin, subset, k));
             gather.set("uVplEnd", end);
             drawFullscreen(gather);
             begin = end;

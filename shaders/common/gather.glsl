@@ -75,7 +75,7 @@ void main() {
   BrdfParams p1 = surface.brdf;
   int k2 = uInterleave * uInterleave;
   // First VPL of this pixel's subset inside the range [uVplBegin, uVplEnd).
-  int first = uVplBegin + firstOfSubsetInChunk(uVplBegin);
+  int first = uVplBegin + uSubsetOffset;
   vec3 sum = vec3(0.0);
   for (int i = first; i < uVplEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];

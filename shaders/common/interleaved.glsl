@@ -8,6 +8,10 @@ uniform int uInterleave;     // k
 uniform ivec2 uSubsetXY;     // (sx, sy) of this draw's block
 uniform ivec2 uBlockOrigin;  // lower-left texel of the block in the output
 uniform ivec2 uImageSize;    // G-buffer size
+// Lights of this draw's subset are i = s, s + k^2, ... in a global numbering; the draw's range of lights starts this
+// many lights before the subset's first one. Set per draw by the renderer: the modulo is uniform, and llvmpipe would
+// otherwise run it lane by lane for every fragment (no vector integer division).
+uniform int uSubsetOffset;
 
 struct InterleavedSurface {
   ivec2 px;         // pixel in the full image
@@ -32,12 +36,4 @@ bool interleavedSurface(out InterleavedSurface s) {
   s.wo = normalize(uCameraPosition - s.x1);
   s.brdf = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
   return true;
-}
-
-// Lights of this draw's subset are i = s, s + k^2, ... in a global numbering; a chunk of lights starting at global
-// index chunkStart holds the subset's first light at this offset into the chunk.
-int firstOfSubsetInChunk(int chunkStart) {
-  int k2 = uInterleave * uInterleave;
-  int subset = uSubsetXY.y * uInterleave + uSubsetXY.x;
-  return ((subset - chunkStart % k2) + k2) % k2;
 }

@@ -14,8 +14,12 @@ uniform vec3 uCameraPosition;
 layout(location = 0) out vec4 outDirect;
 layout(location = 1) out vec4 outIndirect;
 
-// Texel of pixel q in the deinterleaved layout: block (q mod k), texel q / k inside it.
-ivec2 rawTexel(ivec2 q) { return (q % uInterleave) * uBlockSize + q / uInterleave; }
+// Texel of pixel q in the deinterleaved layout: block (q mod k), texel q / k inside it. The quotient comes from a float
+// multiply (exact for q < 2^22 / k): llvmpipe has no vector integer division and would run it lane by lane.
+ivec2 rawTexel(ivec2 q) {
+  ivec2 quotient = ivec2((vec2(q) + 0.5) / float(uInterleave));
+  return (q - quotient * uInterleave) * uBlockSize + quotient;
+}
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);

@@ -36,7 +36,7 @@ void main() {
   vec3 sum = vec3(0.0);
   int k2 = uInterleave * uInterleave;
   // First light of this subset inside the chunk [uFirstLight, uFirstLight + uLightCount).
-  for (int i = firstOfSubsetInChunk(uFirstLight); i < uLightCount; i += k2) {
+  for (int i = uSubsetOffset; i < uLightCount; i += k2) {
     DirectLight l = lights[uFirstLight + i];
     vec3 d = l.position.xyz - x1;
     float dist2 = dot(d, d);
