@@ -19,6 +19,7 @@ GLenum internalFormat(TextureFormat f) {
     case TextureFormat::R32F: return GL_R32F;
     case TextureFormat::Rgba8: return GL_RGBA8;
     case TextureFormat::Depth32F: return GL_DEPTH_COMPONENT32F;
+    case TextureFormat::Depth16: return GL_DEPTH_COMPONENT16;
   }
   return GL_RGBA32F;
 }
@@ -70,8 +71,8 @@ GlTexture::GlTexture(int width, int height, TextureFormat format, int levels, in
   assert(width > 0 && height > 0 && layers >= 0);
   int full = 1 + static_cast<int>(std::floor(std::log2(static_cast<float>(std::max(width, height)))));
   levels_ = levels <= 0 ? full : std::min(levels, full);
-  object_ = GlObject(GlObject::Kind::Texture, createName(GlObject::Kind::Texture,
-                                                         layers > 0 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D));
+  object_ = GlObject(GlObject::Kind::Texture,
+                     createName(GlObject::Kind::Texture, layers > 0 ? GL_TEXTURE_2D_ARRAY : GL_TEXTURE_2D));
   if (layers > 0)
     glTextureStorage3D(id(), levels_, internalFormat(format), width, height, layers);
   else
@@ -100,14 +101,18 @@ void GlTexture::uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels)
   glTextureSubImage3D(id(), 0, 0, 0, layer, width_, height_, 1, GL_RGBA, GL_FLOAT, texels.data());
 }
 
-void GlTexture::bind(int unit) const { glBindTextureUnit(static_cast<GLuint>(unit), id()); }
+void GlTexture::bind(int unit) const {
+  glBindTextureUnit(static_cast<GLuint>(unit), id());
+}
 
 void GlTexture::uploadRgb(const std::vector<glm::vec3>& texels) {
   assert(layers_ == 0 && texels.size() == static_cast<std::size_t>(width_) * height_);
   glTextureSubImage2D(id(), 0, 0, 0, width_, height_, GL_RGB, GL_FLOAT, texels.data());
 }
 
-void GlTexture::generateMipmaps() { glGenerateTextureMipmap(id()); }
+void GlTexture::generateMipmaps() {
+  glGenerateTextureMipmap(id());
+}
 
 void GlTexture::setDepthCompare(bool on) {
   glTextureParameteri(id(), GL_TEXTURE_COMPARE_MODE, on ? GL_COMPARE_REF_TO_TEXTURE : GL_NONE);
@@ -115,8 +120,8 @@ void GlTexture::setDepthCompare(bool on) {
 }
 
 void GlTexture::setLinearFiltering(bool linear, bool mipmaps) {
-  GLint minFilter = linear ? (mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR)
-                           : (mipmaps ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
+  GLint minFilter =
+      linear ? (mipmaps ? GL_LINEAR_MIPMAP_LINEAR : GL_LINEAR) : (mipmaps ? GL_NEAREST_MIPMAP_NEAREST : GL_NEAREST);
   glTextureParameteri(id(), GL_TEXTURE_MIN_FILTER, minFilter);
   glTextureParameteri(id(), GL_TEXTURE_MAG_FILTER, linear ? GL_LINEAR : GL_NEAREST);
 }
@@ -165,9 +170,13 @@ void GlFramebuffer::clearColor(int index, glm::vec4 value) const {
   glClearNamedFramebufferfv(id(), GL_COLOR, index, &value[0]);
 }
 
-void GlFramebuffer::clearDepth(float value) const { glClearNamedFramebufferfv(id(), GL_DEPTH, 0, &value); }
+void GlFramebuffer::clearDepth(float value) const {
+  glClearNamedFramebufferfv(id(), GL_DEPTH, 0, &value);
+}
 
-GlBuffer::GlBuffer(std::size_t bytes, const void* data) { assign(data, bytes); }
+GlBuffer::GlBuffer(std::size_t bytes, const void* data) {
+  assign(data, bytes);
+}
 
 void GlBuffer::assign(const void* data, std::size_t bytes) {
   // Zero-sized buffers cannot be bound as SSBOs: keep at least 16 bytes.
@@ -185,8 +194,12 @@ void GlBuffer::upload(const void* data, std::size_t bytes, std::size_t offset) {
   glNamedBufferSubData(id(), static_cast<GLintptr>(offset), static_cast<GLsizeiptr>(bytes), data);
 }
 
-void GlBuffer::bindStorage(int binding) const { glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id()); }
-void GlBuffer::bindUniform(int binding) const { glBindBufferBase(GL_UNIFORM_BUFFER, binding, id()); }
+void GlBuffer::bindStorage(int binding) const {
+  glBindBufferBase(GL_SHADER_STORAGE_BUFFER, binding, id());
+}
+void GlBuffer::bindUniform(int binding) const {
+  glBindBufferBase(GL_UNIFORM_BUFFER, binding, id());
+}
 void GlBuffer::bindUniformRange(int binding, std::size_t offset, std::size_t bytes) const {
   assert(offset + bytes <= size_);
   glBindBufferRange(GL_UNIFORM_BUFFER, static_cast<GLuint>(binding), id(), static_cast<GLintptr>(offset),
@@ -194,10 +207,14 @@ void GlBuffer::bindUniformRange(int binding, std::size_t offset, std::size_t byt
 }
 
 GlVertexArray::GlVertexArray() : object_(GlObject::Kind::VertexArray, createName(GlObject::Kind::VertexArray)) {}
-void GlVertexArray::bind() const { glBindVertexArray(object_.id()); }
+void GlVertexArray::bind() const {
+  glBindVertexArray(object_.id());
+}
 
 GlTimerQuery::GlTimerQuery() : object_(GlObject::Kind::Query, createName(GlObject::Kind::Query, GL_TIME_ELAPSED)) {}
-void GlTimerQuery::begin() { glBeginQuery(GL_TIME_ELAPSED, object_.id()); }
+void GlTimerQuery::begin() {
+  glBeginQuery(GL_TIME_ELAPSED, object_.id());
+}
 void GlTimerQuery::end() {
   glEndQuery(GL_TIME_ELAPSED);
   ran_ = true;
@@ -246,6 +263,8 @@ void checkGlError(const char* what) {
   if (e != GL_NO_ERROR) throw GlError(std::string(what) + ": GL error 0x" + std::to_string(e));
 }
 
-void glFinishAll() { glFinish(); }
+void glFinishAll() {
+  glFinish();
+}
 
 }  // namespace vplab

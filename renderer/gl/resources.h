@@ -2,19 +2,18 @@
 // Small RAII owners of GL objects (DSA, GL 4.5) and FBO readback into vplab::Image. Names only: no GL types leak
 // into this header, so callers do not need the loader. Every function needs a current context.
 
-#include "renderer/gl/context.h"
-#include "renderer/image/image.h"
-
-#include <glm/glm.hpp>
-
 #include <cstddef>
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <utility>
 #include <vector>
 
+#include "renderer/gl/context.h"
+#include "renderer/image/image.h"
+
 namespace vplab {
 
-enum class TextureFormat { Rgba32F, Rgba16F, Rg32F, R32F, Rgba8, Depth32F };
+enum class TextureFormat { Rgba32F, Rgba16F, Rg32F, R32F, Rgba8, Depth32F, Depth16 };
 
 /// Owns one GL name and deletes it with the matching glDelete* call.
 class GlObject {

@@ -1,12 +1,11 @@
 #include "renderer/gl/shadow_maps.h"
 
-#include "renderer/gl/gl_scene.h"
-
 #include <glad/gl.h>
 
+#include <algorithm>
 #include <glm/gtc/matrix_transform.hpp>
 
-#include <algorithm>
+#include "renderer/gl/gl_scene.h"
 
 namespace vplab {
 
@@ -28,8 +27,11 @@ void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& 
     for (int c = 0; c < chunks; ++c) {
       // A plain 2D array of 6 faces per caster, not a cube-map array: the lookup selects the face itself
       // (shadow.glsl), because llvmpipe's seamless cube filtering costs several times a 2D-array PCF fetch.
-      chunks_.push_back(GlTexture(faceSize, faceSize, TextureFormat::Depth32F, 1, 6 * (chunkEnd(c) - chunkBegin(c)),
-                                  true));
+      // 16-bit depth: the stored distance / far (far = 2 scene diagonals) is quantised to 3e-5 diagonals, far below
+      // the depth bias (0.002 diagonals by default), and the gather, which misses the cache on nearly every shadow
+      // fetch, reads half the bytes (8% faster at 640x480, 291 VPLs, k = 4).
+      chunks_.push_back(
+          GlTexture(faceSize, faceSize, TextureFormat::Depth16, 1, 6 * (chunkEnd(c) - chunkBegin(c)), true));
       chunks_.back().setDepthCompare(true);
     }
     faceSize_ = faceSize;
