@@ -77,6 +77,28 @@ void main() {
   // First VPL of this pixel's subset inside the range [uVplBegin, uVplEnd).
   int first = uVplBegin + uSubsetOffset;
   vec3 sum = vec3(0.0);
+#if defined(BRDF_LAMBERT_ONLY) && !GATHER_VSL
+  // Pure Lambert at both ends: f(x1) = albedo1 / pi and f(x2) = albedo2 / pi do not depend on w, so f(x1) leaves the
+  // loop, and the body is written without `continue`: llvmpipe pays for every branch in mask bookkeeping, while a
+  // zero factor costs one select. Same terms as the general loop below.
+  vec3 f1 = dot(n1, wo) > 0.0 ? p1.baseColor * kInvPi : vec3(0.0);
+  for (int i = first; i < uVplEnd; i += k2) {
+    GlVpl vpl = vpls[i - uUboBase];
+    vec3 x2 = vpl.position.xyz, n2 = vpl.normal.xyz;
+    vec3 d = x2 - x1;
+    float dist2 = dot(d, d);
+    float invDist = inversesqrt(max(dist2, 1e-30));
+    vec3 w = d * invDist;
+    float cos1 = dot(n1, w), cos2 = -dot(n2, w);
+    // One-sided surfaces at both ends, clamped cosines, G bounded by b (MANYLIGHTS 4).
+    bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 &&
+                       cos2 > 0.0 && dot(n2, vpl.incoming.xyz) > 0.0;
+    float v = shadowVisibilityAt(uShadowMaps, i - uFirstVpl, x2, x1, dist2 * invDist, ng, uShadowFar, uShadowBias);
+    float gv = contributes ? min(cos1 * cos2 * invDist * invDist, uClampBound) * v : 0.0;
+    sum += gv * (vpl.baseColor.rgb * kInvPi) * vpl.flux.rgb;
+  }
+  sum *= f1;
+#else
   for (int i = first; i < uVplEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];
     vec3 x2 = vpl.position.xyz, n2 = vpl.normal.xyz;
@@ -132,5 +154,6 @@ void main() {
     }
 #endif
   }
+#endif
   outColor = vec4(sum * float(k2), 1.0);
 }

@@ -4,10 +4,11 @@
 // looking down the major axis of the offset.
 // Normal-offset lookup: the receiver point moves along its geometric normal by about one shadow texel's world size
 // at that distance, which removes acne on surfaces seen at grazing angles without a large constant bias.
-float shadowVisibility(sampler2DArrayShadow maps, int caster, vec3 casterPos, vec3 x, vec3 geoNormal, float far,
-                       float bias) {
+// distance = |x - casterPos|, which the caller usually has already.
+float shadowVisibilityAt(sampler2DArrayShadow maps, int caster, vec3 casterPos, vec3 x, float distance, vec3 geoNormal,
+                         float far, float bias) {
   float texelAngle = 2.0 / float(textureSize(maps, 0).x);
-  vec3 p = x + geoNormal * (1.5 * texelAngle * length(x - casterPos));
+  vec3 p = x + geoNormal * (1.5 * texelAngle * distance);
   vec3 d = p - casterPos;
   vec3 a = abs(d);
   // Face f looks down axis `target` with the GL `up`; view space is (s, u, -target), s = target x up, u = s x target.
@@ -30,4 +31,9 @@ float shadowVisibility(sampler2DArrayShadow maps, int caster, vec3 casterPos, ve
   vec2 uv = vec2(dot(s, d), dot(u, d)) / dot(target, d) * 0.5 + 0.5;
   // Hardware 2x2 PCF (linear filtering with depth comparison) softens the texel staircase.
   return texture(maps, vec4(uv, float(6 * caster + face), (length(d) - bias) / far));
+}
+
+float shadowVisibility(sampler2DArrayShadow maps, int caster, vec3 casterPos, vec3 x, vec3 geoNormal, float far,
+                       float bias) {
+  return shadowVisibilityAt(maps, caster, casterPos, x, length(x - casterPos), geoNormal, far, bias);
 }
