@@ -86,6 +86,9 @@ struct PreviewRenderer::Targets {
   Target direct, indirect, i0, r1, r2, residual, linear, display;
   // The direct and indirect targets as two colour attachments: the de-interleave merges both in one pass.
   GlFramebuffer merged;
+  // Row sums of the separable de-interleave (deinterleave.frag.glsl), direct and indirect, accepted count in w.
+  GlTexture directRows, indirectRows;
+  GlFramebuffer rows;
   // Per mip texel of the G-buffer: unit normal and dA of a compensation tap (ssbc_taps.frag.glsl), one framebuffer
   // per level.
   GlTexture ssbcTaps;
@@ -124,6 +127,8 @@ struct PreviewRenderer::Targets {
         residual(w, h),
         linear(w, h),
         display(w, h),
+        directRows(w, h, TextureFormat::Rgba32F),
+        indirectRows(w, h, TextureFormat::Rgba32F),
         ssbcTaps(w, h, TextureFormat::Rgba32F, 0),
         ssbcHalf((w + 1) / 2, (h + 1) / 2) {
     ssbcTapLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
@@ -142,6 +147,9 @@ struct PreviewRenderer::Targets {
     merged.attachColor(0, direct.texture);
     merged.attachColor(1, indirect.texture);
     merged.finalize(2);
+    rows.attachColor(0, directRows);
+    rows.attachColor(1, indirectRows);
+    rows.finalize(2);
   }
 
   void bindGbuffer() const {
@@ -159,7 +167,9 @@ PreviewRenderer::PreviewRenderer()
       direct_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"}),
       gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}, {gatherUboDefine()}),
       gatherVsl_({"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"}, {gatherUboDefine()}),
-      deinterleave_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}),
+      deinterleaveRows_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}, {"DEINTERLEAVE_COLUMNS 0"}),
+      deinterleaveColumns_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"},
+                           {"DEINTERLEAVE_COLUMNS 1"}),
       ssbc_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}),
       ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
@@ -441,13 +451,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (directChanged || gatherChanged) {
     double wallMs = 0.0;
     double gpuMs = timed(timer_, wallMs, [&] {
-      tg.merged.bind(tg.width, tg.height);
+      // Rows, then columns (separable: 2k neighbours per pixel instead of k^2).
+      tg.rows.bind(tg.width, tg.height);
       tg.directRaw->texture.bind(6);
       tg.indirectRaw->texture.bind(7);
-      deinterleave_.set("uInterleave", k);
-      deinterleave_.set("uBlockSize", glm::ivec2(tg.blockWidth, tg.blockHeight));
-      deinterleave_.set("uCameraPosition", camera.position);
-      drawFullscreen(deinterleave_);
+      deinterleaveRows_.set("uInterleave", k);
+      deinterleaveRows_.set("uBlockSize", glm::ivec2(tg.blockWidth, tg.blockHeight));
+      drawFullscreen(deinterleaveRows_);
+      tg.merged.bind(tg.width, tg.height);
+      tg.directRows.bind(6);
+      tg.indirectRows.bind(7);
+      deinterleaveColumns_.set("uInterleave", k);
+      drawFullscreen(deinterleaveColumns_);
     });
     (gatherChanged ? t.gatherMs : t.directMs) += gpuMs;
     (gatherChanged ? t.gatherWallMs : t.directWallMs) += wallMs;

@@ -100,7 +100,8 @@ class PreviewRenderer {
   std::vector<glm::vec3> directPositions_;
   /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
   bool vplsHaveRadius_ = false;
-  ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleave_, ssbc_, ssbcUpsample_, compose_, tonemap_, add_;
+  ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, ssbc_, ssbcUpsample_,
+      compose_, tonemap_, add_;
   // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
   ShaderProgram gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
   ShaderProgram ssbcTaps_;

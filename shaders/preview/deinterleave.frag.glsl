@@ -3,14 +3,17 @@
 // neighbours on the same surface (relative depth and normal tests), renormalised by the accepted weight so that
 // rejected neighbours do not darken the result. The direct light and the VPL gather are interleaved alike and share
 // the weights, so both are merged here at once (two outputs).
+// The window is filtered separably, rows then columns (DEINTERLEAVE_COLUMNS 0 / 1): 2k instead of k^2 neighbours per
+// pixel. The row pass writes each row segment's sum with its accepted count in w, so on a surface the column pass
+// divides the sum of all k^2 values by their count, exactly the k x k mean; at a discontinuity a diagonal neighbour
+// counts only when the row's centre is on the pixel's surface too.
 #include "common/fullscreen.glsl"
 
-layout(binding = 6) uniform sampler2D uDirectRaw;    // deinterleaved blocks (direct.frag.glsl)
-layout(binding = 7) uniform sampler2D uIndirectRaw;  // deinterleaved blocks (gather.frag.glsl)
+layout(binding = 6) uniform sampler2D uDirectIn;    // rows: deinterleaved blocks; columns: row sums (w = count)
+layout(binding = 7) uniform sampler2D uIndirectIn;  // same for the gather
 layout(binding = 10) uniform sampler2D gMergeKey;   // xyz shading normal, w distance to the camera (0: background)
 uniform int uInterleave;
 uniform ivec2 uBlockSize;
-uniform vec3 uCameraPosition;
 layout(location = 0) out vec4 outDirect;
 layout(location = 1) out vec4 outIndirect;
 
@@ -21,39 +24,52 @@ ivec2 rawTexel(ivec2 q) {
   return (q - quotient * uInterleave) * uBlockSize + quotient;
 }
 
+ivec2 inputTexel(ivec2 q) {
+#if DEINTERLEAVE_COLUMNS
+  return q;
+#else
+  return rawTexel(q);
+#endif
+}
+
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
-  ivec2 size = textureSize(gPosition, 0);
-  vec4 pos = texelFetch(gPosition, px, 0);
-  if (pos.w <= 0.0 || uInterleave <= 1) {
-    outDirect = vec4(texelFetch(uDirectRaw, rawTexel(px), 0).rgb, 1.0);
-    outIndirect = vec4(texelFetch(uIndirectRaw, rawTexel(px), 0).rgb, 1.0);
-    return;
-  }
+  ivec2 size = textureSize(gMergeKey, 0);
   vec4 key = texelFetch(gMergeKey, px, 0);
-  vec3 n = key.xyz;
-  float depth = key.w;
-  int lo = -(uInterleave / 2);
-  vec3 sumDirect = vec3(0.0), sumIndirect = vec3(0.0);
-  float weight = 0.0;
-  for (int dy = lo; dy < lo + uInterleave; ++dy)
-    for (int dx = lo; dx < lo + uInterleave; ++dx) {
-      ivec2 q = px + ivec2(dx, dy);
+  vec4 sumDirect = vec4(0.0), sumIndirect = vec4(0.0);
+  if (key.w <= 0.0) {
+    // Background: nothing to merge with; the row pass passes the texel on with a count of 1.
+    sumDirect = texelFetch(uDirectIn, inputTexel(px), 0);
+    sumIndirect = texelFetch(uIndirectIn, inputTexel(px), 0);
+  } else {
+    vec3 n = key.xyz;
+    float depth = key.w;
+    int lo = -(uInterleave / 2);
+    for (int i = lo; i < lo + uInterleave; ++i) {
+#if DEINTERLEAVE_COLUMNS
+      ivec2 q = px + ivec2(0, i);
+#else
+      ivec2 q = px + ivec2(i, 0);
+#endif
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
       vec4 qk = texelFetch(gMergeKey, q, 0);
-      if (qk.w <= 0.0) continue;
-      if (abs(qk.w - depth) > 0.05 * depth) continue;
-      if (dot(qk.xyz, n) < 0.9) continue;
-      ivec2 t = rawTexel(q);
-      sumDirect += texelFetch(uDirectRaw, t, 0).rgb;
-      sumIndirect += texelFetch(uIndirectRaw, t, 0).rgb;
-      weight += 1.0;
+      if (qk.w <= 0.0 || abs(qk.w - depth) > 0.05 * depth || dot(qk.xyz, n) < 0.9) continue;
+      ivec2 t = inputTexel(q);
+#if DEINTERLEAVE_COLUMNS
+      sumDirect += texelFetch(uDirectIn, t, 0);
+      sumIndirect += texelFetch(uIndirectIn, t, 0);
+#else
+      sumDirect += vec4(texelFetch(uDirectIn, t, 0).rgb, 1.0);
+      sumIndirect += vec4(texelFetch(uIndirectIn, t, 0).rgb, 1.0);
+#endif
     }
-  if (weight > 0.0) {
-    outDirect = vec4(sumDirect / weight, 1.0);
-    outIndirect = vec4(sumIndirect / weight, 1.0);
-  } else {
-    outDirect = vec4(texelFetch(uDirectRaw, rawTexel(px), 0).rgb, 1.0);
-    outIndirect = vec4(texelFetch(uIndirectRaw, rawTexel(px), 0).rgb, 1.0);
   }
+#if DEINTERLEAVE_COLUMNS
+  // p itself always passes its own test and its row sum counts p, so w >= 1 (background: the count of 1 passed on).
+  outDirect = vec4(sumDirect.rgb / sumDirect.w, 1.0);
+  outIndirect = vec4(sumIndirect.rgb / sumIndirect.w, 1.0);
+#else
+  outDirect = key.w <= 0.0 ? vec4(sumDirect.rgb, 1.0) : sumDirect;
+  outIndirect = key.w <= 0.0 ? vec4(sumIndirect.rgb, 1.0) : sumIndirect;
+#endif
 }
