@@ -329,7 +329,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (cameraChanged) {
     t.gbufferMs = timed(timer_, t.gbufferWallMs, [&] {
       tg.gbuffer.bind(tg.width, tg.height);
-      for (int i = 0; i < 6; ++i) tg.gbuffer.clearColor(i, glm::vec4(0.0f));
+      // Background texels are marked by w = 0 in position and merge key; the normal's mips must average zeros there
+      // (a short averaged normal flags an edge). The other targets are only read where position.w > 0.
+      for (int i : {0, 1, 5}) tg.gbuffer.clearColor(i, glm::vec4(0.0f));
       tg.gbuffer.clearDepth(1.0f);
       glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
