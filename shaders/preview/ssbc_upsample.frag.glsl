@@ -10,8 +10,10 @@
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
 
-layout(binding = 7) uniform sampler2D uLow;        // T_r(I) at the pixels 2 t
+layout(binding = 7) uniform sampler2D uLow;  // T_r(I) at the pixels 2 t
+#ifndef SSBC_SPLIT
 layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
+#endif
 layout(location = 0) out vec4 outColor;
 
 void main() {
@@ -45,5 +47,8 @@ void main() {
       }
       sum += wb * texelFetch(uLow, t, 0).rgb;
     }
-  outColor = vec4(complete ? sum : ssbcAt(px), 1.0);
+  // A loop rather than an if: llvmpipe runs the body of an if for the whole SIMD group under a lane mask, but skips a
+  // loop that no lane enters.
+  for (int i = complete ? 1 : 0; i < 1; ++i) sum = ssbcAt(px);
+  outColor = vec4(sum, 1.0);
 }
