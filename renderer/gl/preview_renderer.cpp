@@ -42,7 +42,9 @@ int gatherUboCapacity() {
   return std::clamp(static_cast<int>(bytes / static_cast<GLint>(sizeof(VplGpu))), 1, 1024);
 }
 
-std::string gatherUboDefine() { return "GATHER_UBO_VPLS " + std::to_string(gatherUboCapacity()); }
+std::string gatherUboDefine() {
+  return "GATHER_UBO_VPLS " + std::to_string(gatherUboCapacity());
+}
 
 bool sameCamera(const Camera& a, const Camera& b) {
   return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov && a.znear == b.znear &&
@@ -174,7 +176,15 @@ PreviewRenderer::PreviewRenderer()
                         {"SSBC_SPLIT 1", "BRDF_LAMBERT_ONLY 1"})},
       ssbcCoarse_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_COARSE_PASS 1"}),
                   ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
-                                {"SSBC_COARSE_PASS 1", "BRDF_LAMBERT_ONLY 1"})} {
+                                {"SSBC_COARSE_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcFallback_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
+                                  {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
+                    ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
+                                  {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcUpsampleFallback_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
+                                          {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
+                            ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
+                                          {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})} {
   gatherUboVpls_ = gatherUboCapacity();
   // A bound range must start at a multiple of the offset alignment; VPL i starts at i * sizeof(VplGpu), so ranges
   // start at VPLs that are multiples of alignment / gcd(alignment, sizeof(VplGpu)).
@@ -476,7 +486,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                                   : lambertOnly_ ? ssbcUpsampleLambert_
                                                  : ssbcUpsample_;
         ShaderProgram& coarse = ssbcCoarse_[variant];
-        for (ShaderProgram* program : {&ssbc, &upsample, &coarse}) {
+        ShaderProgram& fallback = ssbcFallback_[variant];
+        ShaderProgram& upsampleFallback = ssbcUpsampleFallback_[variant];
+        for (ShaderProgram* program : {&ssbc, &upsample, &coarse, &fallback, &upsampleFallback}) {
           program->set("uCameraPosition", camera.position);
           program->set("uCameraForward", camera.forward);
           program->set("uClampBound", settings.clampBound);
@@ -488,6 +500,15 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         const int ssbcDivisor = settings.ssbcResolutionDivisor;
         ssbc.set("uScale", ssbcDivisor);
         coarse.set("uScale", 4);
+        fallback.set("uScale", ssbcDivisor);
+        // Multi-resolution rings: adds (blending) what the pass before could not interpolate from the coarse grid.
+        auto addFallback = [&](ShaderProgram& program) {
+          if (!split) return;
+          glEnable(GL_BLEND);
+          glBlendFunc(GL_ONE, GL_ONE);
+          drawFullscreen(program);
+          glDisable(GL_BLEND);
+        };
         // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
         ssbcTaps_.set("uCameraPosition", camera.position);
         ssbcTaps_.set("uFocalPixels", focal);
@@ -511,12 +532,15 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           if (ssbcDivisor == 2) {
             tg.ssbcHalf.framebuffer.bind(tg.ssbcHalf.texture.width(), tg.ssbcHalf.texture.height());
             drawFullscreen(ssbc);
+            addFallback(fallback);
             outputs[step]->framebuffer.bind(tg.width, tg.height);
             tg.ssbcHalf.texture.bind(7);
             drawFullscreen(upsample);
+            addFallback(upsampleFallback);
           } else {
             outputs[step]->framebuffer.bind(tg.width, tg.height);
             drawFullscreen(ssbc);
+            addFallback(fallback);
           }
           // Accumulate R_step into the residual sum.
           tg.residual.framebuffer.bind(tg.width, tg.height);

@@ -20,6 +20,9 @@ void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   vec4 pos = texelFetch(gPosition, px, 0);
   if (pos.w <= 0.0 || isinf(uClampBound)) {
+#ifdef SSBC_FALLBACK_PASS
+    discard;
+#endif
     outColor = vec4(0.0);
     return;
   }
@@ -47,8 +50,16 @@ void main() {
       }
       sum += wb * texelFetch(uLow, t, 0).rgb;
     }
-  // A loop rather than an if: llvmpipe runs the body of an if for the whole SIMD group under a lane mask, but skips a
-  // loop that no lane enters.
-  for (int i = complete ? 1 : 0; i < 1; ++i) sum = ssbcAt(px);
-  outColor = vec4(sum, 1.0);
+#if defined(SSBC_FALLBACK_PASS)
+  // Multi-resolution rings: written where the interpolation above is incomplete, after the pass without
+  // SSBC_FALLBACK_PASS wrote 0 there. A discarded fragment ends the shader for its SIMD group once every lane has
+  // discarded (llvmpipe), so only groups at discontinuities evaluate T_r.
+  SsbcReceiver r;
+  if (complete || !ssbcReceiver(px, r)) discard;
+  outColor = vec4(ssbcSplitCompleteAt(r, px), 0.0);
+#elif defined(SSBC_SPLIT)
+  outColor = vec4(complete ? sum : vec3(0.0), 1.0);
+#else
+  outColor = vec4(complete ? sum : ssbcAt(px), 1.0);
+#endif
 }
