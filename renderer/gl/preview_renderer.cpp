@@ -42,9 +42,7 @@ int gatherUboCapacity() {
   return std::clamp(static_cast<int>(bytes / static_cast<GLint>(sizeof(VplGpu))), 1, 1024);
 }
 
-std::string gatherUboDefine() {
-  return "GATHER_UBO_VPLS " + std::to_string(gatherUboCapacity());
-}
+std::string gatherUboDefine() { return "GATHER_UBO_VPLS " + std::to_string(gatherUboCapacity()); }
 
 bool sameCamera(const Camera& a, const Camera& b) {
   return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov && a.znear == b.znear &&

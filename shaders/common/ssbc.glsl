@@ -18,8 +18,9 @@
 // samples on the same surface; the fine rings, where the residual is largest and steepest, are evaluated at every
 // pixel. A pixel whose interpolation would need a sample from another surface evaluates the coarse rings itself.
 //
-// llvmpipe runs a branch or loop under a lane mask for every lane of its SIMD group, and skips a loop only when no
-// lane is active: the tap is branch-free (cheaper than masking), and optional work sits behind loops over levels.
+// llvmpipe runs an if under a lane mask and a loop's body at least once for the whole SIMD group; only a discard
+// ends the shader early (once every lane of the group has discarded). The tap is therefore branch-free, and work
+// that only some pixels need goes to a pass that discards the others (SSBC_FALLBACK_PASS).
 // Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included before it.
 
 layout(binding = 6) uniform sampler2D uInput;  // I (reflected light only, no emission), with mips

@@ -15,6 +15,7 @@ void main() {
   ivec2 px = ivec2(gl_FragCoord.xy) * uScale;
   ivec2 size = textureSize(gPosition, 0);
   ivec2 pc = min(px, size - 1);
+  float alpha = 1.0;
 #if defined(SSBC_COARSE_PASS)
   vec3 value = ssbcCoarseAt(pc);
 #elif defined(SSBC_FALLBACK_PASS)
@@ -25,11 +26,12 @@ void main() {
   vec3 coarse;
   if (any(greaterThanEqual(px, size)) || !ssbcReceiver(pc, r) || ssbcCoarseInterpolated(r, pc, coarse)) discard;
   vec3 value = ssbcRings(r, pc, kSsbcFineLevels, r.topLevel);
+  alpha = 0.0;
 #elif defined(SSBC_SPLIT)
   bool complete;
   vec3 value = ssbcSplitAt(pc, complete);
 #else
   vec3 value = ssbcAt(pc);
 #endif
-  outColor = vec4(any(greaterThanEqual(px, size)) ? vec3(0.0) : value, 1.0);
+  outColor = vec4(any(greaterThanEqual(px, size)) ? vec3(0.0) : value, alpha);
 }
