@@ -10,7 +10,7 @@
 // is unreliable), median of 5 draws after a warm-up draw.
 //
 // usage: vplab_bench_gl_bench [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv out.csv] [--scene file.gltf]
-//                             [--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--quick]
+//                             [--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--ssbc-coarse-rings 0|1] [--quick]
 
 #include <algorithm>
 #include <chrono>
@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
   std::string scenePath = std::string(VPLAB_ASSET_DIR) + "/scenes/cornell-box.gltf";
   std::string csvPath = "gl_bench.csv";
   GlBackend backend = GlBackend::Auto;
-  int width = 640, height = 480, frames = 5, ssbc = 2, ssbcDivisor = 1;
+  int width = 640, height = 480, frames = 5, ssbc = 2, ssbcDivisor = 1, ssbcCoarseRings = 1;
   float clamp = 20.0f;
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
@@ -138,12 +138,14 @@ int main(int argc, char** argv) {
       clamp = std::strtof(next().c_str(), nullptr);
     } else if (a == "--ssbc-divisor") {
       ssbcDivisor = std::atoi(next().c_str());
+    } else if (a == "--ssbc-coarse-rings") {
+      ssbcCoarseRings = std::atoi(next().c_str());
     } else if (a == "--quick") {
       quick = true;
     } else {
       std::fprintf(stderr,
                    "usage: %s [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv F] [--scene F] "
-                   "[--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--quick]\n",
+                   "[--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--ssbc-coarse-rings 0|1] [--quick]\n",
                    argv[0]);
       return a == "--help" ? 0 : 2;
     }
@@ -153,8 +155,11 @@ int main(int argc, char** argv) {
   EmbreeScene embree(scene);
   LightSampler lights(scene);
   HeadlessGlContext context(backend);
-  std::printf("gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (resolution / %d), median of %d frames after warm-up\n\n",
-              context.description().c_str(), scene.sourcePath.c_str(), width, height, clamp, ssbc, ssbcDivisor, frames);
+  std::printf(
+      "gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (resolution / %d, coarse rings %s), median of %d frames "
+      "after warm-up\n\n",
+      context.description().c_str(), scene.sourcePath.c_str(), width, height, clamp, ssbc, ssbcDivisor,
+      ssbcCoarseRings != 0 ? "on" : "off", frames);
 
   std::ofstream csv(csvPath);
   csv << "vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
@@ -173,6 +178,7 @@ int main(int argc, char** argv) {
     settings.clampBound = clamp;
     settings.ssbcSteps = ssbc;
     settings.ssbcResolutionDivisor = ssbcDivisor;
+    settings.ssbcCoarseRings = ssbcCoarseRings != 0;
     VplSet vpls = generateVpls(scene, embree, lights, settings);
     PreviewRenderer renderer;
     double shadowMs = 0.0;  // VPL shadow maps are rendered once per VPL set, with the first k

@@ -76,7 +76,9 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
     s.gather = true;
     s.offline |= method == Method::Vpl || method == Method::VplKK;
   }
-  if (a.ssbcSteps != b.ssbcSteps || a.ssbcResolutionDivisor != b.ssbcResolutionDivisor) s.ssbc = true;
+  if (a.ssbcSteps != b.ssbcSteps || a.ssbcResolutionDivisor != b.ssbcResolutionDivisor ||
+      a.ssbcCoarseRings != b.ssbcCoarseRings)
+    s.ssbc = true;
 
   // VSLs (section 7) change the gather integral, not the VPL positions.
   if (a.vslRadius != b.vslRadius || a.vslRadiusFromDensity != b.vslRadiusFromDensity ||

@@ -43,6 +43,7 @@ const std::vector<Field>& fields() {
       {"clampBound", &Settings::clampBound},
       {"ssbcSteps", &Settings::ssbcSteps},
       {"ssbcResolutionDivisor", &Settings::ssbcResolutionDivisor},
+      {"ssbcCoarseRings", &Settings::ssbcCoarseRings},
       {"vslRadius", &Settings::vslRadius},
       {"vslRadiusFromDensity", &Settings::vslRadiusFromDensity},
       {"vslSamples", &Settings::vslSamples},

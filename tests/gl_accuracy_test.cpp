@@ -157,10 +157,11 @@ struct SsbcMeasurement {
 enum class Truth { Unclamped, Furnace, Reference };
 
 SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int vplCount, Truth truthKind,
-                            int divisor = 1) {
+                            int divisor = 1, bool coarseRings = true) {
   auto l = load(sceneName);
   Settings s = baseSettings(size, vplCount);
   s.ssbcResolutionDivisor = divisor;
+  s.ssbcCoarseRings = coarseRings;
   VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
   PreviewRenderer renderer;
   renderer.render(l->scene, vpls, s, l->scene.camera);
@@ -184,9 +185,10 @@ SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int
   m.relMseClamped = compareImages(clamped, truth).relMse;
   m.relMseCompensated = compareImages(compensated, truth).relMse;
   std::printf(
-      "[ measured ] %s b = %g, SSBC at 1/%d resolution: clamp removes %.1f%% of the indirect energy, 2 SSBC "
-      "steps recover %.1f%% of it; relMSE vs %s %.5f -> %.5f\n",
-      sceneName.c_str(), b, divisor, 100.0 * m.removed / meanLuminance(unclamped), 100.0 * m.recovered / m.removed,
+      "[ measured ] %s b = %g, SSBC at 1/%d resolution, coarse rings %s: clamp removes %.1f%% of the indirect "
+      "energy, 2 SSBC steps recover %.1f%% of it; relMSE vs %s %.5f -> %.5f\n",
+      sceneName.c_str(), b, divisor, coarseRings ? "on a 4 px grid" : "per pixel",
+      100.0 * m.removed / meanLuminance(unclamped), 100.0 * m.recovered / m.removed,
       truthKind == Truth::Furnace     ? "exact 0.5"
       : truthKind == Truth::Reference ? "path-traced"
                                       : "unclamped",
@@ -242,6 +244,26 @@ TEST_P(GlAccuracy, SsbcHalfResolutionMatchesFullFurnace) {
   expectHalfResolutionMatches("furnace", kFurnaceSsbcBound);
 }
 
+// Multi-resolution rings (Settings::ssbcCoarseRings, the default) at full and half resolution against the
+// evaluation of every ring at every pixel: the same bars, and nearly the same recovered energy.
+void expectCoarseRingsMatchPerPixel(const std::string& sceneName, float b) {
+  SsbcMeasurement perPixel = measureSsbc(sceneName, b, 128, 256, Truth::Unclamped, 1, false);
+  for (int divisor : {1, 2}) {
+    SsbcMeasurement split = measureSsbc(sceneName, b, 128, 256, Truth::Unclamped, divisor, true);
+    EXPECT_GE(split.recovered, 0.5 * split.removed) << "divisor " << divisor;
+    EXPECT_LE(split.recovered, 1.2 * split.removed) << "divisor " << divisor;
+    EXPECT_NEAR(split.recovered / perPixel.recovered, 1.0, 0.04) << "divisor " << divisor;
+  }
+}
+
+TEST_P(GlAccuracy, SsbcCoarseRingsMatchPerPixelCornell) {
+  expectCoarseRingsMatchPerPixel("cornell-box", kCornellSsbcBound);
+}
+
+TEST_P(GlAccuracy, SsbcCoarseRingsMatchPerPixelFurnace) {
+  expectCoarseRingsMatchPerPixel("furnace", kFurnaceSsbcBound);
+}
+
 // --- extremes and determinism ------------------------------------------------------------------------------------
 TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
   auto l = load("cornell-box");
@@ -263,6 +285,20 @@ TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
        [](Settings& s) {
          s.ssbcSteps = 2;
          s.clampBound = 1e-3f;
+       }},
+      {"ssbc 2 with every ring per pixel, b = 1e-3",
+       [](Settings& s) {
+         s.ssbcSteps = 2;
+         s.clampBound = 1e-3f;
+         s.ssbcCoarseRings = false;
+       }},
+      // Odd sizes: the last row and column have no coarse-ring sample beyond them.
+      {"ssbc 2, 47x45, b = 15",
+       [](Settings& s) {
+         s.width = 47;
+         s.height = 45;
+         s.ssbcSteps = 2;
+         s.clampBound = 15.0f;
        }},
       {"ssbc 2 at half resolution, b = 1e-3",
        [](Settings& s) {

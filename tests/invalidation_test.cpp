@@ -61,6 +61,8 @@ TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
   EXPECT_EQ(toString(ssbc), "ssbc tonemap");
   Staleness ssbcHalf = change([](Settings& x) { x.ssbcResolutionDivisor = 2; });
   EXPECT_EQ(toString(ssbcHalf), "ssbc tonemap");
+  Staleness ssbcCoarse = change([](Settings& x) { x.ssbcCoarseRings = false; });
+  EXPECT_EQ(toString(ssbcCoarse), "ssbc tonemap");
   Staleness exposure = change([](Settings& x) { x.exposure = 1.0f; });
   EXPECT_EQ(toString(exposure), "tonemap");
   Staleness interleave = change([](Settings& x) { x.interleave = 4; });

@@ -72,6 +72,7 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     s.ssbcResolutionDivisor = ssbcHalf ? 2 : 1;
     changed = true;
   }
+  changed |= ImGui::Checkbox("SSBC coarse rings on a 4 px grid", &s.ssbcCoarseRings);
 
   ImGui::Separator();
   ImGui::TextDisabled("Virtual spherical lights (Hasan et al. 2009)");

@@ -95,6 +95,8 @@ struct PreviewRenderer::Targets {
   std::vector<GlFramebuffer> ssbcTapLevels;
   // Half-resolution compensation step (ssbc.frag.glsl with uScale 2): the samples at the even pixels.
   Target ssbcHalf;
+  // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS).
+  Target ssbcCoarse;
   // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
   // blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
@@ -130,7 +132,8 @@ struct PreviewRenderer::Targets {
         directRows(w, h, TextureFormat::Rgba32F),
         indirectRows(w, h, TextureFormat::Rgba32F),
         ssbcTaps(w, h, TextureFormat::Rgba32F, 0),
-        ssbcHalf((w + 1) / 2, (h + 1) / 2) {
+        ssbcHalf((w + 1) / 2, (h + 1) / 2),
+        ssbcCoarse((w + 3) / 4, (h + 3) / 4) {
     ssbcTapLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
     for (int level = 0; level < ssbcTaps.levels(); ++level) {
       ssbcTapLevels[static_cast<std::size_t>(level)].attachColor(0, ssbcTaps, level);
@@ -180,7 +183,25 @@ PreviewRenderer::PreviewRenderer()
       ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
       ssbcUpsampleLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
                            {"BRDF_LAMBERT_ONLY 1"}),
-      ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}) {
+      ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
+      ssbcSplit_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_SPLIT 1"}),
+                 ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
+                               {"SSBC_SPLIT 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcSplitUpsample_{
+          ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}, {"SSBC_SPLIT 1"}),
+          ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
+                        {"SSBC_SPLIT 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcCoarse_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_COARSE_PASS 1"}),
+                  ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
+                                {"SSBC_COARSE_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcFallback_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
+                                  {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
+                    ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
+                                  {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcUpsampleFallback_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
+                                          {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
+                            ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
+                                          {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})} {
   gatherUboVpls_ = gatherUboCapacity();
   // A bound range must start at a multiple of the offset alignment; VPL i starts at i * sizeof(VplGpu), so ranges
   // start at VPLs that are multiples of alignment / gcd(alignment, sizeof(VplGpu)).
@@ -312,7 +333,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                        settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
                        settings.shadowBias != last.shadowBias;
   bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps ||
-                     settings.ssbcResolutionDivisor != last.ssbcResolutionDivisor;
+                     settings.ssbcResolutionDivisor != last.ssbcResolutionDivisor ||
+                     settings.ssbcCoarseRings != last.ssbcCoarseRings;
   bool tonemapChanged = ssbcChanged || settings.exposure != last.exposure;
 
   float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
@@ -483,9 +505,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
       if (compensate) {
         float focal = 0.5f * static_cast<float>(tg.height) / std::tan(0.5f * camera.yfov);
-        ShaderProgram& ssbc = lambertOnly_ ? ssbcLambert_ : ssbc_;
-        ShaderProgram& upsample = lambertOnly_ ? ssbcUpsampleLambert_ : ssbcUpsample_;
-        for (ShaderProgram* program : {&ssbc, &upsample}) {
+        const bool split = settings.ssbcCoarseRings;
+        const int variant = lambertOnly_ ? 1 : 0;
+        ShaderProgram& ssbc = split ? ssbcSplit_[variant] : lambertOnly_ ? ssbcLambert_ : ssbc_;
+        ShaderProgram& upsample = split          ? ssbcSplitUpsample_[variant]
+                                  : lambertOnly_ ? ssbcUpsampleLambert_
+                                                 : ssbcUpsample_;
+        ShaderProgram& coarse = ssbcCoarse_[variant];
+        ShaderProgram& fallback = ssbcFallback_[variant];
+        ShaderProgram& upsampleFallback = ssbcUpsampleFallback_[variant];
+        for (ShaderProgram* program : {&ssbc, &upsample, &coarse, &fallback, &upsampleFallback}) {
           program->set("uCameraPosition", camera.position);
           program->set("uCameraForward", camera.forward);
           program->set("uClampBound", settings.clampBound);
@@ -496,6 +525,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         // surfaces (ssbc_upsample.frag.glsl).
         const int ssbcDivisor = settings.ssbcResolutionDivisor;
         ssbc.set("uScale", ssbcDivisor);
+        coarse.set("uScale", 4);
+        fallback.set("uScale", ssbcDivisor);
+        // Multi-resolution rings: adds (blending) what the pass before could not interpolate from the coarse grid.
+        auto addFallback = [&](ShaderProgram& program) {
+          if (!split) return;
+          glEnable(GL_BLEND);
+          glBlendFunc(GL_ONE, GL_ONE);
+          drawFullscreen(program);
+          glDisable(GL_BLEND);
+        };
         // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
         ssbcTaps_.set("uCameraPosition", camera.position);
         ssbcTaps_.set("uFocalPixels", focal);
@@ -511,15 +550,23 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         for (int step = 0; step < settings.ssbcSteps; ++step) {
           input->texture.generateMipmaps();
           input->texture.bind(6);
+          if (split) {
+            tg.ssbcCoarse.framebuffer.bind(tg.ssbcCoarse.texture.width(), tg.ssbcCoarse.texture.height());
+            drawFullscreen(coarse);
+            tg.ssbcCoarse.texture.bind(11);
+          }
           if (ssbcDivisor == 2) {
             tg.ssbcHalf.framebuffer.bind(tg.ssbcHalf.texture.width(), tg.ssbcHalf.texture.height());
             drawFullscreen(ssbc);
+            addFallback(fallback);
             outputs[step]->framebuffer.bind(tg.width, tg.height);
             tg.ssbcHalf.texture.bind(7);
             drawFullscreen(upsample);
+            addFallback(upsampleFallback);
           } else {
             outputs[step]->framebuffer.bind(tg.width, tg.height);
             drawFullscreen(ssbc);
+            addFallback(fallback);
           }
           // Accumulate R_step into the residual sum.
           tg.residual.framebuffer.bind(tg.width, tg.height);

@@ -105,6 +105,10 @@ class PreviewRenderer {
   // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
   ShaderProgram gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
   ShaderProgram ssbcTaps_;
+  // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the full- and half-resolution
+  // steps that interpolate the coarse rings, the pass that evaluates them on the coarse grid, and the passes that add
+  // what could not be interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
+  ShaderProgram ssbcSplit_[2], ssbcSplitUpsample_[2], ssbcCoarse_[2], ssbcFallback_[2], ssbcUpsampleFallback_[2];
   bool lambertOnly_ = false;
   // VPLs per gather draw (uniform-block capacity) and the VPL multiple a bound range must start at.
   int gatherUboVpls_ = 1, gatherUboAlignVpls_ = 1;

@@ -11,6 +11,16 @@
 // discontinuity (mip-averaged coverage < 1 or averaged normal shorter than 0.9) add nothing; V~ = 1 inside the
 // (local) footprint. The factors of a tap that depend on q alone (unit normal, dA, whether it takes part) are
 // precomputed per mip texel (uTaps, ssbc_taps.frag.glsl).
+//
+// Multi-resolution rings (SSBC_SPLIT, Settings::ssbcCoarseRings): the rings at and above kSsbcFineLevels (texels at
+// least kSsbcCoarseSpacing px away) vary on the scale of their own radius along a surface, so they are evaluated only
+// at the pixels kSsbcCoarseSpacing t (ssbc.frag.glsl with SSBC_COARSE_PASS) and interpolated bilinearly between
+// samples on the same surface; the fine rings, where the residual is largest and steepest, are evaluated at every
+// pixel. A pixel whose interpolation would need a sample from another surface evaluates the coarse rings itself.
+//
+// llvmpipe runs an if under a lane mask and a loop's body at least once for the whole SIMD group; only a discard
+// ends the shader early (once every lane of the group has discarded). The tap is therefore branch-free, and work
+// that only some pixels need goes to a pass that discards the others (SSBC_FALLBACK_PASS).
 // Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included before it.
 
 layout(binding = 6) uniform sampler2D uInput;  // I (reflected light only, no emission), with mips
@@ -22,7 +32,7 @@ uniform float uFocalPixels;  // (height / 2) / tan(yfov / 2)
 uniform int uMaxLevel;
 
 const int kSsbcRingTexels = 2;
-// Window offsets of the ring taps for kSsbcRingTexels = 2 (see ssbcAt).
+// Window offsets of the ring taps for kSsbcRingTexels = 2 (see ssbcLevel0, ssbcLevel1, ssbcRings).
 const ivec2 kSsbcLevel0Taps[12] = ivec2[](ivec2(0, -2), ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-2, 0),
                                           ivec2(-1, 0), ivec2(1, 0), ivec2(2, 0), ivec2(-1, 1), ivec2(0, 1),
                                           ivec2(1, 1), ivec2(0, 2));
@@ -30,53 +40,161 @@ const ivec2 kSsbcRingTaps[20] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(1, -2
                                         ivec2(0, -1), ivec2(1, -1), ivec2(2, -1), ivec2(-2, 0), ivec2(-1, 0),
                                         ivec2(1, 0), ivec2(2, 0), ivec2(-2, 1), ivec2(-1, 1), ivec2(0, 1),
                                         ivec2(1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2), ivec2(1, 2));
+// At level 1 the centre of p's texel is 0.25 texels from p in x and y, so the ring (1, 2] texels holds exactly these
+// 10 texels for p at even coordinates (mirrored along an axis where p's coordinate is odd).
+const ivec2 kSsbcLevel1Taps[10] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(-2, -1), ivec2(-1, -1), ivec2(1, -1),
+                                          ivec2(-2, 0), ivec2(1, 0), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1));
 
-vec3 ssbcAt(ivec2 px) {
+// Levels below this (ssbcLevel0, ssbcLevel1) are evaluated at every pixel, the others on the grid of
+// kSsbcCoarseSpacing pixels (SSBC_SPLIT).
+const int kSsbcFineLevels = 2;
+const int kSsbcCoarseSpacing = 1 << kSsbcFineLevels;  // the inner radius (px) of the first coarse ring
+
+struct SsbcReceiver {
+  vec3 x1, n1, wo;
+  BrdfParams brdf;
+  vec2 pc;       // pixel centre
+  ivec2 size;    // level-0 size
+  int topLevel;  // the level whose ring reaches the footprint radius
+};
+
+// False where p has no surface or nothing is clamped.
+bool ssbcReceiver(ivec2 px, out SsbcReceiver r) {
   vec4 pos = texelFetch(gPosition, px, 0);
-  if (pos.w <= 0.0 || isinf(uClampBound)) return vec3(0.0);
   vec4 nm = texelFetch(gNormal, px, 0), bc = texelFetch(gBaseColor, px, 0), em = texelFetch(gEmission, px, 0);
-  vec3 x1 = pos.xyz, n1 = nm.xyz;
-  BrdfParams p1 = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
-  vec3 wo = normalize(uCameraPosition - x1);
+  r.x1 = pos.xyz;
+  r.n1 = nm.xyz;
+  r.brdf = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
+  r.wo = normalize(uCameraPosition - r.x1);
+  r.pc = vec2(px) + 0.5;
+  r.size = textureSize(gPosition, 0);
   // Footprint: the residual is non-zero only where |x1 - x2| < 1/sqrt(b) (MANYLIGHTS 4).
   float radius = inversesqrt(uClampBound);
-  float z = max(dot(x1 - uCameraPosition, uCameraForward), 1e-4);
+  float z = max(dot(r.x1 - uCameraPosition, uCameraForward), 1e-4);
   float radiusPx = radius * uFocalPixels / z;
-  int topLevel = clamp(int(ceil(log2(max(radiusPx / float(kSsbcRingTexels), 1.0)))), 0, uMaxLevel);
-  vec2 pc = vec2(px) + 0.5;
+  r.topLevel = clamp(int(ceil(log2(max(radiusPx / float(kSsbcRingTexels), 1.0)))), 0, uMaxLevel);
+  return pos.w > 0.0 && !isinf(uClampBound);
+}
+
+// One tap at texel q of `level` (levelSize texels); `use` false (outside the ring) or q off the level adds nothing.
+vec3 ssbcTap(SsbcReceiver r, ivec2 q, int level, ivec2 levelSize, bool use) {
+  ivec2 qc = clamp(q, ivec2(0), levelSize - 1);
+  vec4 tapData = texelFetch(uTaps, qc, level);
+  vec3 x2 = texelFetch(gPosition, qc, level).xyz;
+  vec3 radiance = texelFetch(uInput, qc, level).rgb;
+  vec3 d = x2 - r.x1;
+  float dist2 = dot(d, d);
+  vec3 w = d * inversesqrt(max(dist2, 1e-12));
+  float cos1 = max(dot(r.n1, w), 0.0), cos2 = max(-dot(tapData.xyz, w), 0.0);
+  // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (MANYLIGHTS 4).
+  float excess = max(cos1 * cos2 / max(dist2, 1e-12) - uClampBound, 0.0);
+  bool take = use && all(equal(q, qc)) && dist2 > 1e-12 && tapData.w > 0.0;
+  return take ? evaluateBrdf(r.brdf, r.n1, r.wo, w) * (excess * tapData.w) * radiance : vec3(0.0);
+}
+
+// Level 0: the 12 pixels with 0 < |q - p| <= 2 (p itself has x2 = x1 and adds nothing); all of them lie in the ring.
+vec3 ssbcLevel0(SsbcReceiver r, ivec2 px) {
   vec3 sum = vec3(0.0);
-  for (int level = 0; level <= topLevel; ++level) {
+  for (int tap = 0; tap < 12; ++tap) sum += ssbcTap(r, px + kSsbcLevel0Taps[tap], 0, r.size, true);
+  return sum;
+}
+
+// Level 1 (if the footprint reaches it): the 10 texels of its ring, no per-tap ring test.
+vec3 ssbcLevel1(SsbcReceiver r, ivec2 px) {
+  ivec2 base = px >> 1;
+  ivec2 mirror = 1 - 2 * (px & 1);
+  ivec2 levelSize = max(r.size >> 1, ivec2(1));
+  bool use = r.topLevel >= 1;
+  vec3 sum = vec3(0.0);
+  for (int tap = 0; tap < 10; ++tap) sum += ssbcTap(r, base + kSsbcLevel1Taps[tap] * mirror, 1, levelSize, use);
+  return sum;
+}
+
+// Levels first..last (>= 2) of the rings. Only window texels that can lie in the ring are visited (llvmpipe
+// evaluates a skipped tap at full cost): the 5 x 5 window without its corners (>= 1.5 sqrt 2 texels away) and its
+// centre (<= 0.5 sqrt 2 texels away).
+vec3 ssbcRings(SsbcReceiver r, ivec2 px, int first, int last) {
+  vec3 sum = vec3(0.0);
+  for (int level = first; level <= last; ++level) {
     float scale = float(1 << level);
-    float inner = level == 0 ? -1.0 : float(kSsbcRingTexels) * scale * 0.5;
-    float outer = float(kSsbcRingTexels) * scale;
-    ivec2 base = ivec2(floor(pc / scale));
-    ivec2 levelSize = textureSize(gPosition, level);
-    // Only window texels that can lie in the ring are visited (llvmpipe evaluates a skipped tap under a lane mask
-    // at full cost): at level 0 the 12 pixels with 0 < |q - p| <= 2 (p itself has x2 = x1 and adds nothing); above,
-    // the 5 x 5 window without its corners (>= 1.5 sqrt 2 texels away) and its centre (<= 0.5 sqrt 2 texels away).
-    int tapCount = level == 0 ? 12 : 20;
-    for (int tap = 0; tap < tapCount; ++tap) {
-      ivec2 q = base + (level == 0 ? kSsbcLevel0Taps[tap] : kSsbcRingTaps[tap]);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, levelSize))) continue;
-      vec2 qc = (vec2(q) + 0.5) * scale;
-      float r = length(qc - pc);
-      if (r <= inner || r > outer) continue;
-      vec4 tapData = texelFetch(uTaps, q, level);
-      float area = tapData.w;
-      if (area <= 0.0) continue;
-      vec3 x2 = texelFetch(gPosition, q, level).xyz;
-      vec3 d = x2 - x1;
-      float dist2 = dot(d, d);
-      // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (MANYLIGHTS 4).
-      if (!(dist2 > 1e-12) || dist2 * uClampBound >= 1.0) continue;
-      vec3 w = d * inversesqrt(dist2);
-      float cos1 = dot(n1, w), cos2 = -dot(tapData.xyz, w);
-      if (cos1 <= 0.0 || cos2 <= 0.0) continue;
-      float g = cos1 * cos2 / dist2;
-      if (g <= uClampBound) continue;
-      vec3 radiance = texelFetch(uInput, q, level).rgb;
-      sum += evaluateBrdf(p1, n1, wo, w) * (g - uClampBound) * radiance * area;
+    float inner = float(kSsbcRingTexels) * scale * 0.5, outer = float(kSsbcRingTexels) * scale;
+    ivec2 base = px >> level;
+    ivec2 levelSize = max(r.size >> level, ivec2(1));
+    // Texel centre of `base` relative to p, in pixels.
+    vec2 centre = (vec2(base) + 0.5) * scale - r.pc;
+    for (int tap = 0; tap < 20; ++tap) {
+      ivec2 offset = kSsbcRingTaps[tap];
+      vec2 rel = vec2(offset) * scale + centre;
+      float r2 = dot(rel, rel);
+      sum += ssbcTap(r, base + offset, level, levelSize, r2 > inner * inner && r2 <= outer * outer);
     }
   }
   return sum;
 }
+
+// The whole footprint at p.
+vec3 ssbcFullAt(ivec2 px) {
+  SsbcReceiver r;
+  if (!ssbcReceiver(px, r)) return vec3(0.0);
+  return ssbcLevel0(r, px) + ssbcLevel1(r, px) + ssbcRings(r, px, 2, r.topLevel);
+}
+
+// The coarse rings only (levels >= kSsbcFineLevels) at p: the samples that ssbcSplitAt interpolates.
+vec3 ssbcCoarseAt(ivec2 px) {
+  SsbcReceiver r;
+  if (!ssbcReceiver(px, r)) return vec3(0.0);
+  return ssbcRings(r, px, kSsbcFineLevels, r.topLevel);
+}
+
+#ifdef SSBC_SPLIT
+layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
+layout(binding = 11) uniform sampler2D uCoarse;    // ssbcCoarseAt at the pixels kSsbcCoarseSpacing t
+
+// The coarse rings at p, interpolated bilinearly from the coarse grid. False (and coarse incomplete) where a sample
+// with non-zero weight is off screen or on another surface (relative depth and normal tests, as in
+// deinterleave.frag.glsl): such pixels evaluate the coarse rings themselves (ssbcRings), because renormalising over
+// the remaining samples extrapolates the residual toward creases, where it is steepest (Cornell box: 44-50% of the
+// clamped energy recovered instead of 52%, furnace over-compensated).
+bool ssbcCoarseInterpolated(SsbcReceiver r, ivec2 px, out vec3 coarse) {
+  vec4 key = texelFetch(gMergeKey, px, 0);
+  ivec2 base = px / kSsbcCoarseSpacing;
+  vec2 f = vec2(px - base * kSsbcCoarseSpacing) / float(kSsbcCoarseSpacing);
+  ivec2 coarseSize = textureSize(uCoarse, 0);
+  coarse = vec3(0.0);
+  bool complete = true;
+  for (int j = 0; j <= 1; ++j)
+    for (int i = 0; i <= 1; ++i) {
+      float wb = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
+      ivec2 t = base + ivec2(i, j);
+      ivec2 q = t * kSsbcCoarseSpacing;
+      vec4 qk = texelFetch(gMergeKey, min(q, r.size - 1), 0);
+      bool ok = all(lessThan(q, r.size)) && qk.w > 0.0 && abs(qk.w - key.w) <= 0.02 * key.w &&
+                dot(qk.xyz, key.xyz) >= 0.95;
+      complete = complete && (ok || wb <= 0.0);
+      coarse += ok ? wb * texelFetch(uCoarse, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
+    }
+  return complete;
+}
+
+// Fine rings at p plus the interpolated coarse rings; `complete` false where the coarse rings are missing (the
+// fallback pass, ssbc.frag.glsl with SSBC_FALLBACK_PASS, adds them).
+vec3 ssbcSplitAt(ivec2 px, out bool complete) {
+  SsbcReceiver r;
+  complete = true;
+  if (!ssbcReceiver(px, r)) return vec3(0.0);
+  vec3 coarse;
+  complete = ssbcCoarseInterpolated(r, px, coarse);
+  return ssbcLevel0(r, px) + ssbcLevel1(r, px) + (complete ? coarse : vec3(0.0));
+}
+
+// All of T_r at p, the coarse rings interpolated where possible. llvmpipe runs a loop's body at least once for the
+// whole SIMD group, so this costs a coarse ring even where it is interpolated: only for pixels that need it.
+vec3 ssbcSplitCompleteAt(SsbcReceiver r, ivec2 px) {
+  vec3 coarse;
+  bool complete = ssbcCoarseInterpolated(r, px, coarse);
+  return ssbcLevel0(r, px) + ssbcLevel1(r, px) + coarse +
+         ssbcRings(r, px, complete ? r.topLevel + 1 : kSsbcFineLevels, r.topLevel);
+}
+#endif
+
+vec3 ssbcAt(ivec2 px) { return ssbcFullAt(px); }

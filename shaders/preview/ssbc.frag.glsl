@@ -1,7 +1,9 @@
 #version 450 core
 // Pass 5, one step of screen-space bias compensation (common/ssbc.glsl) at every uScale-th pixel: output texel t
 // holds T_r(I) at the full-resolution pixel t * uScale (uScale 1: every pixel; 2: the half-resolution grid that
-// ssbc_upsample.frag.glsl interpolates).
+// ssbc_upsample.frag.glsl interpolates). Multi-resolution rings (common/ssbc.glsl): SSBC_COARSE_PASS holds only the
+// coarse rings, at the pixels kSsbcCoarseSpacing t (uScale kSsbcCoarseSpacing); SSBC_SPLIT the fine rings and the
+// interpolated coarse rings, SSBC_FALLBACK_PASS adds the coarse rings where they could not be interpolated.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
@@ -11,5 +13,25 @@ layout(location = 0) out vec4 outColor;
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy) * uScale;
-  outColor = vec4(any(greaterThanEqual(px, textureSize(gPosition, 0))) ? vec3(0.0) : ssbcAt(px), 1.0);
+  ivec2 size = textureSize(gPosition, 0);
+  ivec2 pc = min(px, size - 1);
+  float alpha = 1.0;
+#if defined(SSBC_COARSE_PASS)
+  vec3 value = ssbcCoarseAt(pc);
+#elif defined(SSBC_FALLBACK_PASS)
+  // Added (blending) to the SSBC_SPLIT pass's output where it lacks the coarse rings. A discarded fragment ends the
+  // shader for its SIMD group once every lane has discarded (llvmpipe), so only groups at creases and silhouettes
+  // evaluate the coarse rings; a branch or loop would run for every group.
+  SsbcReceiver r;
+  vec3 coarse;
+  if (any(greaterThanEqual(px, size)) || !ssbcReceiver(pc, r) || ssbcCoarseInterpolated(r, pc, coarse)) discard;
+  vec3 value = ssbcRings(r, pc, kSsbcFineLevels, r.topLevel);
+  alpha = 0.0;
+#elif defined(SSBC_SPLIT)
+  bool complete;
+  vec3 value = ssbcSplitAt(pc, complete);
+#else
+  vec3 value = ssbcAt(pc);
+#endif
+  outColor = vec4(any(greaterThanEqual(px, size)) ? vec3(0.0) : value, alpha);
 }

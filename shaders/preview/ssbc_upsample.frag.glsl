@@ -10,14 +10,19 @@
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
 
-layout(binding = 7) uniform sampler2D uLow;        // T_r(I) at the pixels 2 t
+layout(binding = 7) uniform sampler2D uLow;  // T_r(I) at the pixels 2 t
+#ifndef SSBC_SPLIT
 layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
+#endif
 layout(location = 0) out vec4 outColor;
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   vec4 pos = texelFetch(gPosition, px, 0);
   if (pos.w <= 0.0 || isinf(uClampBound)) {
+#ifdef SSBC_FALLBACK_PASS
+    discard;
+#endif
     outColor = vec4(0.0);
     return;
   }
@@ -45,5 +50,16 @@ void main() {
       }
       sum += wb * texelFetch(uLow, t, 0).rgb;
     }
+#if defined(SSBC_FALLBACK_PASS)
+  // Multi-resolution rings: written where the interpolation above is incomplete, after the pass without
+  // SSBC_FALLBACK_PASS wrote 0 there. A discarded fragment ends the shader for its SIMD group once every lane has
+  // discarded (llvmpipe), so only groups at discontinuities evaluate T_r.
+  SsbcReceiver r;
+  if (complete || !ssbcReceiver(px, r)) discard;
+  outColor = vec4(ssbcSplitCompleteAt(r, px), 0.0);
+#elif defined(SSBC_SPLIT)
+  outColor = vec4(complete ? sum : vec3(0.0), 1.0);
+#else
   outColor = vec4(complete ? sum : ssbcAt(px), 1.0);
+#endif
 }
