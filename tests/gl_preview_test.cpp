@@ -170,7 +170,9 @@ TEST(GlPreview, DirectAreaLightConvergesToQuadrature) {
   scene.finalize();
   ASSERT_EQ(scene.emissiveTriangles.size(), 2u);
   Settings settings = smallSettings();
-  settings.directLightSamples = 256;
+  // More samples than one shadow-map chunk (GL_MAX_ARRAY_TEXTURE_LAYERS / 6 cubes) and than one uniform block of the
+  // light table hold, so the lights are drawn in several chunks and ranges and each must be counted exactly once.
+  settings.directLightSamples = 2048;
   settings.shadowMapSize = 16;
   PreviewRenderer renderer;
   renderer.render(scene, VplSet{}, settings, scene.camera);

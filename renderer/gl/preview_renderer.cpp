@@ -26,7 +26,7 @@ struct Target {
   }
 };
 
-// std430 layouts of shaders/preview/direct.frag.glsl and gather.frag.glsl.
+// std140 layouts of the light tables of shaders/preview/direct.frag.glsl and common/gather.glsl.
 struct DirectLightGpu {
   glm::vec4 position, axis, weight;
 };
@@ -34,16 +34,41 @@ struct VplGpu {
   glm::vec4 position, normal, incoming, flux, baseColor, geoNormal;
 };
 
-// VPLs one gather draw reads from its uniform block (common/gather.glsl): what GL_MAX_UNIFORM_BLOCK_SIZE allows,
-// bounded so that the shader's array stays small where a driver allows very large blocks.
-int gatherUboCapacity() {
-  GLint bytes = 0;
-  glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &bytes);
-  return std::clamp(static_cast<int>(bytes / static_cast<GLint>(sizeof(VplGpu))), 1, 1024);
+// The light tables (VPLs for the gather, light samples for the direct pass) are read from uniform blocks, which
+// llvmpipe reads faster than storage buffers. A block holds what GL_MAX_UNIFORM_BLOCK_SIZE allows, at most 1024
+// elements so that the shader's array stays small where a driver allows very large blocks; a longer table is drawn in
+// ranges, each bound from an element whose byte offset is a multiple of GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT.
+UniformTableLayout uniformTableLayout(std::size_t elementBytes) {
+  UniformTableLayout layout;
+  layout.elementBytes = elementBytes;
+  GLint blockBytes = 0, offsetAlignment = 1;
+  glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &blockBytes);
+  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &offsetAlignment);
+  const GLint bytes = static_cast<GLint>(elementBytes);
+  layout.capacity = std::clamp(static_cast<int>(blockBytes / bytes), 1, 1024);
+  // Element i starts at byte i * elementBytes, a multiple of the alignment when i is a multiple of this.
+  layout.alignment = std::max(1, offsetAlignment / std::gcd(offsetAlignment, bytes));
+  if (layout.alignment > layout.capacity) throw GlError("uniform buffer offset alignment larger than a block");
+  return layout;
 }
 
-std::string gatherUboDefine() {
-  return "GATHER_UBO_VPLS " + std::to_string(gatherUboCapacity());
+std::string uniformTableDefine(const char* name, std::size_t elementBytes) {
+  return std::string(name) + " " + std::to_string(uniformTableLayout(elementBytes).capacity);
+}
+
+// Calls draw(base, begin, end) for consecutive ranges [begin, end) that cover [first, last), with the table bound to
+// uniform binding `binding` from element base <= begin on.
+template <class F>
+void forEachUniformRange(const UniformTableLayout& layout, const GlBuffer& table, int binding, int first, int last,
+                         F&& draw) {
+  for (int begin = first; begin < last;) {
+    int base = begin / layout.alignment * layout.alignment;
+    int end = std::min(last, base + layout.capacity);
+    table.bindUniformRange(binding, static_cast<std::size_t>(base) * layout.elementBytes,
+                           static_cast<std::size_t>(end - base) * layout.elementBytes);
+    draw(base, begin, end);
+    begin = end;
+  }
 }
 
 // Interleaved sampling: subset s of a k x k pattern takes the lights i = s, s + k^2, ...; this is how far the first of
@@ -167,9 +192,12 @@ struct PreviewRenderer::Targets {
 
 PreviewRenderer::PreviewRenderer()
     : gbuffer_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}),
-      direct_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"}),
-      gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"}, {gatherUboDefine()}),
-      gatherVsl_({"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"}, {gatherUboDefine()}),
+      direct_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"},
+              {uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
+      gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
+              {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
+      gatherVsl_({"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"},
+                 {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       deinterleaveRows_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}, {"DEINTERLEAVE_COLUMNS 0"}),
       deinterleaveColumns_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"},
                            {"DEINTERLEAVE_COLUMNS 1"}),
@@ -179,7 +207,7 @@ PreviewRenderer::PreviewRenderer()
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
       add_({"preview/fullscreen.vert.glsl", "preview/add.frag.glsl"}),
       gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
-                     {"BRDF_LAMBERT_ONLY 1", gatherUboDefine()}),
+                     {"BRDF_LAMBERT_ONLY 1", uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
       ssbcUpsampleLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
                            {"BRDF_LAMBERT_ONLY 1"}),
@@ -202,13 +230,8 @@ PreviewRenderer::PreviewRenderer()
                                           {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
                             ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
                                           {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})} {
-  gatherUboVpls_ = gatherUboCapacity();
-  // A bound range must start at a multiple of the offset alignment; VPL i starts at i * sizeof(VplGpu), so ranges
-  // start at VPLs that are multiples of alignment / gcd(alignment, sizeof(VplGpu)).
-  GLint alignment = 1;
-  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &alignment);
-  gatherUboAlignVpls_ = std::max(1, alignment / std::gcd(alignment, static_cast<GLint>(sizeof(VplGpu))));
-  if (gatherUboAlignVpls_ > gatherUboVpls_) throw GlError("uniform buffer offset alignment larger than a block");
+  vplTable_ = uniformTableLayout(sizeof(VplGpu));
+  directTable_ = uniformTableLayout(sizeof(DirectLightGpu));
 }
 
 PreviewRenderer::~PreviewRenderer() = default;
@@ -419,7 +442,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // Pass 2: direct light, additive over shadow-map chunks, interleaved over the light samples.
   if (directChanged) {
     t.directMs = timed(timer_, t.directWallMs, [&] {
-      directLights_.bindStorage(7);
       direct_.set("uCameraPosition", camera.position);
       direct_.set("uShadowFar", far);
       direct_.set("uShadowBias", bias);
@@ -427,9 +449,14 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         for (int c = 0; c < directShadows_.chunkCount(); ++c) {
           directShadows_.chunkTexture(c).bind(6);
           direct_.set("uFirstLight", directShadows_.chunkBegin(c));
-          direct_.set("uSubsetOffset", subsetOffset(directShadows_.chunkBegin(c), subset, k));
-          direct_.set("uLightCount", directShadows_.chunkEnd(c) - directShadows_.chunkBegin(c));
-          drawFullscreen(direct_);
+          forEachUniformRange(directTable_, directLights_, 7, directShadows_.chunkBegin(c), directShadows_.chunkEnd(c),
+                              [&](int base, int begin, int end) {
+                                direct_.set("uUboBase", base);
+                                direct_.set("uLightBegin", begin);
+                                direct_.set("uSubsetOffset", subsetOffset(begin, subset, k));
+                                direct_.set("uLightEnd", end);
+                                drawFullscreen(direct_);
+                              });
         }
       });
     });
@@ -450,19 +477,14 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
           vplShadows_.chunkTexture(c).bind(6);
           gather.set("uFirstVpl", vplShadows_.chunkBegin(c));
-          // One draw per range of VPLs that fits a uniform block (common/gather.glsl).
-          for (int begin = vplShadows_.chunkBegin(c); begin < vplShadows_.chunkEnd(c);) {
-            int base = begin / gatherUboAlignVpls_ * gatherUboAlignVpls_;
-            int end = std::min(vplShadows_.chunkEnd(c), base + gatherUboVpls_);
-            vplBuffer_.bindUniformRange(8, static_cast<std::size_t>(base) * sizeof(VplGpu),
-                                        static_cast<std::size_t>(end - base) * sizeof(VplGpu));
-            gather.set("uUboBase", base);
-            gather.set("uVplBegin", begin);
-            gather.set("uSubsetOffset", subsetOffset(begin, subset, k));
-            gather.set("uVplEnd", end);
-            drawFullscreen(gather);
-            begin = end;
-          }
+          forEachUniformRange(vplTable_, vplBuffer_, 8, vplShadows_.chunkBegin(c), vplShadows_.chunkEnd(c),
+                              [&](int base, int begin, int end) {
+                                gather.set("uUboBase", base);
+                                gather.set("uVplBegin", begin);
+                                gather.set("uSubsetOffset", subsetOffset(begin, subset, k));
+                                gather.set("uVplEnd", end);
+                                drawFullscreen(gather);
+                              });
         }
       });
     });

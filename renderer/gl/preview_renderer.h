@@ -52,6 +52,13 @@ enum class PreviewOutput {
   Residual,  ///< screen-space compensation R1 + R2 only
 };
 
+/// How a table of lights is split into uniform-block ranges (preview_renderer.cpp: uniformTableLayout).
+struct UniformTableLayout {
+  std::size_t elementBytes = 0;
+  int capacity = 1;   // elements per block
+  int alignment = 1;  // a bound range starts at a multiple of this many elements
+};
+
 class PreviewRenderer {
  public:
   PreviewRenderer();
@@ -110,8 +117,8 @@ class PreviewRenderer {
   // what could not be interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
   ShaderProgram ssbcSplit_[2], ssbcSplitUpsample_[2], ssbcCoarse_[2], ssbcFallback_[2], ssbcUpsampleFallback_[2];
   bool lambertOnly_ = false;
-  // VPLs per gather draw (uniform-block capacity) and the VPL multiple a bound range must start at.
-  int gatherUboVpls_ = 1, gatherUboAlignVpls_ = 1;
+  // How the VPL and direct-light tables are split into uniform-block ranges (preview_renderer.cpp).
+  UniformTableLayout vplTable_, directTable_;
   GlVertexArray vao_;
   GlTimerQuery timer_;
 

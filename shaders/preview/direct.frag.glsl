@@ -15,11 +15,15 @@ struct DirectLight {
   vec4 axis;      // emitter normal (area) or spot axis; w: cos(outer cone)
   vec4 weight;    // rgb: Le / (K p_A) (area) or intensity in candela; w: cos(inner cone)
 };
-layout(std430, binding = 7) readonly buffer DirectLights { DirectLight lights[]; };
+// A uniform block of at most DIRECT_UBO_LIGHTS lights (set by the renderer), bound from light uUboBase on: llvmpipe
+// reads a UBO faster than a storage buffer; a longer list is drawn in ranges.
+layout(std140, binding = 7) uniform DirectLights { DirectLight lights[DIRECT_UBO_LIGHTS]; };
 layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
-uniform int uFirstLight;
-uniform int uLightCount;
+uniform int uFirstLight;  // first light of this shadow-map chunk (its layer 0)
+uniform int uLightBegin;  // first light of this draw's range, inside the chunk
+uniform int uLightEnd;    // one past the last light of this draw's range
+uniform int uUboBase;     // light at the start of the bound uniform-buffer range (<= uLightBegin)
 uniform float uShadowFar;
 uniform float uShadowBias;
 
@@ -35,9 +39,9 @@ void main() {
   BrdfParams p = s.brdf;
   vec3 sum = vec3(0.0);
   int k2 = uInterleave * uInterleave;
-  // First light of this subset inside the chunk [uFirstLight, uFirstLight + uLightCount).
-  for (int i = uSubsetOffset; i < uLightCount; i += k2) {
-    DirectLight l = lights[uFirstLight + i];
+  // This subset's lights inside the range [uLightBegin, uLightEnd).
+  for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
+    DirectLight l = lights[i - uUboBase];
     vec3 d = l.position.xyz - x1;
     float dist2 = dot(d, d);
     if (!(dist2 > 0.0)) continue;
@@ -59,7 +63,7 @@ void main() {
       float t = clamp((cd - l.axis.w) / max(0.001, l.weight.w - l.axis.w), 0.0, 1.0);
       radiantTerm = l.weight.rgb * (t * t);
     }
-    float v = shadowVisibility(uShadowMaps, i, l.position.xyz, x1, ng, uShadowFar, uShadowBias);
+    float v = shadowVisibility(uShadowMaps, i - uFirstLight, l.position.xyz, x1, ng, uShadowFar, uShadowBias);
     if (v <= 0.0) continue;
     sum += evaluateBrdf(p, n1, wo, w) * cos1 / dist2 * radiantTerm * v;
   }
