@@ -11,26 +11,17 @@ float shadowVisibilityAt(sampler2DArrayShadow maps, int caster, vec3 casterPos, 
   vec3 p = x + geoNormal * (1.5 * texelAngle * distance);
   vec3 d = p - casterPos;
   vec3 a = abs(d);
-  // Face f looks down axis `target` with the GL `up`; view space is (s, u, -target), s = target x up, u = s x target.
-  int face;
-  vec3 target, up;
-  if (a.x >= a.y && a.x >= a.z) {
-    face = d.x > 0.0 ? 0 : 1;
-    target = vec3(sign(d.x), 0.0, 0.0);
-    up = vec3(0.0, -1.0, 0.0);
-  } else if (a.y >= a.z) {
-    face = d.y > 0.0 ? 2 : 3;
-    target = vec3(0.0, sign(d.y), 0.0);
-    up = vec3(0.0, 0.0, sign(d.y));
-  } else {
-    face = d.z > 0.0 ? 4 : 5;
-    target = vec3(0.0, 0.0, sign(d.z));
-    up = vec3(0.0, -1.0, 0.0);
-  }
-  vec3 s = cross(target, up), u = cross(s, target);
-  vec2 uv = vec2(dot(s, d), dot(u, d)) / dot(target, d) * 0.5 + 0.5;
+  // Major axis, its face (+x, -x, +y, -y, +z, -z) and the face coordinates of the GL cube-map convention the maps are
+  // rendered with (shadow_maps.cpp): face f looks down the axis with view space (s, u, -target). Written with selects,
+  // not branches: llvmpipe would run all three branches for every lane.
+  bool xMajor = a.x >= a.y && a.x >= a.z;
+  bool yMajor = !xMajor && a.y >= a.z;
+  float major = xMajor ? a.x : yMajor ? a.y : a.z;
+  vec2 st = xMajor ? vec2(-sign(d.x) * d.z, -d.y) : yMajor ? vec2(d.x, sign(d.y) * d.z) : vec2(sign(d.z) * d.x, -d.y);
+  float face = xMajor ? (d.x > 0.0 ? 0.0 : 1.0) : yMajor ? (d.y > 0.0 ? 2.0 : 3.0) : (d.z > 0.0 ? 4.0 : 5.0);
+  vec2 uv = st / major * 0.5 + 0.5;
   // Hardware 2x2 PCF (linear filtering with depth comparison) softens the texel staircase.
-  return texture(maps, vec4(uv, float(6 * caster + face), (length(d) - bias) / far));
+  return texture(maps, vec4(uv, float(6 * caster) + face, (length(d) - bias) / far));
 }
 
 float shadowVisibility(sampler2DArrayShadow maps, int caster, vec3 casterPos, vec3 x, vec3 geoNormal, float far,
