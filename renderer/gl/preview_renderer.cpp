@@ -438,6 +438,24 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     glDisable(GL_BLEND);
   };
 
+  // One interleaved subset of a light table (direct-light samples or VPLs, common/interleaved.glsl): a draw per range
+  // of each shadow-map chunk whose entries fit one uniform block.
+  auto drawLightTable = [&](ShaderProgram& program, const CubeShadowMaps& shadows, const UniformTableLayout& layout,
+                            const GlBuffer& table, int binding, int subset) {
+    for (int c = 0; c < shadows.chunkCount(); ++c) {
+      shadows.chunkTexture(c).bind(6);
+      program.set("uFirstLight", shadows.chunkBegin(c));
+      forEachUniformRange(layout, table, binding, shadows.chunkBegin(c), shadows.chunkEnd(c),
+                          [&](int base, int begin, int end) {
+                            program.set("uUboBase", base);
+                            program.set("uLightBegin", begin);
+                            program.set("uSubsetOffset", subsetOffset(begin, subset, k));
+                            program.set("uLightEnd", end);
+                            drawFullscreen(program);
+                          });
+    }
+  };
+
   tg.bindGbuffer();
   // Pass 2: direct light, additive over shadow-map chunks, interleaved over the light samples.
   if (directChanged) {
@@ -445,20 +463,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       direct_.set("uCameraPosition", camera.position);
       direct_.set("uShadowFar", far);
       direct_.set("uShadowBias", bias);
-      interleaved(direct_, *tg.directRaw, [&](int subset) {
-        for (int c = 0; c < directShadows_.chunkCount(); ++c) {
-          directShadows_.chunkTexture(c).bind(6);
-          direct_.set("uFirstLight", directShadows_.chunkBegin(c));
-          forEachUniformRange(directTable_, directLights_, 7, directShadows_.chunkBegin(c), directShadows_.chunkEnd(c),
-                              [&](int base, int begin, int end) {
-                                direct_.set("uUboBase", base);
-                                direct_.set("uLightBegin", begin);
-                                direct_.set("uSubsetOffset", subsetOffset(begin, subset, k));
-                                direct_.set("uLightEnd", end);
-                                drawFullscreen(direct_);
-                              });
-        }
-      });
+      interleaved(direct_, *tg.directRaw,
+                  [&](int subset) { drawLightTable(direct_, directShadows_, directTable_, directLights_, 7, subset); });
     });
     ++counters_.direct;
   }
@@ -473,20 +479,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       gather.set("uVslSamples", settings.vslSamples);
       gather.set("uShadowFar", far);
       gather.set("uShadowBias", bias);
-      interleaved(gather, *tg.indirectRaw, [&](int subset) {
-        for (int c = 0; c < vplShadows_.chunkCount(); ++c) {
-          vplShadows_.chunkTexture(c).bind(6);
-          gather.set("uFirstVpl", vplShadows_.chunkBegin(c));
-          forEachUniformRange(vplTable_, vplBuffer_, 8, vplShadows_.chunkBegin(c), vplShadows_.chunkEnd(c),
-                              [&](int base, int begin, int end) {
-                                gather.set("uUboBase", base);
-                                gather.set("uVplBegin", begin);
-                                gather.set("uSubsetOffset", subsetOffset(begin, subset, k));
-                                gather.set("uVplEnd", end);
-                                drawFullscreen(gather);
-                              });
-        }
-      });
+      interleaved(gather, *tg.indirectRaw,
+                  [&](int subset) { drawLightTable(gather, vplShadows_, vplTable_, vplBuffer_, 8, subset); });
     });
     ++counters_.gather;
   }

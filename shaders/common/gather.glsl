@@ -37,10 +37,6 @@ struct GlVpl {
 layout(std140, binding = 8) uniform Vpls { GlVpl vpls[GATHER_UBO_VPLS]; };
 layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
-uniform int uFirstVpl;     // first VPL of this shadow-map chunk (its layer 0)
-uniform int uVplBegin;     // first VPL of this draw's range, inside the chunk
-uniform int uVplEnd;       // one past the last VPL of this draw's range
-uniform int uUboBase;      // VPL at the start of the bound uniform-buffer range (<= uVplBegin)
 uniform float uClampBound; // b (a large finite value stands for infinity)
 uniform int uVslSamples;
 uniform float uShadowFar;
@@ -74,15 +70,15 @@ void main() {
   vec3 x1 = surface.x1, n1 = surface.n1, ng = surface.ng, wo = surface.wo;
   BrdfParams p1 = surface.brdf;
   int k2 = uInterleave * uInterleave;
-  // First VPL of this pixel's subset inside the range [uVplBegin, uVplEnd).
-  int first = uVplBegin + uSubsetOffset;
+  // First VPL of this pixel's subset inside the draw's range (common/interleaved.glsl).
+  int first = uLightBegin + uSubsetOffset;
   vec3 sum = vec3(0.0);
 #if defined(BRDF_LAMBERT_ONLY) && !GATHER_VSL
   // Pure Lambert at both ends: f(x1) = albedo1 / pi and f(x2) = albedo2 / pi do not depend on w, so f(x1) leaves the
   // loop, and the body is written without `continue`: llvmpipe pays for every branch in mask bookkeeping, while a
   // zero factor costs one select. Same terms as the general loop below.
   vec3 f1 = dot(n1, wo) > 0.0 ? p1.baseColor * kInvPi : vec3(0.0);
-  for (int i = first; i < uVplEnd; i += k2) {
+  for (int i = first; i < uLightEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];
     vec3 x2 = vpl.position.xyz, n2 = vpl.normal.xyz;
     vec3 d = x2 - x1;
@@ -93,13 +89,13 @@ void main() {
     // One-sided surfaces at both ends, clamped cosines, G bounded by b (MANYLIGHTS 4).
     bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 &&
                        cos2 > 0.0 && dot(n2, vpl.incoming.xyz) > 0.0;
-    float v = shadowVisibilityAt(uShadowMaps, i - uFirstVpl, x2, x1, dist2 * invDist, ng, uShadowFar, uShadowBias);
+    float v = shadowVisibilityAt(uShadowMaps, i - uFirstLight, x2, x1, dist2 * invDist, ng, uShadowFar, uShadowBias);
     float gv = contributes ? min(cos1 * cos2 * invDist * invDist, uClampBound) * v : 0.0;
     sum += gv * (vpl.baseColor.rgb * kInvPi) * vpl.flux.rgb;
   }
   sum *= f1;
 #else
-  for (int i = first; i < uVplEnd; i += k2) {
+  for (int i = first; i < uLightEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];
     vec3 x2 = vpl.position.xyz, n2 = vpl.normal.xyz;
     BrdfParams p2 = BrdfParams(vpl.baseColor.rgb, vpl.normal.w, vpl.incoming.w, vpl.flux.w);
@@ -116,14 +112,14 @@ void main() {
       float cos1 = dot(n1, w), cos2 = -dot(n2, w);
       if (cos1 <= 0.0 || cos2 <= 0.0) continue;
       float g = min(cos1 * cos2 / dist2, uClampBound);
-      float v = shadowVisibility(uShadowMaps, i - uFirstVpl, x2, x1, ng, uShadowFar, uShadowBias);
+      float v = shadowVisibility(uShadowMaps, i - uFirstLight, x2, x1, ng, uShadowFar, uShadowBias);
       if (v <= 0.0) continue;
       // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
       sum += evaluateBrdf(p1, n1, wo, w) * g * v * evaluateBrdf(p2, n2, vpl.incoming.xyz, -w) * vpl.flux.rgb;
     }
 #if GATHER_VSL
     else {
-      float v = shadowVisibility(uShadowMaps, i - uFirstVpl, x2, x1, ng, uShadowFar, uShadowBias);
+      float v = shadowVisibility(uShadowMaps, i - uFirstLight, x2, x1, ng, uShadowFar, uShadowBias);
       if (v <= 0.0) continue;
       bool inside = dist <= r;
       float cosThetaMax = inside ? 0.0 : sqrt(max(0.0, 1.0 - r * r / dist2));

@@ -12,6 +12,12 @@ uniform ivec2 uImageSize;    // G-buffer size
 // many lights before the subset's first one. Set per draw by the renderer: the modulo is uniform, and llvmpipe would
 // otherwise run it lane by lane for every fragment (no vector integer division).
 uniform int uSubsetOffset;
+// The lights of one draw (renderer: drawLightTable): a range of a shadow-map chunk whose table entries fit one uniform
+// block bound from light uUboBase on.
+uniform int uFirstLight;  // first light of this shadow-map chunk (its layer 0)
+uniform int uLightBegin;  // first light of this draw's range, inside the chunk
+uniform int uLightEnd;    // one past the last light of this draw's range
+uniform int uUboBase;     // light at the start of the bound uniform-buffer range (<= uLightBegin)
 
 struct InterleavedSurface {
   ivec2 px;         // pixel in the full image

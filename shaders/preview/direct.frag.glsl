@@ -20,10 +20,6 @@ struct DirectLight {
 layout(std140, binding = 7) uniform DirectLights { DirectLight lights[DIRECT_UBO_LIGHTS]; };
 layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
-uniform int uFirstLight;  // first light of this shadow-map chunk (its layer 0)
-uniform int uLightBegin;  // first light of this draw's range, inside the chunk
-uniform int uLightEnd;    // one past the last light of this draw's range
-uniform int uUboBase;     // light at the start of the bound uniform-buffer range (<= uLightBegin)
 uniform float uShadowFar;
 uniform float uShadowBias;
 
