@@ -83,7 +83,7 @@ struct PreviewRenderer::Targets {
   int width, height;
   GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gMergeKey, gDepth;
   GlFramebuffer gbuffer;
-  Target direct, indirect, i0, r1, r2, residual, linear, display;
+  Target direct, indirect, i0, r1, r2, linear, display;
   // The direct and indirect targets as two colour attachments: the de-interleave merges both in one pass.
   GlFramebuffer merged;
   // Row sums of the separable de-interleave (deinterleave.frag.glsl), direct and indirect, accepted count in w.
@@ -126,7 +126,6 @@ struct PreviewRenderer::Targets {
         i0(w, h, 0),
         r1(w, h, 0),
         r2(w, h),
-        residual(w, h),
         linear(w, h),
         display(w, h),
         directRows(w, h, TextureFormat::Rgba32F),
@@ -177,7 +176,6 @@ PreviewRenderer::PreviewRenderer()
       ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
-      add_({"preview/fullscreen.vert.glsl", "preview/add.frag.glsl"}),
       gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
                      {"BRDF_LAMBERT_ONLY 1", gatherUboDefine()}),
       ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
@@ -492,18 +490,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     (gatherChanged ? t.gatherWallMs : t.directWallMs) += wallMs;
   }
 
-  // Pass 5: I0 = direct + indirect, then R1 = T_r(I0), R2 = T_r(R1), final = Le + I0 + R1 + R2.
+  // Pass 5: I0 = direct + indirect, then R1 = T_r(I0), R2 = T_r(R1), final = Le + I0 + R1 + R2 (the final
+  // composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
   if (ssbcChanged) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
-      tg.direct.texture.bind(6);
-      tg.indirect.texture.bind(7);
-      tg.i0.framebuffer.bind(tg.width, tg.height);
-      compose_.set("uStage", 0);
-      drawFullscreen(compose_);
-      tg.residual.framebuffer.bind(tg.width, tg.height);
-      tg.residual.framebuffer.clearColor(0, glm::vec4(0.0f));
       bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
+      residualSteps_ = compensate ? std::min(settings.ssbcSteps, 2) : 0;
       if (compensate) {
+        tg.direct.texture.bind(6);
+        tg.indirect.texture.bind(7);
+        tg.i0.framebuffer.bind(tg.width, tg.height);
+        compose_.set("uStage", 0);
+        drawFullscreen(compose_);
         float focal = 0.5f * static_cast<float>(tg.height) / std::tan(0.5f * camera.yfov);
         const bool split = settings.ssbcCoarseRings;
         const int variant = lambertOnly_ ? 1 : 0;
@@ -568,22 +566,17 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
             drawFullscreen(ssbc);
             addFallback(fallback);
           }
-          // Accumulate R_step into the residual sum.
-          tg.residual.framebuffer.bind(tg.width, tg.height);
-          outputs[step]->texture.bind(6);
-          glEnable(GL_BLEND);
-          glBlendFunc(GL_ONE, GL_ONE);
-          drawFullscreen(add_);
-          glDisable(GL_BLEND);
           input = outputs[step];
         }
       }
       tg.bindGbuffer();
       tg.direct.texture.bind(6);
       tg.indirect.texture.bind(7);
-      tg.residual.texture.bind(8);
+      tg.r1.texture.bind(8);
+      tg.r2.texture.bind(9);
       tg.linear.framebuffer.bind(tg.width, tg.height);
       compose_.set("uStage", 1);
+      compose_.set("uResidualSteps", residualSteps_);
       compose_.set("uCameraPosition", camera.position);
       drawFullscreen(compose_);
     });
@@ -617,9 +610,17 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 Image PreviewRenderer::readLinear(PreviewOutput which) const {
   if (!targets_) return {};
   const Targets& tg = *targets_;
+  if (which == PreviewOutput::Residual) {
+    // R1 + R2: the final composition adds them itself, so the sum is formed only when asked for.
+    Image residual(tg.width, tg.height);
+    for (int step = 0; step < residualSteps_; ++step) {
+      Image r = readFramebuffer((step == 0 ? tg.r1 : tg.r2).framebuffer, 0, tg.width, tg.height);
+      for (std::size_t i = 0; i < residual.size(); ++i) residual.pixels[i] += r.pixels[i];
+    }
+    return residual;
+  }
   const Target& src = which == PreviewOutput::Direct     ? tg.direct
                       : which == PreviewOutput::Indirect ? tg.indirect
-                      : which == PreviewOutput::Residual ? tg.residual
                                                          : tg.linear;
   return readFramebuffer(src.framebuffer, 0, tg.width, tg.height);
 }

@@ -101,7 +101,7 @@ class PreviewRenderer {
   /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
   bool vplsHaveRadius_ = false;
   ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, ssbc_, ssbcUpsample_,
-      compose_, tonemap_, add_;
+      compose_, tonemap_;
   // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
   ShaderProgram gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
   ShaderProgram ssbcTaps_;
@@ -110,6 +110,8 @@ class PreviewRenderer {
   // what could not be interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
   ShaderProgram ssbcSplit_[2], ssbcSplitUpsample_[2], ssbcCoarse_[2], ssbcFallback_[2], ssbcUpsampleFallback_[2];
   bool lambertOnly_ = false;
+  // Compensation steps of the last frame whose results R1, R2 are current (0: none, the residual is 0).
+  int residualSteps_ = 0;
   // VPLs per gather draw (uniform-block capacity) and the VPL multiple a bound range must start at.
   int gatherUboVpls_ = 1, gatherUboAlignVpls_ = 1;
   GlVertexArray vao_;
