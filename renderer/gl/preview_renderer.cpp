@@ -89,10 +89,10 @@ struct PreviewRenderer::Targets {
   // Row sums of the separable de-interleave (deinterleave.frag.glsl), direct and indirect, accepted count in w.
   GlTexture directRows, indirectRows;
   GlFramebuffer rows;
-  // Per mip texel of the G-buffer: unit normal and dA of a compensation tap (ssbc_taps.frag.glsl), one framebuffer
-  // per level.
-  GlTexture ssbcTaps;
-  std::vector<GlFramebuffer> ssbcTapLevels;
+  // Per mip texel of the G-buffer: x2 with the packed unit normal, and dA, of a compensation tap
+  // (ssbc_taps.frag.glsl), one framebuffer per level; I dA per mip texel of a step's input (ssbc_radiance.frag.glsl).
+  GlTexture ssbcTaps, ssbcArea, ssbcRadiance;
+  std::vector<GlFramebuffer> ssbcTapLevels, ssbcRadianceLevels;
   // Half-resolution compensation step (ssbc.frag.glsl with uScale 2): the samples at the even pixels.
   Target ssbcHalf;
   // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS).
@@ -131,12 +131,18 @@ struct PreviewRenderer::Targets {
         directRows(w, h, TextureFormat::Rgba32F),
         indirectRows(w, h, TextureFormat::Rgba32F),
         ssbcTaps(w, h, TextureFormat::Rgba32F, 0),
+        ssbcArea(w, h, TextureFormat::R32F, 0),
+        ssbcRadiance(w, h, TextureFormat::Rgba32F, 0),
         ssbcHalf((w + 1) / 2, (h + 1) / 2),
         ssbcCoarse((w + 3) / 4, (h + 3) / 4) {
     ssbcTapLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
+    ssbcRadianceLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
     for (int level = 0; level < ssbcTaps.levels(); ++level) {
       ssbcTapLevels[static_cast<std::size_t>(level)].attachColor(0, ssbcTaps, level);
-      ssbcTapLevels[static_cast<std::size_t>(level)].finalize(1);
+      ssbcTapLevels[static_cast<std::size_t>(level)].attachColor(1, ssbcArea, level);
+      ssbcTapLevels[static_cast<std::size_t>(level)].finalize(2);
+      ssbcRadianceLevels[static_cast<std::size_t>(level)].attachColor(0, ssbcRadiance, level);
+      ssbcRadianceLevels[static_cast<std::size_t>(level)].finalize(1);
     }
     gbuffer.attachColor(0, gPosition);
     gbuffer.attachColor(1, gNormal);
@@ -182,6 +188,7 @@ PreviewRenderer::PreviewRenderer()
       ssbcUpsampleLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
                            {"BRDF_LAMBERT_ONLY 1"}),
       ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
+      ssbcRadiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}),
       ssbcSplit_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_SPLIT 1"}),
                  ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
                                {"SSBC_SPLIT 1", "BRDF_LAMBERT_ONLY 1"})},
@@ -543,11 +550,20 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           drawFullscreen(ssbcTaps_);
         }
         tg.ssbcTaps.bind(9);
+        tg.ssbcArea.bind(12);
         Target* input = &tg.i0;
         Target* outputs[2] = {&tg.r1, &tg.r2};
         for (int step = 0; step < settings.ssbcSteps; ++step) {
+          // The radiance factor of the taps, I dA, at every mip level of this step's input.
           input->texture.generateMipmaps();
           input->texture.bind(6);
+          for (int level = 0; level < tg.ssbcRadiance.levels(); ++level) {
+            tg.ssbcRadianceLevels[static_cast<std::size_t>(level)].bind(std::max(1, tg.width >> level),
+                                                                        std::max(1, tg.height >> level));
+            ssbcRadiance_.set("uLevel", level);
+            drawFullscreen(ssbcRadiance_);
+          }
+          tg.ssbcRadiance.bind(6);
           if (split) {
             tg.ssbcCoarse.framebuffer.bind(tg.ssbcCoarse.texture.width(), tg.ssbcCoarse.texture.height());
             drawFullscreen(coarse);

@@ -104,7 +104,7 @@ class PreviewRenderer {
       compose_, tonemap_;
   // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
   ShaderProgram gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
-  ShaderProgram ssbcTaps_;
+  ShaderProgram ssbcTaps_, ssbcRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the full- and half-resolution
   // steps that interpolate the coarse rings, the pass that evaluates them on the coarse grid, and the passes that add
   // what could not be interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
