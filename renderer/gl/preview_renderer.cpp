@@ -95,8 +95,10 @@ struct PreviewRenderer::Targets {
   std::vector<GlFramebuffer> ssbcTapLevels, ssbcRadianceLevels;
   // Half-resolution compensation step (ssbc.frag.glsl with uScale 2): the samples at the even pixels.
   Target ssbcHalf;
-  // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS).
+  // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
+  // far rings alone (second attachment of ssbcCoarse.framebuffer).
   Target ssbcCoarse;
+  GlTexture ssbcCoarseFar;
   // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
   // blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
@@ -134,7 +136,10 @@ struct PreviewRenderer::Targets {
         ssbcArea(w, h, TextureFormat::R32F, 0),
         ssbcRadiance(w, h, TextureFormat::Rgba32F, 0),
         ssbcHalf((w + 1) / 2, (h + 1) / 2),
-        ssbcCoarse((w + 3) / 4, (h + 3) / 4) {
+        ssbcCoarse((w + 3) / 4, (h + 3) / 4),
+        ssbcCoarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F) {
+    ssbcCoarse.framebuffer.attachColor(1, ssbcCoarseFar);
+    ssbcCoarse.framebuffer.finalize(2);
     ssbcTapLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
     ssbcRadianceLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
     for (int level = 0; level < ssbcTaps.levels(); ++level) {
@@ -568,6 +573,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
             tg.ssbcCoarse.framebuffer.bind(tg.ssbcCoarse.texture.width(), tg.ssbcCoarse.texture.height());
             drawFullscreen(coarse);
             tg.ssbcCoarse.texture.bind(11);
+            tg.ssbcCoarseFar.bind(13);
           }
           if (ssbcDivisor == 2) {
             tg.ssbcHalf.framebuffer.bind(tg.ssbcHalf.texture.width(), tg.ssbcHalf.texture.height());

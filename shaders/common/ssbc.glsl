@@ -52,6 +52,9 @@ const ivec2 kSsbcLevel1Taps[10] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(-2,
 // kSsbcCoarseSpacing pixels (SSBC_SPLIT).
 const int kSsbcFineLevels = 2;
 const int kSsbcCoarseSpacing = 1 << kSsbcFineLevels;  // the inner radius (px) of the first coarse ring
+// A pixel whose coarse rings cannot be interpolated (SSBC_FALLBACK_PASS) evaluates the levels below this itself and
+// extrapolates the ones above (the far rings, >= 8 px away) from the coarse samples on its own surface.
+const int kSsbcFallbackExactLevels = kSsbcFineLevels + 2;
 
 struct SsbcReceiver {
   vec3 x1, n1, wo;
@@ -170,6 +173,7 @@ vec3 ssbcCoarseAt(ivec2 px) {
 #ifdef SSBC_SPLIT
 layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
 layout(binding = 11) uniform sampler2D uCoarse;    // ssbcCoarseAt at the pixels kSsbcCoarseSpacing t
+layout(binding = 13) uniform sampler2D uCoarseFar; // its far rings (levels >= kSsbcFallbackExactLevels) alone
 
 // The coarse rings at p, interpolated bilinearly from the coarse grid. False (and coarse incomplete) where a sample
 // with non-zero weight is off screen or on another surface (relative depth and normal tests, as in
@@ -195,6 +199,30 @@ bool ssbcCoarseInterpolated(SsbcReceiver r, ivec2 px, out vec3 coarse) {
       coarse += ok ? wb * texelFetch(uCoarse, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
     }
   return complete;
+}
+
+// The far rings (levels >= kSsbcFallbackExactLevels) at a pixel whose interpolation is incomplete: bilinear over the
+// coarse samples on p's surface, renormalised (each such sample weighted at least 1/64, so that a pixel between
+// samples of which only zero-weight ones lie on its surface still gets them); 0 where none of the four does.
+vec3 ssbcFarExtrapolated(SsbcReceiver r, ivec2 px) {
+  vec4 key = texelFetch(gMergeKey, px, 0);
+  ivec2 base = px >> kSsbcFineLevels;
+  vec2 f = vec2(px - (base << kSsbcFineLevels)) * (1.0 / float(kSsbcCoarseSpacing));
+  ivec2 coarseSize = textureSize(uCoarseFar, 0);
+  vec3 sum = vec3(0.0);
+  float weight = 0.0;
+  for (int j = 0; j <= 1; ++j)
+    for (int i = 0; i <= 1; ++i) {
+      float wb = max((i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y), 1.0 / 64.0);
+      ivec2 t = base + ivec2(i, j);
+      ivec2 q = t << kSsbcFineLevels;
+      vec4 qk = texelFetch(gMergeKey, min(q, r.size - 1), 0);
+      bool ok = all(lessThan(q, r.size)) && qk.w > 0.0 && abs(qk.w - key.w) <= 0.02 * key.w &&
+                dot(qk.xyz, key.xyz) >= 0.95;
+      sum += ok ? wb * texelFetch(uCoarseFar, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
+      weight += ok ? wb : 0.0;
+    }
+  return weight > 0.0 ? sum / weight : vec3(0.0);
 }
 
 // Fine rings at p plus the interpolated coarse rings; `complete` false where the coarse rings are missing (the
