@@ -108,20 +108,22 @@ struct PreviewRenderer::Targets {
   int width, height;
   GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gMergeKey, gDepth;
   GlFramebuffer gbuffer;
-  Target direct, indirect, i0, r1, r2, residual, linear, display;
+  Target direct, indirect, i0, r1, r2, linear, display;
   // The direct and indirect targets as two colour attachments: the de-interleave merges both in one pass.
   GlFramebuffer merged;
   // Row sums of the separable de-interleave (deinterleave.frag.glsl), direct and indirect, accepted count in w.
   GlTexture directRows, indirectRows;
   GlFramebuffer rows;
-  // Per mip texel of the G-buffer: unit normal and dA of a compensation tap (ssbc_taps.frag.glsl), one framebuffer
-  // per level.
-  GlTexture ssbcTaps;
-  std::vector<GlFramebuffer> ssbcTapLevels;
+  // Per mip texel of the G-buffer: x2 with the packed unit normal, and dA, of a compensation tap
+  // (ssbc_taps.frag.glsl), one framebuffer per level; I dA per mip texel of a step's input (ssbc_radiance.frag.glsl).
+  GlTexture ssbcTaps, ssbcArea, ssbcRadiance;
+  std::vector<GlFramebuffer> ssbcTapLevels, ssbcRadianceLevels;
   // Half-resolution compensation step (ssbc.frag.glsl with uScale 2): the samples at the even pixels.
   Target ssbcHalf;
-  // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS).
+  // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
+  // far rings alone (second attachment of ssbcCoarse.framebuffer).
   Target ssbcCoarse;
+  GlTexture ssbcCoarseFar;
   // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
   // blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
@@ -151,18 +153,26 @@ struct PreviewRenderer::Targets {
         i0(w, h, 0),
         r1(w, h, 0),
         r2(w, h),
-        residual(w, h),
         linear(w, h),
         display(w, h),
         directRows(w, h, TextureFormat::Rgba32F),
         indirectRows(w, h, TextureFormat::Rgba32F),
         ssbcTaps(w, h, TextureFormat::Rgba32F, 0),
+        ssbcArea(w, h, TextureFormat::R32F, 0),
+        ssbcRadiance(w, h, TextureFormat::Rgba32F, 0),
         ssbcHalf((w + 1) / 2, (h + 1) / 2),
-        ssbcCoarse((w + 3) / 4, (h + 3) / 4) {
+        ssbcCoarse((w + 3) / 4, (h + 3) / 4),
+        ssbcCoarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F) {
+    ssbcCoarse.framebuffer.attachColor(1, ssbcCoarseFar);
+    ssbcCoarse.framebuffer.finalize(2);
     ssbcTapLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
+    ssbcRadianceLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
     for (int level = 0; level < ssbcTaps.levels(); ++level) {
       ssbcTapLevels[static_cast<std::size_t>(level)].attachColor(0, ssbcTaps, level);
-      ssbcTapLevels[static_cast<std::size_t>(level)].finalize(1);
+      ssbcTapLevels[static_cast<std::size_t>(level)].attachColor(1, ssbcArea, level);
+      ssbcTapLevels[static_cast<std::size_t>(level)].finalize(2);
+      ssbcRadianceLevels[static_cast<std::size_t>(level)].attachColor(0, ssbcRadiance, level);
+      ssbcRadianceLevels[static_cast<std::size_t>(level)].finalize(1);
     }
     gbuffer.attachColor(0, gPosition);
     gbuffer.attachColor(1, gNormal);
@@ -205,13 +215,13 @@ PreviewRenderer::PreviewRenderer()
       ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
-      add_({"preview/fullscreen.vert.glsl", "preview/add.frag.glsl"}),
       gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
                      {"BRDF_LAMBERT_ONLY 1", uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
       ssbcUpsampleLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
                            {"BRDF_LAMBERT_ONLY 1"}),
       ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
+      ssbcRadiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}),
       ssbcSplit_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_SPLIT 1"}),
                  ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
                                {"SSBC_SPLIT 1", "BRDF_LAMBERT_ONLY 1"})},
@@ -508,18 +518,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     (gatherChanged ? t.gatherWallMs : t.directWallMs) += wallMs;
   }
 
-  // Pass 5: I0 = direct + indirect, then R1 = T_r(I0), R2 = T_r(R1), final = Le + I0 + R1 + R2.
+  // Pass 5: I0 = direct + indirect, then R1 = T_r(I0), R2 = T_r(R1), final = Le + I0 + R1 + R2 (the final
+  // composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
   if (ssbcChanged) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
-      tg.direct.texture.bind(6);
-      tg.indirect.texture.bind(7);
-      tg.i0.framebuffer.bind(tg.width, tg.height);
-      compose_.set("uStage", 0);
-      drawFullscreen(compose_);
-      tg.residual.framebuffer.bind(tg.width, tg.height);
-      tg.residual.framebuffer.clearColor(0, glm::vec4(0.0f));
       bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
+      residualSteps_ = compensate ? std::min(settings.ssbcSteps, 2) : 0;
       if (compensate) {
+        tg.direct.texture.bind(6);
+        tg.indirect.texture.bind(7);
+        tg.i0.framebuffer.bind(tg.width, tg.height);
+        compose_.set("uStage", 0);
+        drawFullscreen(compose_);
         float focal = 0.5f * static_cast<float>(tg.height) / std::tan(0.5f * camera.yfov);
         const bool split = settings.ssbcCoarseRings;
         const int variant = lambertOnly_ ? 1 : 0;
@@ -561,15 +571,25 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           drawFullscreen(ssbcTaps_);
         }
         tg.ssbcTaps.bind(9);
+        tg.ssbcArea.bind(12);
         Target* input = &tg.i0;
         Target* outputs[2] = {&tg.r1, &tg.r2};
         for (int step = 0; step < settings.ssbcSteps; ++step) {
+          // The radiance factor of the taps, I dA, at every mip level of this step's input.
           input->texture.generateMipmaps();
           input->texture.bind(6);
+          for (int level = 0; level < tg.ssbcRadiance.levels(); ++level) {
+            tg.ssbcRadianceLevels[static_cast<std::size_t>(level)].bind(std::max(1, tg.width >> level),
+                                                                        std::max(1, tg.height >> level));
+            ssbcRadiance_.set("uLevel", level);
+            drawFullscreen(ssbcRadiance_);
+          }
+          tg.ssbcRadiance.bind(6);
           if (split) {
             tg.ssbcCoarse.framebuffer.bind(tg.ssbcCoarse.texture.width(), tg.ssbcCoarse.texture.height());
             drawFullscreen(coarse);
             tg.ssbcCoarse.texture.bind(11);
+            tg.ssbcCoarseFar.bind(13);
           }
           if (ssbcDivisor == 2) {
             tg.ssbcHalf.framebuffer.bind(tg.ssbcHalf.texture.width(), tg.ssbcHalf.texture.height());
@@ -584,22 +604,17 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
             drawFullscreen(ssbc);
             addFallback(fallback);
           }
-          // Accumulate R_step into the residual sum.
-          tg.residual.framebuffer.bind(tg.width, tg.height);
-          outputs[step]->texture.bind(6);
-          glEnable(GL_BLEND);
-          glBlendFunc(GL_ONE, GL_ONE);
-          drawFullscreen(add_);
-          glDisable(GL_BLEND);
           input = outputs[step];
         }
       }
       tg.bindGbuffer();
       tg.direct.texture.bind(6);
       tg.indirect.texture.bind(7);
-      tg.residual.texture.bind(8);
+      tg.r1.texture.bind(8);
+      tg.r2.texture.bind(9);
       tg.linear.framebuffer.bind(tg.width, tg.height);
       compose_.set("uStage", 1);
+      compose_.set("uResidualSteps", residualSteps_);
       compose_.set("uCameraPosition", camera.position);
       drawFullscreen(compose_);
     });
@@ -633,9 +648,17 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 Image PreviewRenderer::readLinear(PreviewOutput which) const {
   if (!targets_) return {};
   const Targets& tg = *targets_;
+  if (which == PreviewOutput::Residual) {
+    // R1 + R2: the final composition adds them itself, so the sum is formed only when asked for.
+    Image residual(tg.width, tg.height);
+    for (int step = 0; step < residualSteps_; ++step) {
+      Image r = readFramebuffer((step == 0 ? tg.r1 : tg.r2).framebuffer, 0, tg.width, tg.height);
+      for (std::size_t i = 0; i < residual.size(); ++i) residual.pixels[i] += r.pixels[i];
+    }
+    return residual;
+  }
   const Target& src = which == PreviewOutput::Direct     ? tg.direct
                       : which == PreviewOutput::Indirect ? tg.indirect
-                      : which == PreviewOutput::Residual ? tg.residual
                                                          : tg.linear;
   return readFramebuffer(src.framebuffer, 0, tg.width, tg.height);
 }

@@ -108,10 +108,10 @@ class PreviewRenderer {
   /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
   bool vplsHaveRadius_ = false;
   ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, ssbc_, ssbcUpsample_,
-      compose_, tonemap_, add_;
+      compose_, tonemap_;
   // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
   ShaderProgram gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
-  ShaderProgram ssbcTaps_;
+  ShaderProgram ssbcTaps_, ssbcRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the full- and half-resolution
   // steps that interpolate the coarse rings, the pass that evaluates them on the coarse grid, and the passes that add
   // what could not be interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
@@ -119,6 +119,8 @@ class PreviewRenderer {
   bool lambertOnly_ = false;
   // How the VPL and direct-light tables are split into uniform-block ranges (preview_renderer.cpp).
   UniformTableLayout vplTable_, directTable_;
+  // Compensation steps of the last frame whose results R1, R2 are current (0: none, the residual is 0).
+  int residualSteps_ = 0;
   GlVertexArray vao_;
   GlTimerQuery timer_;
 

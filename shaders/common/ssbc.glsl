@@ -9,8 +9,9 @@
 // d^2, so every octave of distance matters about equally: all of it must be integrated, and finest where the residual
 // is largest (next to p, i.e. at creases). Conservative: samples off screen, on the background, or straddling a
 // discontinuity (mip-averaged coverage < 1 or averaged normal shorter than 0.9) add nothing; V~ = 1 inside the
-// (local) footprint. The factors of a tap that depend on q alone (unit normal, dA, whether it takes part) are
-// precomputed per mip texel (uTaps, ssbc_taps.frag.glsl).
+// (local) footprint. The factors of a tap that depend on q alone are precomputed per mip texel, so that a tap reads
+// two texels: x2 with the packed unit normal (uTaps, ssbc_taps.frag.glsl, once per frame) and L_I dA (uTapRadiance,
+// ssbc_radiance.frag.glsl, once per step; 0 where q does not take part).
 //
 // Multi-resolution rings (SSBC_SPLIT, Settings::ssbcCoarseRings): the rings at and above kSsbcFineLevels (texels at
 // least kSsbcCoarseSpacing px away) vary on the scale of their own radius along a surface, so they are evaluated only
@@ -23,8 +24,10 @@
 // that only some pixels need goes to a pass that discards the others (SSBC_FALLBACK_PASS).
 // Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included before it.
 
-layout(binding = 6) uniform sampler2D uInput;  // I (reflected light only, no emission), with mips
-layout(binding = 9) uniform sampler2D uTaps;   // per mip texel: unit normal, dA (0: not used) (ssbc_taps.frag.glsl)
+// Per mip texel: I dA (I: reflected light only, no emission; 0 where the texel does not take part).
+layout(binding = 6) uniform sampler2D uTapRadiance;
+// Per mip texel: x2, unit normal packed by ssbcPackNormal (-1: does not take part) (ssbc_taps.frag.glsl).
+layout(binding = 9) uniform sampler2D uTaps;
 uniform vec3 uCameraPosition;
 uniform vec3 uCameraForward;
 uniform float uClampBound;
@@ -49,6 +52,9 @@ const ivec2 kSsbcLevel1Taps[10] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(-2,
 // kSsbcCoarseSpacing pixels (SSBC_SPLIT).
 const int kSsbcFineLevels = 2;
 const int kSsbcCoarseSpacing = 1 << kSsbcFineLevels;  // the inner radius (px) of the first coarse ring
+// A pixel whose coarse rings cannot be interpolated (SSBC_FALLBACK_PASS) evaluates the levels below this itself and
+// extrapolates the ones above (the far rings, >= 8 px away) from the coarse samples on its own surface.
+const int kSsbcFallbackExactLevels = kSsbcFineLevels + 2;
 
 struct SsbcReceiver {
   vec3 x1, n1, wo;
@@ -76,20 +82,38 @@ bool ssbcReceiver(ivec2 px, out SsbcReceiver r) {
   return pos.w > 0.0 && !isinf(uClampBound);
 }
 
+// Unit normal packed into one float, exactly: octahedral coordinates quantised to 12 bits each, a * 4096 + b < 2^24.
+float ssbcPackNormal(vec3 n) {
+  vec2 p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
+  if (n.z < 0.0) p = (1.0 - abs(p.yx)) * vec2(p.x >= 0.0 ? 1.0 : -1.0, p.y >= 0.0 ? 1.0 : -1.0);
+  vec2 q = round(clamp(p * 0.5 + 0.5, 0.0, 1.0) * 4095.0);
+  return q.x * 4096.0 + q.y;
+}
+
+// The unit normal of ssbcPackNormal; 0 for a negative value (the texel does not take part).
+vec3 ssbcUnpackNormal(float code) {
+  float a = floor(code * (1.0 / 4096.0));
+  vec2 e = vec2(a, code - a * 4096.0) * (2.0 / 4095.0) - 1.0;
+  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
+  float t = max(-n.z, 0.0);
+  n.xy += vec2(n.x >= 0.0 ? -t : t, n.y >= 0.0 ? -t : t);
+  return code < 0.0 ? vec3(0.0) : normalize(n);
+}
+
 // One tap at texel q of `level` (levelSize texels); `use` false (outside the ring) or q off the level adds nothing.
 vec3 ssbcTap(SsbcReceiver r, ivec2 q, int level, ivec2 levelSize, bool use) {
   ivec2 qc = clamp(q, ivec2(0), levelSize - 1);
-  vec4 tapData = texelFetch(uTaps, qc, level);
-  vec3 x2 = texelFetch(gPosition, qc, level).xyz;
-  vec3 radiance = texelFetch(uInput, qc, level).rgb;
+  vec4 tap = texelFetch(uTaps, qc, level);
+  vec3 x2 = tap.xyz, n2 = ssbcUnpackNormal(tap.w);
+  vec3 radianceArea = texelFetch(uTapRadiance, qc, level).rgb;
   vec3 d = x2 - r.x1;
   float dist2 = dot(d, d);
   vec3 w = d * inversesqrt(max(dist2, 1e-12));
-  float cos1 = max(dot(r.n1, w), 0.0), cos2 = max(-dot(tapData.xyz, w), 0.0);
+  float cos1 = max(dot(r.n1, w), 0.0), cos2 = max(-dot(n2, w), 0.0);
   // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (MANYLIGHTS 4).
   float excess = max(cos1 * cos2 / max(dist2, 1e-12) - uClampBound, 0.0);
-  bool take = use && all(equal(q, qc)) && dist2 > 1e-12 && tapData.w > 0.0;
-  return take ? evaluateBrdf(r.brdf, r.n1, r.wo, w) * (excess * tapData.w) * radiance : vec3(0.0);
+  bool take = use && all(equal(q, qc)) && dist2 > 1e-12 && tap.w >= 0.0;
+  return take ? evaluateBrdf(r.brdf, r.n1, r.wo, w) * excess * radianceArea : vec3(0.0);
 }
 
 // Level 0: the 12 pixels with 0 < |q - p| <= 2 (p itself has x2 = x1 and adds nothing); all of them lie in the ring.
@@ -149,6 +173,7 @@ vec3 ssbcCoarseAt(ivec2 px) {
 #ifdef SSBC_SPLIT
 layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
 layout(binding = 11) uniform sampler2D uCoarse;    // ssbcCoarseAt at the pixels kSsbcCoarseSpacing t
+layout(binding = 13) uniform sampler2D uCoarseFar; // its far rings (levels >= kSsbcFallbackExactLevels) alone
 
 // The coarse rings at p, interpolated bilinearly from the coarse grid. False (and coarse incomplete) where a sample
 // with non-zero weight is off screen or on another surface (relative depth and normal tests, as in
@@ -174,6 +199,30 @@ bool ssbcCoarseInterpolated(SsbcReceiver r, ivec2 px, out vec3 coarse) {
       coarse += ok ? wb * texelFetch(uCoarse, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
     }
   return complete;
+}
+
+// The far rings (levels >= kSsbcFallbackExactLevels) at a pixel whose interpolation is incomplete: bilinear over the
+// coarse samples on p's surface, renormalised (each such sample weighted at least 1/64, so that a pixel between
+// samples of which only zero-weight ones lie on its surface still gets them); 0 where none of the four does.
+vec3 ssbcFarExtrapolated(SsbcReceiver r, ivec2 px) {
+  vec4 key = texelFetch(gMergeKey, px, 0);
+  ivec2 base = px >> kSsbcFineLevels;
+  vec2 f = vec2(px - (base << kSsbcFineLevels)) * (1.0 / float(kSsbcCoarseSpacing));
+  ivec2 coarseSize = textureSize(uCoarseFar, 0);
+  vec3 sum = vec3(0.0);
+  float weight = 0.0;
+  for (int j = 0; j <= 1; ++j)
+    for (int i = 0; i <= 1; ++i) {
+      float wb = max((i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y), 1.0 / 64.0);
+      ivec2 t = base + ivec2(i, j);
+      ivec2 q = t << kSsbcFineLevels;
+      vec4 qk = texelFetch(gMergeKey, min(q, r.size - 1), 0);
+      bool ok = all(lessThan(q, r.size)) && qk.w > 0.0 && abs(qk.w - key.w) <= 0.02 * key.w &&
+                dot(qk.xyz, key.xyz) >= 0.95;
+      sum += ok ? wb * texelFetch(uCoarseFar, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
+      weight += ok ? wb : 0.0;
+    }
+  return weight > 0.0 ? sum / weight : vec3(0.0);
 }
 
 // Fine rings at p plus the interpolated coarse rings; `complete` false where the coarse rings are missing (the

@@ -5,9 +5,11 @@
 
 layout(binding = 6) uniform sampler2D uDirect;
 layout(binding = 7) uniform sampler2D uIndirect;
-layout(binding = 8) uniform sampler2D uResidual;
-uniform int uStage;
-uniform vec3 uCameraPosition;  // 0: write I0, 1: write the final image
+layout(binding = 8) uniform sampler2D uResidual1;  // R1 = T_r(I0)
+layout(binding = 9) uniform sampler2D uResidual2;  // R2 = T_r(R1)
+uniform int uStage;             // 0: write I0, 1: write the final image
+uniform int uResidualSteps;     // compensation steps whose results R1, R2 are current (0-2)
+uniform vec3 uCameraPosition;
 layout(location = 0) out vec4 outColor;
 
 void main() {
@@ -21,5 +23,8 @@ void main() {
   // One-sided emitters: Le is seen only from the side the geometric normal faces.
   bool front = pos.w > 0.0 && dot(texelFetch(gGeoNormal, px, 0).xyz, uCameraPosition - pos.xyz) > 0.0;
   vec3 le = front ? texelFetch(gEmission, px, 0).rgb : vec3(0.0);
-  outColor = vec4(le + i0 + texelFetch(uResidual, px, 0).rgb, 1.0);
+  // Selects, not products: a target not written this frame may hold anything.
+  vec3 r1 = uResidualSteps >= 1 ? texelFetch(uResidual1, px, 0).rgb : vec3(0.0);
+  vec3 r2 = uResidualSteps >= 2 ? texelFetch(uResidual2, px, 0).rgb : vec3(0.0);
+  outColor = vec4(le + i0 + r1 + r2, 1.0);
 }

@@ -10,6 +10,9 @@
 
 uniform int uScale;
 layout(location = 0) out vec4 outColor;
+#ifdef SSBC_COARSE_PASS
+layout(location = 1) out vec4 outFar;  // the far rings alone (levels >= kSsbcFallbackExactLevels)
+#endif
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy) * uScale;
@@ -17,7 +20,12 @@ void main() {
   ivec2 pc = min(px, size - 1);
   float alpha = 1.0;
 #if defined(SSBC_COARSE_PASS)
-  vec3 value = ssbcCoarseAt(pc);
+  SsbcReceiver r;
+  bool receiver = ssbcReceiver(pc, r);
+  vec3 far = ssbcRings(r, pc, kSsbcFallbackExactLevels, r.topLevel);
+  vec3 value = ssbcRings(r, pc, kSsbcFineLevels, min(r.topLevel, kSsbcFallbackExactLevels - 1)) + far;
+  value = receiver ? value : vec3(0.0);
+  outFar = vec4(receiver && all(lessThan(px, size)) ? far : vec3(0.0), 1.0);
 #elif defined(SSBC_FALLBACK_PASS)
   // Added (blending) to the SSBC_SPLIT pass's output where it lacks the coarse rings. A discarded fragment ends the
   // shader for its SIMD group once every lane has discarded (llvmpipe), so only groups at creases and silhouettes
@@ -25,7 +33,9 @@ void main() {
   SsbcReceiver r;
   vec3 coarse;
   if (any(greaterThanEqual(px, size)) || !ssbcReceiver(pc, r) || ssbcCoarseInterpolated(r, pc, coarse)) discard;
-  vec3 value = ssbcRings(r, pc, kSsbcFineLevels, r.topLevel);
+  // The near coarse rings exactly, the far ones from the samples on p's surface.
+  vec3 value = ssbcRings(r, pc, kSsbcFineLevels, min(r.topLevel, kSsbcFallbackExactLevels - 1)) +
+               ssbcFarExtrapolated(r, pc);
   alpha = 0.0;
 #elif defined(SSBC_SPLIT)
   bool complete;
