@@ -215,6 +215,8 @@ PreviewRenderer::PreviewRenderer()
       ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
+      directLambert_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"},
+                     {"BRDF_LAMBERT_ONLY 1", uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
       gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
                      {"BRDF_LAMBERT_ONLY 1", uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
@@ -470,11 +472,12 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // Pass 2: direct light, additive over shadow-map chunks, interleaved over the light samples.
   if (directChanged) {
     t.directMs = timed(timer_, t.directWallMs, [&] {
-      direct_.set("uCameraPosition", camera.position);
-      direct_.set("uShadowFar", far);
-      direct_.set("uShadowBias", bias);
-      interleaved(direct_, *tg.directRaw,
-                  [&](int subset) { drawLightTable(direct_, directShadows_, directTable_, directLights_, 7, subset); });
+      ShaderProgram& direct = lambertOnly_ ? directLambert_ : direct_;
+      direct.set("uCameraPosition", camera.position);
+      direct.set("uShadowFar", far);
+      direct.set("uShadowBias", bias);
+      interleaved(direct, *tg.directRaw,
+                  [&](int subset) { drawLightTable(direct, directShadows_, directTable_, directLights_, 7, subset); });
     });
     ++counters_.direct;
   }

@@ -110,7 +110,7 @@ class PreviewRenderer {
   ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, ssbc_, ssbcUpsample_,
       compose_, tonemap_;
   // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
-  ShaderProgram gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
+  ShaderProgram directLambert_, gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
   ShaderProgram ssbcTaps_, ssbcRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the full- and half-resolution
   // steps that interpolate the coarse rings, the pass that evaluates them on the coarse grid, and the passes that add
