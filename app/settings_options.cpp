@@ -36,7 +36,6 @@ std::vector<OptionSpec> manyLightOptions() {
       {"sample-points", "M", "camera-visible points for rejection (default 256)"},
       {"max-candidates", "F", "candidate cap as a multiple of --vpls (default 100)"},
       {"ssbc", "0|1|2", "screen-space bias compensation steps (GL preview; default 0)"},
-      {"ssbc-divisor", "1|2", "SSBC resolution divisor, 2 = half resolution (GL preview; default 1)"},
       {"ssbc-coarse-rings", "0|1", "SSBC rings >= 4 px away on a 4 px grid, 0 = every pixel (GL preview; default 1)"},
       {"interleave", "k", "interleaved sampling k x k, 1 = off (GL preview; default 1)"},
       {"shadow-map-size", "S", "VPL shadow-map resolution (GL preview; default 256)"},
@@ -77,7 +76,6 @@ void applySettingsOptions(const CommandLine& cl, Settings& s) {
   s.rejectionSamplePoints = cl.getInt("sample-points", s.rejectionSamplePoints);
   s.rejectionMaxCandidateFactor = cl.getInt("max-candidates", s.rejectionMaxCandidateFactor);
   s.ssbcSteps = cl.getInt("ssbc", s.ssbcSteps);
-  s.ssbcResolutionDivisor = cl.getInt("ssbc-divisor", s.ssbcResolutionDivisor);
   s.ssbcCoarseRings = cl.getInt("ssbc-coarse-rings", s.ssbcCoarseRings ? 1 : 0) != 0;
   s.interleave = cl.getInt("interleave", s.interleave);
   s.shadowMapSize = cl.getInt("shadow-map-size", s.shadowMapSize);

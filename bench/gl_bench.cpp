@@ -10,7 +10,7 @@
 // is unreliable), median of 5 draws after a warm-up draw.
 //
 // usage: vplab_bench_gl_bench [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv out.csv] [--scene file.gltf]
-//                             [--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--ssbc-coarse-rings 0|1] [--quick]
+//                             [--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--quick]
 
 #include <algorithm>
 #include <chrono>
@@ -109,7 +109,7 @@ int main(int argc, char** argv) {
   std::string scenePath = std::string(VPLAB_ASSET_DIR) + "/scenes/cornell-box.gltf";
   std::string csvPath = "gl_bench.csv";
   GlBackend backend = GlBackend::Auto;
-  int width = 640, height = 480, frames = 5, ssbc = 2, ssbcDivisor = 1, ssbcCoarseRings = 1;
+  int width = 640, height = 480, frames = 5, ssbc = 2, ssbcCoarseRings = 1;
   float clamp = 20.0f;
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
@@ -136,8 +136,6 @@ int main(int argc, char** argv) {
       ssbc = std::atoi(next().c_str());
     } else if (a == "--clamp") {
       clamp = std::strtof(next().c_str(), nullptr);
-    } else if (a == "--ssbc-divisor") {
-      ssbcDivisor = std::atoi(next().c_str());
     } else if (a == "--ssbc-coarse-rings") {
       ssbcCoarseRings = std::atoi(next().c_str());
     } else if (a == "--quick") {
@@ -145,7 +143,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: %s [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv F] [--scene F] "
-                   "[--ssbc S] [--clamp b] [--ssbc-divisor 1|2] [--ssbc-coarse-rings 0|1] [--quick]\n",
+                   "[--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--quick]\n",
                    argv[0]);
       return a == "--help" ? 0 : 2;
     }
@@ -156,17 +154,17 @@ int main(int argc, char** argv) {
   LightSampler lights(scene);
   HeadlessGlContext context(backend);
   std::printf(
-      "gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (resolution / %d, coarse rings %s), median of %d frames "
+      "gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (coarse rings %s), median of %d frames "
       "after warm-up\n\n",
-      context.description().c_str(), scene.sourcePath.c_str(), width, height, clamp, ssbc, ssbcDivisor,
+      context.description().c_str(), scene.sourcePath.c_str(), width, height, clamp, ssbc,
       ssbcCoarseRings != 0 ? "on" : "off", frames);
 
   std::ofstream csv(csvPath);
   csv << "vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
          "gather_evals,gather_gevals_per_s,probe_lights,probe_ms,probe_gevals_per_s,gather_of_ceiling\n";
   std::printf("%6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s\n", "VPLs", "k", "frame ms", "fps",
-              "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms", "gather G/s", "probe", "probe ms",
-              "probe G/s", "ceiling");
+              "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms", "gather G/s", "probe",
+              "probe ms", "probe G/s", "ceiling");
   CeilingProbe probe(width, height);
   std::vector<int> counts = quick ? std::vector<int>{256} : std::vector<int>{64, 256, 1024};
   std::vector<int> ks = quick ? std::vector<int>{4} : std::vector<int>{1, 2, 4};
@@ -177,7 +175,6 @@ int main(int argc, char** argv) {
     settings.vplCount = n;
     settings.clampBound = clamp;
     settings.ssbcSteps = ssbc;
-    settings.ssbcResolutionDivisor = ssbcDivisor;
     settings.ssbcCoarseRings = ssbcCoarseRings != 0;
     VplSet vpls = generateVpls(scene, embree, lights, settings);
     PreviewRenderer renderer;

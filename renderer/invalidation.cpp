@@ -76,8 +76,7 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
     s.gather = true;
     s.offline |= method == Method::Vpl || method == Method::VplKK;
   }
-  if (a.ssbcSteps != b.ssbcSteps || a.ssbcResolutionDivisor != b.ssbcResolutionDivisor ||
-      a.ssbcCoarseRings != b.ssbcCoarseRings)
+  if (a.ssbcSteps != b.ssbcSteps || a.ssbcCoarseRings != b.ssbcCoarseRings)
     s.ssbc = true;
 
   // VSLs (section 7) change the gather integral, not the VPL positions.

@@ -40,7 +40,6 @@ std::vector<std::string> validateSettings(const Settings& s) {
   checkRange(p, "rejectionMaxCandidateFactor", s.rejectionMaxCandidateFactor, 1, 10000);
   checkRange(p, "clampBound", s.clampBound, 0.0f, kInfinity);
   checkRange(p, "ssbcSteps", s.ssbcSteps, 0, 2);
-  checkRange(p, "ssbcResolutionDivisor", s.ssbcResolutionDivisor, 1, 2);
   checkRange(p, "vslRadius", s.vslRadius, 0.0f, std::numeric_limits<float>::max());
   checkRange(p, "vslSamples", s.vslSamples, 1, 256);
   checkRange(p, "directLightSamples", s.directLightSamples, 1, 4096);

@@ -69,10 +69,6 @@ struct Settings {
   float clampBound = kInfinity;
   /// Screen-space bias compensation steps in the GL preview (Novak et al. 2011) [0, 2]. Default 0.
   int ssbcSteps = 0;
-  /// Resolution divisor of the compensation [1, 2]: 2 evaluates T_r at every second pixel in x and y and upsamples
-  /// along surfaces (crease and silhouette pixels stay at full resolution), about 2x cheaper for slightly less
-  /// recovered energy (tests/gl_accuracy_test.cpp measures both). Default 1.
-  int ssbcResolutionDivisor = 1;
   /// Multi-resolution rings: the compensation's rings at least 4 px away from a pixel are evaluated at every 4th pixel
   /// in x and y and interpolated along surfaces (pixels at creases and silhouettes evaluate them themselves); the
   /// nearer rings, where the residual is largest, stay per pixel. About 2.4x cheaper at 640x480 for 0.8 percentage

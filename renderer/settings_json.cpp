@@ -42,7 +42,6 @@ const std::vector<Field>& fields() {
       {"rejectionMaxCandidateFactor", &Settings::rejectionMaxCandidateFactor},
       {"clampBound", &Settings::clampBound},
       {"ssbcSteps", &Settings::ssbcSteps},
-      {"ssbcResolutionDivisor", &Settings::ssbcResolutionDivisor},
       {"ssbcCoarseRings", &Settings::ssbcCoarseRings},
       {"vslRadius", &Settings::vslRadius},
       {"vslRadiusFromDensity", &Settings::vslRadiusFromDensity},

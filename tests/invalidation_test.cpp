@@ -59,8 +59,6 @@ TEST(Invalidation, RejectionParametersMatterOnlyWhileRejectionIsOn) {
 TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
   Staleness ssbc = change([](Settings& x) { x.ssbcSteps = 2; });
   EXPECT_EQ(toString(ssbc), "ssbc tonemap");
-  Staleness ssbcHalf = change([](Settings& x) { x.ssbcResolutionDivisor = 2; });
-  EXPECT_EQ(toString(ssbcHalf), "ssbc tonemap");
   Staleness ssbcCoarse = change([](Settings& x) { x.ssbcCoarseRings = false; });
   EXPECT_EQ(toString(ssbcCoarse), "ssbc tonemap");
   Staleness exposure = change([](Settings& x) { x.exposure = 1.0f; });

@@ -67,11 +67,6 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   else
     ImGui::TextDisabled("clamp energy removed: not measured");
   changed |= sliderInt("SSBC steps", &s.ssbcSteps, 0, 2, "Screen-space bias compensation (Novak et al. 2011)");
-  bool ssbcHalf = s.ssbcResolutionDivisor == 2;
-  if (ImGui::Checkbox("SSBC at half resolution", &ssbcHalf)) {
-    s.ssbcResolutionDivisor = ssbcHalf ? 2 : 1;
-    changed = true;
-  }
   changed |= ImGui::Checkbox("SSBC coarse rings on a 4 px grid", &s.ssbcCoarseRings);
 
   ImGui::Separator();
@@ -82,8 +77,8 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     changed = true;
   }
   if (vsl) {
-    changed |= sliderFloat("radius r [m]", &s.vslRadius, 0.001f, 1.0f, "%.4f", "0 = point VPLs",
-                           ImGuiSliderFlags_Logarithmic);
+    changed |=
+        sliderFloat("radius r [m]", &s.vslRadius, 0.001f, 1.0f, "%.4f", "0 = point VPLs", ImGuiSliderFlags_Logarithmic);
     changed |= ImGui::Checkbox("r from VPL density", &s.vslRadiusFromDensity);
     changed |= sliderInt("VSL samples", &s.vslSamples, 1, 64, "cone + BRDF samples per VSL (MIS)");
   }
@@ -122,11 +117,13 @@ bool drawOfflineSettingsPanel(Settings& s) {
 std::vector<LightHandle> editableLights(const Scene& scene) {
   std::vector<LightHandle> lights;
   for (uint32_t i = 0; i < scene.punctualLights.size(); ++i)
-    lights.push_back({LightHandle::Kind::Punctual, i,
-                      scene.punctualLights[i].name.empty() ? "point " + std::to_string(i) : scene.punctualLights[i].name});
+    lights.push_back(
+        {LightHandle::Kind::Punctual, i,
+         scene.punctualLights[i].name.empty() ? "point " + std::to_string(i) : scene.punctualLights[i].name});
   std::set<uint32_t> emissive;
   for (uint32_t t : scene.emissiveTriangles) emissive.insert(scene.triangleMaterials[t]);
-  for (uint32_t m : emissive) lights.push_back({LightHandle::Kind::AreaMaterial, m, "area: " + scene.materials[m].name});
+  for (uint32_t m : emissive)
+    lights.push_back({LightHandle::Kind::AreaMaterial, m, "area: " + scene.materials[m].name});
   return lights;
 }
 
@@ -184,7 +181,8 @@ void drawSceneInfo(const Scene& scene) {
   ImGui::Text("%zu emissive triangles, %zu punctual lights", scene.emissiveTriangles.size(),
               scene.punctualLights.size());
   ImGui::Text("camera %s", scene.camera.fromFile ? "from the file" : "framed by vplab");
-  if (scene.degenerateTrianglesDropped) ImGui::Text("%zu degenerate triangles dropped", scene.degenerateTrianglesDropped);
+  if (scene.degenerateTrianglesDropped)
+    ImGui::Text("%zu degenerate triangles dropped", scene.degenerateTrianglesDropped);
   for (const std::string& w : scene.warnings) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", w.c_str());
 }
 

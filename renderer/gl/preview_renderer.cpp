@@ -118,8 +118,6 @@ struct PreviewRenderer::Targets {
   // (ssbc_taps.frag.glsl), one framebuffer per level; I dA per mip texel of a step's input (ssbc_radiance.frag.glsl).
   GlTexture ssbcTaps, ssbcArea, ssbcRadiance;
   std::vector<GlFramebuffer> ssbcTapLevels, ssbcRadianceLevels;
-  // Half-resolution compensation step (ssbc.frag.glsl with uScale 2): the samples at the even pixels.
-  Target ssbcHalf;
   // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
   // far rings alone (second attachment of ssbcCoarse.framebuffer).
   Target ssbcCoarse;
@@ -160,7 +158,6 @@ struct PreviewRenderer::Targets {
         ssbcTaps(w, h, TextureFormat::Rgba32F, 0),
         ssbcArea(w, h, TextureFormat::R32F, 0),
         ssbcRadiance(w, h, TextureFormat::Rgba32F, 0),
-        ssbcHalf((w + 1) / 2, (h + 1) / 2),
         ssbcCoarse((w + 3) / 4, (h + 3) / 4),
         ssbcCoarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F) {
     ssbcCoarse.framebuffer.attachColor(1, ssbcCoarseFar);
@@ -212,7 +209,6 @@ PreviewRenderer::PreviewRenderer()
       deinterleaveColumns_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"},
                            {"DEINTERLEAVE_COLUMNS 1"}),
       ssbc_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}),
-      ssbcUpsample_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
       directLambert_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"},
@@ -220,28 +216,18 @@ PreviewRenderer::PreviewRenderer()
       gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
                      {"BRDF_LAMBERT_ONLY 1", uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
-      ssbcUpsampleLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
-                           {"BRDF_LAMBERT_ONLY 1"}),
       ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
       ssbcRadiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}),
       ssbcSplit_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_SPLIT 1"}),
                  ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
                                {"SSBC_SPLIT 1", "BRDF_LAMBERT_ONLY 1"})},
-      ssbcSplitUpsample_{
-          ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"}, {"SSBC_SPLIT 1"}),
-          ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
-                        {"SSBC_SPLIT 1", "BRDF_LAMBERT_ONLY 1"})},
       ssbcCoarse_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_COARSE_PASS 1"}),
                   ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
                                 {"SSBC_COARSE_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
       ssbcFallback_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
                                   {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
                     ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
-                                  {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
-      ssbcUpsampleFallback_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
-                                          {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
-                            ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc_upsample.frag.glsl"},
-                                          {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})} {
+                                  {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})} {
   vplTable_ = uniformTableLayout(sizeof(VplGpu));
   directTable_ = uniformTableLayout(sizeof(DirectLightGpu));
 }
@@ -368,7 +354,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                        settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
                        settings.shadowBias != last.shadowBias;
   bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps ||
-                     settings.ssbcResolutionDivisor != last.ssbcResolutionDivisor ||
                      settings.ssbcCoarseRings != last.ssbcCoarseRings;
   bool tonemapChanged = ssbcChanged || settings.exposure != last.exposure;
 
@@ -537,25 +522,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         const bool split = settings.ssbcCoarseRings;
         const int variant = lambertOnly_ ? 1 : 0;
         ShaderProgram& ssbc = split ? ssbcSplit_[variant] : lambertOnly_ ? ssbcLambert_ : ssbc_;
-        ShaderProgram& upsample = split          ? ssbcSplitUpsample_[variant]
-                                  : lambertOnly_ ? ssbcUpsampleLambert_
-                                                 : ssbcUpsample_;
         ShaderProgram& coarse = ssbcCoarse_[variant];
         ShaderProgram& fallback = ssbcFallback_[variant];
-        ShaderProgram& upsampleFallback = ssbcUpsampleFallback_[variant];
-        for (ShaderProgram* program : {&ssbc, &upsample, &coarse, &fallback, &upsampleFallback}) {
+        for (ShaderProgram* program : {&ssbc, &coarse, &fallback}) {
           program->set("uCameraPosition", camera.position);
           program->set("uCameraForward", camera.forward);
           program->set("uClampBound", settings.clampBound);
           program->set("uFocalPixels", focal);
           program->set("uMaxLevel", tg.gPosition.levels() - 1);
         }
-        // Half resolution (Settings::ssbcResolutionDivisor 2) is evaluated at every second pixel and upsampled along
-        // surfaces (ssbc_upsample.frag.glsl).
-        const int ssbcDivisor = settings.ssbcResolutionDivisor;
-        ssbc.set("uScale", ssbcDivisor);
+        ssbc.set("uScale", 1);
         coarse.set("uScale", 4);
-        fallback.set("uScale", ssbcDivisor);
+        fallback.set("uScale", 1);
         // Multi-resolution rings: adds (blending) what the pass before could not interpolate from the coarse grid.
         auto addFallback = [&](ShaderProgram& program) {
           if (!split) return;
@@ -594,19 +572,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
             tg.ssbcCoarse.texture.bind(11);
             tg.ssbcCoarseFar.bind(13);
           }
-          if (ssbcDivisor == 2) {
-            tg.ssbcHalf.framebuffer.bind(tg.ssbcHalf.texture.width(), tg.ssbcHalf.texture.height());
-            drawFullscreen(ssbc);
-            addFallback(fallback);
-            outputs[step]->framebuffer.bind(tg.width, tg.height);
-            tg.ssbcHalf.texture.bind(7);
-            drawFullscreen(upsample);
-            addFallback(upsampleFallback);
-          } else {
-            outputs[step]->framebuffer.bind(tg.width, tg.height);
-            drawFullscreen(ssbc);
-            addFallback(fallback);
-          }
+          outputs[step]->framebuffer.bind(tg.width, tg.height);
+          drawFullscreen(ssbc);
+          addFallback(fallback);
           input = outputs[step];
         }
       }

@@ -107,15 +107,15 @@ class PreviewRenderer {
   std::vector<glm::vec3> directPositions_;
   /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
   bool vplsHaveRadius_ = false;
-  ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, ssbc_, ssbcUpsample_,
-      compose_, tonemap_;
+  ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, ssbc_, compose_,
+      tonemap_;
   // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
-  ShaderProgram directLambert_, gatherLambert_, ssbcLambert_, ssbcUpsampleLambert_;
+  ShaderProgram directLambert_, gatherLambert_, ssbcLambert_;
   ShaderProgram ssbcTaps_, ssbcRadiance_;
-  // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the full- and half-resolution
-  // steps that interpolate the coarse rings, the pass that evaluates them on the coarse grid, and the passes that add
-  // what could not be interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
-  ShaderProgram ssbcSplit_[2], ssbcSplitUpsample_[2], ssbcCoarse_[2], ssbcFallback_[2], ssbcUpsampleFallback_[2];
+  // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
+  // coarse rings, the pass that evaluates them on the coarse grid, and the pass that adds what could not be
+  // interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
+  ShaderProgram ssbcSplit_[2], ssbcCoarse_[2], ssbcFallback_[2];
   bool lambertOnly_ = false;
   // How the VPL and direct-light tables are split into uniform-block ranges (preview_renderer.cpp).
   UniformTableLayout vplTable_, directTable_;

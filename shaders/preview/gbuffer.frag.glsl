@@ -16,7 +16,7 @@ layout(location = 2) out vec4 outBaseColor;
 layout(location = 3) out vec4 outEmission;
 layout(location = 4) out vec4 outGeoNormal;
 // Shading normal and distance to the camera in one texel: the geometry-aware merges (deinterleave.frag.glsl,
-// ssbc_upsample.frag.glsl) test every neighbour with one fetch instead of two and no length().
+// the coarse-ring interpolation of common/ssbc.glsl) test every neighbour with one fetch instead of two and no length().
 layout(location = 5) out vec4 outMergeKey;
 
 void main() {

@@ -1,9 +1,9 @@
 #version 450 core
 // Pass 5, one step of screen-space bias compensation (common/ssbc.glsl) at every uScale-th pixel: output texel t
-// holds T_r(I) at the full-resolution pixel t * uScale (uScale 1: every pixel; 2: the half-resolution grid that
-// ssbc_upsample.frag.glsl interpolates). Multi-resolution rings (common/ssbc.glsl): SSBC_COARSE_PASS holds only the
-// coarse rings, at the pixels kSsbcCoarseSpacing t (uScale kSsbcCoarseSpacing); SSBC_SPLIT the fine rings and the
-// interpolated coarse rings, SSBC_FALLBACK_PASS adds the coarse rings where they could not be interpolated.
+// holds T_r(I) at the pixel t * uScale (uScale 1: every pixel). Multi-resolution rings (common/ssbc.glsl):
+// SSBC_COARSE_PASS holds only the coarse rings, at the pixels kSsbcCoarseSpacing t (uScale kSsbcCoarseSpacing);
+// SSBC_SPLIT the fine rings and the interpolated coarse rings, SSBC_FALLBACK_PASS adds the coarse rings where they
+// could not be interpolated.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
