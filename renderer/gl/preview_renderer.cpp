@@ -122,6 +122,8 @@ struct PreviewRenderer::Targets {
   // far rings alone (second attachment of ssbcCoarse.framebuffer).
   Target ssbcCoarse;
   GlTexture ssbcCoarseFar;
+  // Per coarse block: whether every fine-ring tap of its pixels is coplanar with them (ssbc_flat.frag.glsl).
+  Target ssbcFlat;
   // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
   // blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
@@ -159,7 +161,8 @@ struct PreviewRenderer::Targets {
         ssbcArea(w, h, TextureFormat::R32F, 0),
         ssbcRadiance(w, h, TextureFormat::Rgba32F, 0),
         ssbcCoarse((w + 3) / 4, (h + 3) / 4),
-        ssbcCoarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F) {
+        ssbcCoarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F),
+        ssbcFlat((w + 3) / 4, (h + 3) / 4) {
     ssbcCoarse.framebuffer.attachColor(1, ssbcCoarseFar);
     ssbcCoarse.framebuffer.finalize(2);
     ssbcTapLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
@@ -224,6 +227,11 @@ PreviewRenderer::PreviewRenderer()
       ssbcCoarse_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_COARSE_PASS 1"}),
                   ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
                                 {"SSBC_COARSE_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcFine_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
+                              {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1"}),
+                ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
+                              {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcFlat_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}),
       ssbcFallback_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
                                   {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
                     ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
@@ -524,7 +532,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         ShaderProgram& ssbc = split ? ssbcSplit_[variant] : lambertOnly_ ? ssbcLambert_ : ssbc_;
         ShaderProgram& coarse = ssbcCoarse_[variant];
         ShaderProgram& fallback = ssbcFallback_[variant];
-        for (ShaderProgram* program : {&ssbc, &coarse, &fallback}) {
+        ShaderProgram& fine = ssbcFine_[variant];
+        for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine}) {
           program->set("uCameraPosition", camera.position);
           program->set("uCameraForward", camera.forward);
           program->set("uClampBound", settings.clampBound);
@@ -534,14 +543,23 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         ssbc.set("uScale", 1);
         coarse.set("uScale", 4);
         fallback.set("uScale", 1);
-        // Multi-resolution rings: adds (blending) what the pass before could not interpolate from the coarse grid.
-        auto addFallback = [&](ShaderProgram& program) {
+        fine.set("uScale", 1);
+        // Multi-resolution rings: adds (blending) the fine rings where they are not zero, and the coarse rings where
+        // the pass before could not interpolate them from the coarse grid.
+        auto addSplitPasses = [&] {
           if (!split) return;
           glEnable(GL_BLEND);
           glBlendFunc(GL_ONE, GL_ONE);
-          drawFullscreen(program);
+          drawFullscreen(fine);
+          drawFullscreen(fallback);
           glDisable(GL_BLEND);
         };
+        if (split) {
+          // Which coarse blocks lie on one plane: depends on the camera and the G-buffer only, once for both steps.
+          tg.ssbcFlat.framebuffer.bind(tg.ssbcFlat.texture.width(), tg.ssbcFlat.texture.height());
+          drawFullscreen(ssbcFlat_);
+          tg.ssbcFlat.texture.bind(14);
+        }
         // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
         ssbcTaps_.set("uCameraPosition", camera.position);
         ssbcTaps_.set("uFocalPixels", focal);
@@ -574,7 +592,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           }
           outputs[step]->framebuffer.bind(tg.width, tg.height);
           drawFullscreen(ssbc);
-          addFallback(fallback);
+          addSplitPasses();
           input = outputs[step];
         }
       }

@@ -113,9 +113,10 @@ class PreviewRenderer {
   ShaderProgram directLambert_, gatherLambert_, ssbcLambert_;
   ShaderProgram ssbcTaps_, ssbcRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
-  // coarse rings, the pass that evaluates them on the coarse grid, and the pass that adds what could not be
+  // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are
+  // not zero (SSBC_FINE_PASS, with the flat-block mask of ssbcFlat_) and the pass that adds what could not be
   // interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
-  ShaderProgram ssbcSplit_[2], ssbcCoarse_[2], ssbcFallback_[2];
+  ShaderProgram ssbcSplit_[2], ssbcCoarse_[2], ssbcFine_[2], ssbcFlat_, ssbcFallback_[2];
   bool lambertOnly_ = false;
   // How the VPL and direct-light tables are split into uniform-block ranges (preview_renderer.cpp).
   UniformTableLayout vplTable_, directTable_;

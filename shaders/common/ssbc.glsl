@@ -17,7 +17,8 @@
 // least kSsbcCoarseSpacing px away) vary on the scale of their own radius along a surface, so they are evaluated only
 // at the pixels kSsbcCoarseSpacing t (ssbc.frag.glsl with SSBC_COARSE_PASS) and interpolated bilinearly between
 // samples on the same surface; the fine rings, where the residual is largest and steepest, are evaluated at every
-// pixel. A pixel whose interpolation would need a sample from another surface evaluates the coarse rings itself.
+// pixel whose fine taps are not all coplanar with it (SSBC_FINE_PASS, ssbc_flat.frag.glsl). A pixel whose
+// interpolation would need a sample from another surface evaluates the coarse rings itself.
 //
 // llvmpipe runs an if under a lane mask and a loop's body at least once for the whole SIMD group; only a discard
 // ends the shader early (once every lane of the group has discarded). The tap is therefore branch-free, and work
@@ -163,7 +164,7 @@ vec3 ssbcFullAt(ivec2 px) {
   return ssbcLevel0(r, px) + ssbcLevel1(r, px) + ssbcRings(r, px, 2, r.topLevel);
 }
 
-// The coarse rings only (levels >= kSsbcFineLevels) at p: the samples that ssbcSplitAt interpolates.
+// The coarse rings only (levels >= kSsbcFineLevels) at p: the samples that ssbcCoarseInterpolated interpolates.
 vec3 ssbcCoarseAt(ivec2 px) {
   SsbcReceiver r;
   if (!ssbcReceiver(px, r)) return vec3(0.0);
@@ -225,25 +226,6 @@ vec3 ssbcFarExtrapolated(SsbcReceiver r, ivec2 px) {
   return weight > 0.0 ? sum / weight : vec3(0.0);
 }
 
-// Fine rings at p plus the interpolated coarse rings; `complete` false where the coarse rings are missing (the
-// fallback pass, ssbc.frag.glsl with SSBC_FALLBACK_PASS, adds them).
-vec3 ssbcSplitAt(ivec2 px, out bool complete) {
-  SsbcReceiver r;
-  complete = true;
-  if (!ssbcReceiver(px, r)) return vec3(0.0);
-  vec3 coarse;
-  complete = ssbcCoarseInterpolated(r, px, coarse);
-  return ssbcLevel0(r, px) + ssbcLevel1(r, px) + (complete ? coarse : vec3(0.0));
-}
-
-// All of T_r at p, the coarse rings interpolated where possible. llvmpipe runs a loop's body at least once for the
-// whole SIMD group, so this costs a coarse ring even where it is interpolated: only for pixels that need it.
-vec3 ssbcSplitCompleteAt(SsbcReceiver r, ivec2 px) {
-  vec3 coarse;
-  bool complete = ssbcCoarseInterpolated(r, px, coarse);
-  return ssbcLevel0(r, px) + ssbcLevel1(r, px) + coarse +
-         ssbcRings(r, px, complete ? r.topLevel + 1 : kSsbcFineLevels, r.topLevel);
-}
 #endif
 
 vec3 ssbcAt(ivec2 px) { return ssbcFullAt(px); }

@@ -2,13 +2,16 @@
 // Pass 5, one step of screen-space bias compensation (common/ssbc.glsl) at every uScale-th pixel: output texel t
 // holds T_r(I) at the pixel t * uScale (uScale 1: every pixel). Multi-resolution rings (common/ssbc.glsl):
 // SSBC_COARSE_PASS holds only the coarse rings, at the pixels kSsbcCoarseSpacing t (uScale kSsbcCoarseSpacing);
-// SSBC_SPLIT the fine rings and the interpolated coarse rings, SSBC_FALLBACK_PASS adds the coarse rings where they
-// could not be interpolated.
+// SSBC_SPLIT the interpolated coarse rings, SSBC_FINE_PASS adds the fine rings where they are not zero and
+// SSBC_FALLBACK_PASS the coarse rings where they could not be interpolated.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
 
 uniform int uScale;
+#ifdef SSBC_FINE_PASS
+layout(binding = 14) uniform sampler2D uFlat;  // per coarse block: 1 where every fine tap is coplanar with its pixel
+#endif
 layout(location = 0) out vec4 outColor;
 #ifdef SSBC_COARSE_PASS
 layout(location = 1) out vec4 outFar;  // the far rings alone (levels >= kSsbcFallbackExactLevels)
@@ -37,9 +40,25 @@ void main() {
   vec3 value = ssbcRings(r, pc, kSsbcFineLevels, min(r.topLevel, kSsbcFallbackExactLevels - 1)) +
                ssbcFarExtrapolated(r, pc);
   alpha = 0.0;
+#elif defined(SSBC_FINE_PASS)
+  // Added (blending) to the SSBC_SPLIT pass's output: the fine rings, only at pixels whose block is not flat
+  // (ssbc_flat.frag.glsl); elsewhere every fine tap is coplanar with p and adds nothing. Discarding ends the shader
+  // early for a SIMD group whose pixels are all flat (llvmpipe).
+  SsbcReceiver r;
+  if (any(greaterThanEqual(px, size)) || texelFetch(uFlat, px / kSsbcCoarseSpacing, 0).x > 0.5 ||
+      !ssbcReceiver(pc, r))
+    discard;
+  vec3 value = ssbcLevel0(r, pc) + ssbcLevel1(r, pc);
+  alpha = 0.0;
 #elif defined(SSBC_SPLIT)
-  bool complete;
-  vec3 value = ssbcSplitAt(pc, complete);
+  // The coarse rings interpolated from the coarse grid (0 where incomplete: the fallback pass adds them); the fine
+  // rings come from the SSBC_FINE_PASS.
+  SsbcReceiver r;
+  vec3 value = vec3(0.0);
+  if (ssbcReceiver(pc, r)) {
+    vec3 coarse;
+    value = ssbcCoarseInterpolated(r, pc, coarse) ? coarse : vec3(0.0);
+  }
 #else
   vec3 value = ssbcAt(pc);
 #endif
