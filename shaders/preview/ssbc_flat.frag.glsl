@@ -26,16 +26,15 @@ void main() {
       ivec2 q = clamp(ivec2(x, y), ivec2(0), size - 1);
       vec4 key = texelFetch(gMergeKey, q, 0);
       bool use = all(equal(q, ivec2(x, y))) && key.w > 0.0;
-      float c = dot(key.xyz, texelFetch(gPosition, q, 0).xyz);
-      // The first surface texel defines the plane n . x = c; the others must share normal and offset (the offset
-      // within a millionth of the camera distance, about float precision).
+      // The first surface texel defines the plane n0 . x = c0; the others must share the normal and lie on that plane
+      // (within a millionth of the camera distance, about float precision).
       bool first = use && !found;
       n0 = first ? key.xyz : n0;
-      c0 = first ? c : c0;
+      float offset = dot(n0, texelFetch(gPosition, q, 0).xyz);
+      c0 = first ? offset : c0;
       tolerance = first ? 1e-6 * key.w + 1e-7 : tolerance;
       found = found || use;
-      planar = planar && (!use || (dot(key.xyz, n0) >= 1.0 - 1e-6 && abs(dot(n0, texelFetch(gPosition, q, 0).xyz) - c0) <=
-                                                                       tolerance));
+      planar = planar && (!use || (dot(key.xyz, n0) >= 1.0 - 1e-6 && abs(offset - c0) <= tolerance));
     }
   outFlat = vec4(planar ? 1.0 : 0.0, 0.0, 0.0, 1.0);
 }
