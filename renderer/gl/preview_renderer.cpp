@@ -544,6 +544,15 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         coarse.set("uScale", 4);
         fallback.set("uScale", 1);
         fine.set("uScale", 1);
+        // Draws `program` into every mip level of a full-resolution texture (one framebuffer per level), uLevel set.
+        auto drawEveryLevel = [&](std::vector<GlFramebuffer>& levels, ShaderProgram& program) {
+          for (std::size_t level = 0; level < levels.size(); ++level) {
+            const int l = static_cast<int>(level);
+            levels[level].bind(std::max(1, tg.width >> l), std::max(1, tg.height >> l));
+            program.set("uLevel", l);
+            drawFullscreen(program);
+          }
+        };
         // Multi-resolution rings: adds (blending) the fine rings where they are not zero, and the coarse rings where
         // the pass before could not interpolate them from the coarse grid.
         auto addSplitPasses = [&] {
@@ -563,12 +572,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
         ssbcTaps_.set("uCameraPosition", camera.position);
         ssbcTaps_.set("uFocalPixels", focal);
-        for (int level = 0; level < tg.ssbcTaps.levels(); ++level) {
-          tg.ssbcTapLevels[static_cast<std::size_t>(level)].bind(std::max(1, tg.width >> level),
-                                                                 std::max(1, tg.height >> level));
-          ssbcTaps_.set("uLevel", level);
-          drawFullscreen(ssbcTaps_);
-        }
+        drawEveryLevel(tg.ssbcTapLevels, ssbcTaps_);
         tg.ssbcTaps.bind(9);
         tg.ssbcArea.bind(12);
         Target* input = &tg.i0;
@@ -577,12 +581,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           // The radiance factor of the taps, I dA, at every mip level of this step's input.
           input->texture.generateMipmaps();
           input->texture.bind(6);
-          for (int level = 0; level < tg.ssbcRadiance.levels(); ++level) {
-            tg.ssbcRadianceLevels[static_cast<std::size_t>(level)].bind(std::max(1, tg.width >> level),
-                                                                        std::max(1, tg.height >> level));
-            ssbcRadiance_.set("uLevel", level);
-            drawFullscreen(ssbcRadiance_);
-          }
+          drawEveryLevel(tg.ssbcRadianceLevels, ssbcRadiance_);
           tg.ssbcRadiance.bind(6);
           if (split) {
             tg.ssbcCoarse.framebuffer.bind(tg.ssbcCoarse.texture.width(), tg.ssbcCoarse.texture.height());
