@@ -72,7 +72,7 @@ LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2
   LightSampleLi s;
   if (empty()) return s;
   std::size_t li = pick(uLight);
-  float pLight = cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0f);
+  float pLight = choiceProbability(li);
   const LightRef& light = lights_[li];
 
   if (light.punctual) {
@@ -108,7 +108,7 @@ float LightSampler::pdfLi(const glm::vec3& x, uint32_t triangle, const glm::vec3
   if (triangle >= triangleToLight_.size()) return 0.0f;
   int32_t li = triangleToLight_[triangle];
   if (li < 0) return 0.0f;
-  float pLight = cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0f);
+  float pLight = choiceProbability(static_cast<std::size_t>(li));
   glm::vec3 d = y - x;
   float dist2 = glm::dot(d, d);
   float cosLight = -glm::dot(ny, d) / std::sqrt(dist2);
@@ -125,7 +125,7 @@ EmissionSample LightSampler::sampleEmission(float uLight, glm::vec2 uPoint, glm:
   EmissionSample s;
   if (empty()) return s;
   std::size_t li = pick(uLight);
-  float pLight = cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0f);
+  float pLight = choiceProbability(li);
   const LightRef& light = lights_[li];
 
   if (light.punctual) {

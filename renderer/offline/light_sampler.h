@@ -62,6 +62,8 @@ class LightSampler {
     float power = 0.0f;  ///< selection weight (luminance of the flux)
   };
   std::size_t pick(float u) const;
+  /// Probability that pick() chooses light li.
+  float choiceProbability(std::size_t li) const { return cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0f); }
 
   const Scene& scene_;
   std::vector<LightRef> lights_;
