@@ -98,15 +98,9 @@ ProgressiveResult renderReference(const Scene& scene, const EmbreeScene& embree,
   assert(&embree.scene() == &scene && "the BVH must be built from the scene being rendered");
   requireValidSettings(settings);
 
-  ProgressiveOptions options;
-  options.width = settings.width;
-  options.height = settings.height;
-  options.samplesPerPixel = settings.samplesPerPixel;
-  options.seed = settings.seed;
-  options.threads = settings.threads;
   // About 32 passes: frequent enough to watch, few enough that the per-pass bookkeeping stays negligible.
-  options.samplesPerPass = std::clamp(settings.samplesPerPixel / 32, 1, 16);
-  options.onPass = std::move(onPass);
+  ProgressiveOptions options =
+      progressiveOptions(settings, std::clamp(settings.samplesPerPixel / 32, 1, 16), std::move(onPass));
 
   if (lights.empty()) {
     // Nothing emits: the exact answer is black, no need to trace anything.

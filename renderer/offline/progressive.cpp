@@ -3,12 +3,26 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 namespace vplab {
 
 glm::vec3 cameraRayDirection(const Camera& camera, float x, float y, int width, int height) {
   glm::vec2 ndc(2.0f * x / static_cast<float>(width) - 1.0f, 1.0f - 2.0f * y / static_cast<float>(height));
   return camera.rayDirection(ndc, static_cast<float>(width) / static_cast<float>(height));
+}
+
+ProgressiveOptions progressiveOptions(const Settings& settings, int samplesPerPass,
+                                      std::function<void(const Image& mean, int samplesSoFar)> onPass) {
+  ProgressiveOptions options;
+  options.width = settings.width;
+  options.height = settings.height;
+  options.samplesPerPixel = settings.samplesPerPixel;
+  options.seed = settings.seed;
+  options.threads = settings.threads;
+  options.samplesPerPass = samplesPerPass;
+  options.onPass = std::move(onPass);
+  return options;
 }
 
 ProgressiveResult renderProgressive(const ProgressiveOptions& o, const PixelEstimator& estimator,

@@ -7,6 +7,7 @@
 #include "renderer/core/sampling.h"
 #include "renderer/image/image.h"
 #include "renderer/scene/scene.h"
+#include "renderer/settings.h"
 
 #include <functional>
 
@@ -32,6 +33,10 @@ struct ProgressiveResult {
   double seconds = 0.0;
   bool cancelled = false;
 };
+
+/// The image size, samples per pixel, seed and thread count of `settings`, with the given pass size and callback.
+ProgressiveOptions progressiveOptions(const Settings& settings, int samplesPerPass,
+                                      std::function<void(const Image& mean, int samplesSoFar)> onPass);
 
 /// Runs the estimator samplesPerPixel times per pixel. Non-finite samples are dropped (and counted in the
 /// progress line by callers that care); a cancelled render returns the passes completed so far.

@@ -194,14 +194,7 @@ VplRenderResult renderVpl(const Scene& scene, const EmbreeScene& embree, const L
   // Per-pixel tallies: a pixel is only ever touched by one thread at a time, so no atomics and no thread ids.
   std::vector<GatherTally> tallies(pixels);
 
-  ProgressiveOptions options;
-  options.width = settings.width;
-  options.height = settings.height;
-  options.samplesPerPixel = settings.samplesPerPixel;
-  options.seed = settings.seed;
-  options.threads = settings.threads;
-  options.samplesPerPass = 1;
-  options.onPass = std::move(onPass);
+  ProgressiveOptions options = progressiveOptions(settings, 1, std::move(onPass));
 
   PixelEstimator estimator = [&](int x, int y, uint32_t, Rng& rng) -> glm::vec3 {
     // Step 1: primary ray through a jittered pixel position.
