@@ -21,6 +21,7 @@
 #include <string>
 #include <vector>
 
+#include "bench/bench_args.h"
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/gl/resources.h"
@@ -114,13 +115,7 @@ int main(int argc, char** argv) {
   bool quick = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "gl_bench: %s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    auto next = [&] { return benchOptionValue(argc, argv, i); };
     if (a == "--gl") {
       if (!parseGlBackend(next(), backend)) return std::fprintf(stderr, "gl_bench: bad --gl\n"), 2;
     } else if (a == "--size") {

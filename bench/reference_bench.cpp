@@ -4,6 +4,7 @@
 //                               [--ref-spp N] [--ref-cache F.exr]
 // Prints a table; --csv writes "metric,value,unit" rows.
 
+#include "bench/bench_args.h"
 #include "renderer/core/parallel.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -89,13 +90,7 @@ int main(int argc, char** argv) {
   int size = 256, threads = 0, refSpp = 2048;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    auto next = [&] { return benchOptionValue(argc, argv, i); };
     if (a == "--scene") scenePath = next();
     else if (a == "--size") size = std::atoi(next().c_str());
     else if (a == "--threads") threads = std::atoi(next().c_str());

@@ -4,6 +4,7 @@
 //   vplab_bench_vpl_bench [--size N] [--threads T] [--ref-spp N] [--csv out.csv] [--quick]
 // Prints a table; --csv writes one row per configuration.
 
+#include "bench/bench_args.h"
 #include "renderer/core/parallel.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/embree_scene.h"
@@ -79,13 +80,7 @@ int main(int argc, char** argv) {
   std::string csv = "vpl_bench.csv";
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    auto next = [&]() -> std::string {
-      if (i + 1 >= argc) {
-        std::fprintf(stderr, "%s needs a value\n", a.c_str());
-        std::exit(2);
-      }
-      return argv[++i];
-    };
+    auto next = [&] { return benchOptionValue(argc, argv, i); };
     if (a == "--size") size = std::atoi(next().c_str());
     else if (a == "--threads") threads = std::atoi(next().c_str());
     else if (a == "--ref-spp") refSpp = std::atoi(next().c_str());
