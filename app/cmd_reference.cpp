@@ -27,12 +27,9 @@ int cmdReference(const Args& args) {
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
+  cli::checkImageOutputs(cl);
   auto out = cl.value("out");
   auto png = cl.value("png");
-  if (!out && !png) throw cli::CliError("nothing to write: give --out FILE (and/or --png FILE)");
-  // Check the extensions before spending minutes rendering.
-  if (out) imageFormatFromPath(*out);
-  if (png && imageFormatFromPath(*png) != ImageFormat::Png) throw cli::CliError("option --png: '" + *png + "' is not .png");
 
   Settings settings;
   cli::applySettingsOptions(cl, settings);

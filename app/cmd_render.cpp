@@ -38,13 +38,11 @@ int cmdRender(const Args& args) {
   std::string methodName = cl.getString("method", "vpl");
   if (!parseMethod(methodName, method) || method == Method::Reference)
     throw cli::CliError("option --method: '" + methodName + "' is not vpl, vpl-kk or vsl");
+  cli::checkImageOutputs(cl);
   auto out = cl.value("out");
   auto png = cl.value("png");
   auto refPath = cl.value("ref");
   auto vplPath = cl.value("save-vpls");
-  if (!out && !png) throw cli::CliError("nothing to write: give --out FILE (and/or --png FILE)");
-  if (out) imageFormatFromPath(*out);
-  if (png && imageFormatFromPath(*png) != ImageFormat::Png) throw cli::CliError("option --png: '" + *png + "' is not .png");
 
   Settings settings;
   // The VPL sum is exact per sample; a few samples only anti-alias and average the direct light.

@@ -1,5 +1,6 @@
 #include "app/settings_options.h"
 
+#include "renderer/image/image_io.h"
 #include "renderer/settings_json.h"
 
 namespace vplab::cli {
@@ -83,6 +84,14 @@ void applySettingsOptions(const CommandLine& cl, Settings& s) {
   s.directLightSamples = cl.getInt("direct-samples", s.directLightSamples);
   std::vector<std::string> problems = validateSettings(s);
   if (!problems.empty()) throw CliError(problems.front());
+}
+
+void checkImageOutputs(const CommandLine& cl) {
+  auto out = cl.value("out");
+  auto png = cl.value("png");
+  if (!out && !png) throw CliError("nothing to write: give --out FILE (and/or --png FILE)");
+  if (out) imageFormatFromPath(*out);
+  if (png && imageFormatFromPath(*png) != ImageFormat::Png) throw CliError("option --png: '" + *png + "' is not .png");
 }
 
 }  // namespace vplab::cli

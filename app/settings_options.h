@@ -17,4 +17,8 @@ std::vector<OptionSpec> manyLightOptions();
 /// file), then validates; throws CliError naming the bad option or key.
 void applySettingsOptions(const CommandLine& cl, Settings& settings);
 
+/// The offline renderers' outputs: --out FILE (.exr, .pfm or .png) and/or --png FILE. Throws CliError when neither is
+/// given or an extension is wrong, so that a mistake shows before minutes of rendering.
+void checkImageOutputs(const CommandLine& cl);
+
 }  // namespace vplab::cli
