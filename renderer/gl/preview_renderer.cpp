@@ -200,42 +200,36 @@ struct PreviewRenderer::Targets {
   }
 };
 
+namespace {
+std::vector<std::string> withDefine(std::vector<std::string> defines, std::string define) {
+  defines.push_back(std::move(define));
+  return defines;
+}
+}  // namespace
+
+BrdfVariants::BrdfVariants(const std::string& fragmentShader, const std::vector<std::string>& defines)
+    : general({"preview/fullscreen.vert.glsl", fragmentShader}, defines),
+      lambertOnly({"preview/fullscreen.vert.glsl", fragmentShader}, withDefine(defines, "BRDF_LAMBERT_ONLY 1")) {}
+
 PreviewRenderer::PreviewRenderer()
     : gbuffer_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}),
-      direct_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"},
-              {uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
-      gather_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
-              {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       gatherVsl_({"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"},
                  {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       deinterleaveRows_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}, {"DEINTERLEAVE_COLUMNS 0"}),
       deinterleaveColumns_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"},
                            {"DEINTERLEAVE_COLUMNS 1"}),
-      ssbc_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
-      directLambert_({"preview/fullscreen.vert.glsl", "preview/direct.frag.glsl"},
-                     {"BRDF_LAMBERT_ONLY 1", uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
-      gatherLambert_({"preview/fullscreen.vert.glsl", "preview/gather.frag.glsl"},
-                     {"BRDF_LAMBERT_ONLY 1", uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
-      ssbcLambert_({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"BRDF_LAMBERT_ONLY 1"}),
+      direct_("preview/direct.frag.glsl", {uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
+      gather_("preview/gather.frag.glsl", {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
+      ssbc_("preview/ssbc.frag.glsl"),
       ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
       ssbcRadiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}),
-      ssbcSplit_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_SPLIT 1"}),
-                 ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
-                               {"SSBC_SPLIT 1", "BRDF_LAMBERT_ONLY 1"})},
-      ssbcCoarse_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"}, {"SSBC_COARSE_PASS 1"}),
-                  ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
-                                {"SSBC_COARSE_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
-      ssbcFine_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
-                              {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1"}),
-                ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
-                              {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1", "BRDF_LAMBERT_ONLY 1"})},
+      ssbcSplit_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1"}),
+      ssbcCoarse_("preview/ssbc.frag.glsl", {"SSBC_COARSE_PASS 1"}),
+      ssbcFine_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1"}),
       ssbcFlat_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}),
-      ssbcFallback_{ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
-                                  {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
-                    ShaderProgram({"preview/fullscreen.vert.glsl", "preview/ssbc.frag.glsl"},
-                                  {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1", "BRDF_LAMBERT_ONLY 1"})} {
+      ssbcFallback_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}) {
   vplTable_ = uniformTableLayout(sizeof(VplGpu));
   directTable_ = uniformTableLayout(sizeof(DirectLightGpu));
 }
@@ -465,7 +459,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // Pass 2: direct light, additive over shadow-map chunks, interleaved over the light samples.
   if (directChanged) {
     t.directMs = timed(timer_, t.directWallMs, [&] {
-      ShaderProgram& direct = lambertOnly_ ? directLambert_ : direct_;
+      ShaderProgram& direct = direct_[lambertOnly_];
       direct.set("uCameraPosition", camera.position);
       direct.set("uShadowFar", far);
       direct.set("uShadowBias", bias);
@@ -479,7 +473,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (gatherChanged) {
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
       // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
-      ShaderProgram& gather = vplsHaveRadius_ ? gatherVsl_ : lambertOnly_ ? gatherLambert_ : gather_;
+      ShaderProgram& gather = vplsHaveRadius_ ? gatherVsl_ : gather_[lambertOnly_];
       gather.set("uCameraPosition", camera.position);
       gather.set("uClampBound", settings.clampBound);
       gather.set("uVslSamples", settings.vslSamples);
@@ -528,11 +522,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         drawFullscreen(compose_);
         float focal = 0.5f * static_cast<float>(tg.height) / std::tan(0.5f * camera.yfov);
         const bool split = settings.ssbcCoarseRings;
-        const int variant = lambertOnly_ ? 1 : 0;
-        ShaderProgram& ssbc = split ? ssbcSplit_[variant] : lambertOnly_ ? ssbcLambert_ : ssbc_;
-        ShaderProgram& coarse = ssbcCoarse_[variant];
-        ShaderProgram& fallback = ssbcFallback_[variant];
-        ShaderProgram& fine = ssbcFine_[variant];
+        ShaderProgram& ssbc = split ? ssbcSplit_[lambertOnly_] : ssbc_[lambertOnly_];
+        ShaderProgram& coarse = ssbcCoarse_[lambertOnly_];
+        ShaderProgram& fallback = ssbcFallback_[lambertOnly_];
+        ShaderProgram& fine = ssbcFine_[lambertOnly_];
         for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine}) {
           program->set("uCameraPosition", camera.position);
           program->set("uCameraForward", camera.forward);

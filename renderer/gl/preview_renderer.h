@@ -59,6 +59,14 @@ struct UniformTableLayout {
   int alignment = 1;  // a bound range starts at a multiple of this many elements
 };
 
+/// A screen pass compiled twice: for any material, and with BRDF_LAMBERT_ONLY (common/brdf.glsl) for scenes whose
+/// materials are all Lambert, where llvmpipe would otherwise run the GGX code under a lane mask.
+struct BrdfVariants {
+  ShaderProgram general, lambertOnly;
+  BrdfVariants(const std::string& fragmentShader, const std::vector<std::string>& defines = {});
+  ShaderProgram& operator[](bool lambert) { return lambert ? lambertOnly : general; }
+};
+
 class PreviewRenderer {
  public:
   PreviewRenderer();
@@ -107,16 +115,17 @@ class PreviewRenderer {
   std::vector<glm::vec3> directPositions_;
   /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
   bool vplsHaveRadius_ = false;
-  ShaderProgram gbuffer_, direct_, gather_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, ssbc_, compose_,
-      tonemap_;
-  // Variants compiled with BRDF_LAMBERT_ONLY (common/brdf.glsl), used when every material of the scene is Lambert.
-  ShaderProgram directLambert_, gatherLambert_, ssbcLambert_;
+  ShaderProgram gbuffer_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, compose_, tonemap_;
+  // Indexed by lambertOnly_: true when every material of the scene is Lambert.
+  BrdfVariants direct_, gather_, ssbc_;
   ShaderProgram ssbcTaps_, ssbcRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
   // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are
   // not zero (SSBC_FINE_PASS, with the flat-block mask of ssbcFlat_) and the pass that adds what could not be
-  // interpolated (SSBC_FALLBACK_PASS); [1]: Lambert only.
-  ShaderProgram ssbcSplit_[2], ssbcCoarse_[2], ssbcFine_[2], ssbcFlat_, ssbcFallback_[2];
+  // interpolated (SSBC_FALLBACK_PASS).
+  BrdfVariants ssbcSplit_, ssbcCoarse_, ssbcFine_;
+  ShaderProgram ssbcFlat_;
+  BrdfVariants ssbcFallback_;
   bool lambertOnly_ = false;
   // How the VPL and direct-light tables are split into uniform-block ranges (preview_renderer.cpp).
   UniformTableLayout vplTable_, directTable_;
