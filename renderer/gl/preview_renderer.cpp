@@ -229,7 +229,8 @@ PreviewRenderer::PreviewRenderer()
       ssbcCoarse_("preview/ssbc.frag.glsl", {"SSBC_COARSE_PASS 1"}),
       ssbcFine_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1"}),
       ssbcFlat_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}),
-      ssbcFallback_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}) {
+      ssbcFallback_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
+      ssbcUpsample_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_UPSAMPLE_PASS 1"}) {
   vplTable_ = uniformTableLayout(sizeof(VplGpu));
   directTable_ = uniformTableLayout(sizeof(DirectLightGpu));
 }
@@ -526,7 +527,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         ShaderProgram& coarse = ssbcCoarse_[lambertOnly_];
         ShaderProgram& fallback = ssbcFallback_[lambertOnly_];
         ShaderProgram& fine = ssbcFine_[lambertOnly_];
-        for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine}) {
+        ShaderProgram& upsample = ssbcUpsample_[lambertOnly_];
+        for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine, &upsample}) {
           program->set("uCameraPosition", camera.position);
           program->set("uCameraForward", camera.forward);
           program->set("uClampBound", settings.clampBound);
@@ -537,6 +539,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         coarse.set("uScale", 4);
         fallback.set("uScale", 1);
         fine.set("uScale", 1);
+        upsample.set("uScale", 1);
         // Draws `program` into every mip level of a full-resolution texture (one framebuffer per level), uLevel set.
         auto drawEveryLevel = [&](std::vector<GlFramebuffer>& levels, ShaderProgram& program) {
           for (std::size_t level = 0; level < levels.size(); ++level) {
@@ -546,14 +549,14 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
             drawFullscreen(program);
           }
         };
-        // Multi-resolution rings: adds (blending) the fine rings where they are not zero, and the coarse rings where
-        // the pass before could not interpolate them from the coarse grid.
-        auto addSplitPasses = [&] {
+        // Multi-resolution rings: adds (blending) the fine rings where they are not zero, and (withFallback) the
+        // coarse rings where the pass before could not interpolate them from the coarse grid.
+        auto addSplitPasses = [&](bool withFallback) {
           if (!split) return;
           glEnable(GL_BLEND);
           glBlendFunc(GL_ONE, GL_ONE);
           drawFullscreen(fine);
-          drawFullscreen(fallback);
+          if (withFallback) drawFullscreen(fallback);
           glDisable(GL_BLEND);
         };
         if (split) {
@@ -583,8 +586,11 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
             tg.ssbcCoarseFar.bind(13);
           }
           outputs[step]->framebuffer.bind(tg.width, tg.height);
-          drawFullscreen(ssbc);
-          addSplitPasses();
+          // R2 = T_r(R1) carries about a tenth of the compensation: there the coarse rings are extrapolated along
+          // p's surface where they cannot be interpolated, instead of being evaluated at those pixels.
+          const bool extrapolate = split && step == 1;
+          drawFullscreen(extrapolate ? upsample : ssbc);
+          addSplitPasses(!extrapolate);
           input = outputs[step];
         }
       }

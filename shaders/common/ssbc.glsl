@@ -202,14 +202,15 @@ bool ssbcCoarseInterpolated(SsbcReceiver r, ivec2 px, out vec3 coarse) {
   return complete;
 }
 
-// The far rings (levels >= kSsbcFallbackExactLevels) at a pixel whose interpolation is incomplete: bilinear over the
-// coarse samples on p's surface, renormalised (each such sample weighted at least 1/64, so that a pixel between
-// samples of which only zero-weight ones lie on its surface still gets them); 0 where none of the four does.
-vec3 ssbcFarExtrapolated(SsbcReceiver r, ivec2 px) {
+// A coarse-grid quantity at p (coarseSamples: one texel per pixel kSsbcCoarseSpacing t), bilinear over the samples on
+// p's surface, renormalised (each such sample weighted at least 1/64, so that a pixel between samples of which only
+// zero-weight ones lie on its surface still gets them); 0 where none of the four does. Used for the far rings at a
+// pixel whose interpolation is incomplete, and for the whole second step.
+vec3 ssbcFromCoarseSamples(sampler2D coarseSamples, SsbcReceiver r, ivec2 px) {
   vec4 key = texelFetch(gMergeKey, px, 0);
   ivec2 base = px >> kSsbcFineLevels;
   vec2 f = vec2(px - (base << kSsbcFineLevels)) * (1.0 / float(kSsbcCoarseSpacing));
-  ivec2 coarseSize = textureSize(uCoarseFar, 0);
+  ivec2 coarseSize = textureSize(coarseSamples, 0);
   vec3 sum = vec3(0.0);
   float weight = 0.0;
   for (int j = 0; j <= 1; ++j)
@@ -220,7 +221,7 @@ vec3 ssbcFarExtrapolated(SsbcReceiver r, ivec2 px) {
       vec4 qk = texelFetch(gMergeKey, min(q, r.size - 1), 0);
       bool ok = all(lessThan(q, r.size)) && qk.w > 0.0 && abs(qk.w - key.w) <= 0.02 * key.w &&
                 dot(qk.xyz, key.xyz) >= 0.95;
-      sum += ok ? wb * texelFetch(uCoarseFar, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
+      sum += ok ? wb * texelFetch(coarseSamples, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
       weight += ok ? wb : 0.0;
     }
   return weight > 0.0 ? sum / weight : vec3(0.0);

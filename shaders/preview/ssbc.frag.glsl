@@ -3,7 +3,9 @@
 // holds T_r(I) at the pixel t * uScale (uScale 1: every pixel). Multi-resolution rings (common/ssbc.glsl):
 // SSBC_COARSE_PASS holds only the coarse rings, at the pixels kSsbcCoarseSpacing t (uScale kSsbcCoarseSpacing);
 // SSBC_SPLIT the interpolated coarse rings, SSBC_FINE_PASS adds the fine rings where they are not zero and
-// SSBC_FALLBACK_PASS the coarse rings where they could not be interpolated.
+// SSBC_FALLBACK_PASS the coarse rings where they could not be interpolated. In the second step (R2 = T_r(R1), about
+// a tenth of the compensation) SSBC_UPSAMPLE_PASS takes the coarse rings from the samples on p's surface everywhere,
+// extrapolating where it cannot interpolate, and there is no fallback pass.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
@@ -22,7 +24,12 @@ void main() {
   ivec2 size = textureSize(gPosition, 0);
   ivec2 pc = min(px, size - 1);
   float alpha = 1.0;
-#if defined(SSBC_COARSE_PASS)
+#if defined(SSBC_UPSAMPLE_PASS)
+  // The coarse rings of the second step, from the coarse samples on p's surface; its fine rings follow
+  // (SSBC_FINE_PASS).
+  SsbcReceiver r;
+  vec3 value = ssbcReceiver(pc, r) ? ssbcFromCoarseSamples(uCoarse, r, pc) : vec3(0.0);
+#elif defined(SSBC_COARSE_PASS)
   SsbcReceiver r;
   bool receiver = ssbcReceiver(pc, r);
   vec3 far = ssbcRings(r, pc, kSsbcFallbackExactLevels, r.topLevel);
@@ -38,7 +45,7 @@ void main() {
   if (any(greaterThanEqual(px, size)) || !ssbcReceiver(pc, r) || ssbcCoarseInterpolated(r, pc, coarse)) discard;
   // The near coarse rings exactly, the far ones from the samples on p's surface.
   vec3 value = ssbcRings(r, pc, kSsbcFineLevels, min(r.topLevel, kSsbcFallbackExactLevels - 1)) +
-               ssbcFarExtrapolated(r, pc);
+               ssbcFromCoarseSamples(uCoarseFar, r, pc);
   alpha = 0.0;
 #elif defined(SSBC_FINE_PASS)
   // Added (blending) to the SSBC_SPLIT pass's output: the fine rings, only at pixels whose block is not flat
