@@ -122,8 +122,11 @@ struct PreviewRenderer::Targets {
   // far rings alone (second attachment of ssbcCoarse.framebuffer).
   Target ssbcCoarse;
   GlTexture ssbcCoarseFar;
-  // Per coarse block: whether every fine-ring tap of its pixels is coplanar with them (ssbc_flat.frag.glsl).
+  // Per coarse block: whether every fine-ring tap of its pixels is coplanar with them (ssbc_flat.frag.glsl), from
+  // per-row summaries of the blocks' windows (plane, and state: found, all on it, tolerance).
   Target ssbcFlat;
+  GlTexture ssbcFlatRowPlanes, ssbcFlatRowStates;
+  GlFramebuffer ssbcFlatRows;
   // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
   // blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
@@ -162,7 +165,12 @@ struct PreviewRenderer::Targets {
         ssbcRadiance(w, h, TextureFormat::Rgba32F, 0),
         ssbcCoarse((w + 3) / 4, (h + 3) / 4),
         ssbcCoarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F),
-        ssbcFlat((w + 3) / 4, (h + 3) / 4) {
+        ssbcFlat((w + 3) / 4, (h + 3) / 4),
+        ssbcFlatRowPlanes((w + 3) / 4, h, TextureFormat::Rgba32F),
+        ssbcFlatRowStates((w + 3) / 4, h, TextureFormat::Rgba32F) {
+    ssbcFlatRows.attachColor(0, ssbcFlatRowPlanes);
+    ssbcFlatRows.attachColor(1, ssbcFlatRowStates);
+    ssbcFlatRows.finalize(2);
     ssbcCoarse.framebuffer.attachColor(1, ssbcCoarseFar);
     ssbcCoarse.framebuffer.finalize(2);
     ssbcTapLevels.resize(static_cast<std::size_t>(ssbcTaps.levels()));
@@ -228,7 +236,8 @@ PreviewRenderer::PreviewRenderer()
       ssbcSplit_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1"}),
       ssbcCoarse_("preview/ssbc.frag.glsl", {"SSBC_COARSE_PASS 1"}),
       ssbcFine_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1"}),
-      ssbcFlat_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}),
+      ssbcFlatRows_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}, {"SSBC_FLAT_ROWS 1"}),
+      ssbcFlatColumns_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}, {"SSBC_FLAT_ROWS 0"}),
       ssbcFallback_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
       ssbcUpsample_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_UPSAMPLE_PASS 1"}) {
   vplTable_ = uniformTableLayout(sizeof(VplGpu));
@@ -561,8 +570,12 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         };
         if (split) {
           // Which coarse blocks lie on one plane: depends on the camera and the G-buffer only, once for both steps.
+          tg.ssbcFlatRows.bind(tg.ssbcFlat.texture.width(), tg.height);
+          drawFullscreen(ssbcFlatRows_);
+          tg.ssbcFlatRowPlanes.bind(11);
+          tg.ssbcFlatRowStates.bind(13);
           tg.ssbcFlat.framebuffer.bind(tg.ssbcFlat.texture.width(), tg.ssbcFlat.texture.height());
-          drawFullscreen(ssbcFlat_);
+          drawFullscreen(ssbcFlatColumns_);
           tg.ssbcFlat.texture.bind(14);
         }
         // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.

@@ -121,10 +121,11 @@ class PreviewRenderer {
   ShaderProgram ssbcTaps_, ssbcRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
   // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are
-  // not zero (SSBC_FINE_PASS, with the flat-block mask of ssbcFlat_) and the pass that adds what could not be
-  // interpolated (SSBC_FALLBACK_PASS); in the second step, the coarse rings extrapolated instead (SSBC_UPSAMPLE_PASS).
+  // not zero (SSBC_FINE_PASS, with the flat-block mask of ssbcFlatRows_ and ssbcFlatColumns_) and the pass that adds
+  // what could not be interpolated (SSBC_FALLBACK_PASS); in the second step, the coarse rings extrapolated instead
+  // (SSBC_UPSAMPLE_PASS).
   BrdfVariants ssbcSplit_, ssbcCoarse_, ssbcFine_;
-  ShaderProgram ssbcFlat_;
+  ShaderProgram ssbcFlatRows_, ssbcFlatColumns_;
   BrdfVariants ssbcFallback_, ssbcUpsample_;
   bool lambertOnly_ = false;
   // How the VPL and direct-light tables are split into uniform-block ranges (preview_renderer.cpp).
