@@ -109,7 +109,8 @@ struct PreviewRenderer::Targets {
   GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gMergeKey, gDepth;
   GlFramebuffer gbuffer;
   Target direct, indirect, i0, r1, r2, linear, display;
-  // The direct and indirect targets as two colour attachments: the de-interleave merges both in one pass.
+  // The direct, indirect and I0 = direct + indirect targets as three colour attachments: the de-interleave merges
+  // both in one pass and writes their sum, the input of the first compensation step.
   GlFramebuffer merged;
   // Row sums of the separable de-interleave (deinterleave.frag.glsl), direct and indirect, accepted count in w.
   GlTexture directRows, indirectRows;
@@ -192,7 +193,8 @@ struct PreviewRenderer::Targets {
     gbuffer.finalize(6);
     merged.attachColor(0, direct.texture);
     merged.attachColor(1, indirect.texture);
-    merged.finalize(2);
+    merged.attachColor(2, i0.texture);
+    merged.finalize(3);
     rows.attachColor(0, directRows);
     rows.attachColor(1, indirectRows);
     rows.finalize(2);
@@ -518,18 +520,13 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     (gatherChanged ? t.gatherWallMs : t.directWallMs) += wallMs;
   }
 
-  // Pass 5: I0 = direct + indirect, then R1 = T_r(I0), R2 = T_r(R1), final = Le + I0 + R1 + R2 (the final
-  // composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
+  // Pass 5: R1 = T_r(I0) (I0 = direct + indirect, written by the de-interleave), R2 = T_r(R1), final = Le + I0 + R1
+  // + R2 (the final composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
   if (ssbcChanged) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
       residualSteps_ = compensate ? std::min(settings.ssbcSteps, 2) : 0;
       if (compensate) {
-        tg.direct.texture.bind(6);
-        tg.indirect.texture.bind(7);
-        tg.i0.framebuffer.bind(tg.width, tg.height);
-        compose_.set("uStage", 0);
-        drawFullscreen(compose_);
         float focal = 0.5f * static_cast<float>(tg.height) / std::tan(0.5f * camera.yfov);
         const bool split = settings.ssbcCoarseRings;
         ShaderProgram& ssbc = split ? ssbcSplit_[lambertOnly_] : ssbc_[lambertOnly_];
@@ -608,12 +605,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         }
       }
       tg.bindGbuffer();
-      tg.direct.texture.bind(6);
-      tg.indirect.texture.bind(7);
+      tg.i0.texture.bind(6);
       tg.r1.texture.bind(8);
       tg.r2.texture.bind(9);
       tg.linear.framebuffer.bind(tg.width, tg.height);
-      compose_.set("uStage", 1);
       compose_.set("uResidualSteps", residualSteps_);
       compose_.set("uCameraPosition", camera.position);
       drawFullscreen(compose_);

@@ -1,24 +1,17 @@
 #version 450 core
-// final = Le + I0 + R1 + R2 with I0 = direct + de-interleaved indirect (MANYLIGHTS 6); also writes I0 alone, the
-// input of the first compensation step.
+// final = Le + I0 + R1 + R2 with I0 = direct + de-interleaved indirect (MANYLIGHTS 6).
 #include "common/fullscreen.glsl"
 
-layout(binding = 6) uniform sampler2D uDirect;
-layout(binding = 7) uniform sampler2D uIndirect;
+layout(binding = 6) uniform sampler2D uI0;         // direct + indirect (deinterleave.frag.glsl)
 layout(binding = 8) uniform sampler2D uResidual1;  // R1 = T_r(I0)
 layout(binding = 9) uniform sampler2D uResidual2;  // R2 = T_r(R1)
-uniform int uStage;             // 0: write I0, 1: write the final image
-uniform int uResidualSteps;     // compensation steps whose results R1, R2 are current (0-2)
+uniform int uResidualSteps;  // compensation steps whose results R1, R2 are current (0-2)
 uniform vec3 uCameraPosition;
 layout(location = 0) out vec4 outColor;
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
-  vec3 i0 = texelFetch(uDirect, px, 0).rgb + texelFetch(uIndirect, px, 0).rgb;
-  if (uStage == 0) {
-    outColor = vec4(i0, 1.0);
-    return;
-  }
+  vec3 i0 = texelFetch(uI0, px, 0).rgb;
   vec4 pos = texelFetch(gPosition, px, 0);
   // One-sided emitters: Le is seen only from the side the geometric normal faces.
   bool front = pos.w > 0.0 && dot(texelFetch(gGeoNormal, px, 0).xyz, uCameraPosition - pos.xyz) > 0.0;

@@ -6,7 +6,8 @@
 // The window is filtered separably, rows then columns (DEINTERLEAVE_COLUMNS 0 / 1): 2k instead of k^2 neighbours per
 // pixel. The row pass writes each row segment's sum with its accepted count in w, so on a surface the column pass
 // divides the sum of all k^2 values by their count, exactly the k x k mean; at a discontinuity a diagonal neighbour
-// counts only when the row's centre is on the pixel's surface too.
+// counts only when the row's centre is on the pixel's surface too. The column pass also writes their sum I0, the input
+// of the first compensation step (ssbc.frag.glsl).
 #include "common/fullscreen.glsl"
 
 layout(binding = 6) uniform sampler2D uDirectIn;    // rows: deinterleaved blocks; columns: row sums (w = count)
@@ -16,6 +17,9 @@ uniform int uInterleave;
 uniform ivec2 uBlockSize;
 layout(location = 0) out vec4 outDirect;
 layout(location = 1) out vec4 outIndirect;
+#if DEINTERLEAVE_COLUMNS
+layout(location = 2) out vec4 outI0;  // direct + indirect
+#endif
 
 // Texel of pixel q in the deinterleaved layout: block (q mod k), texel q / k inside it. The quotient comes from a float
 // multiply (exact for q < 2^22 / k): llvmpipe has no vector integer division and would run it lane by lane.
@@ -68,6 +72,7 @@ void main() {
   // p itself always passes its own test and its row sum counts p, so w >= 1 (background: the count of 1 passed on).
   outDirect = vec4(sumDirect.rgb / sumDirect.w, 1.0);
   outIndirect = vec4(sumIndirect.rgb / sumIndirect.w, 1.0);
+  outI0 = vec4(outDirect.rgb + outIndirect.rgb, 1.0);
 #else
   outDirect = key.w <= 0.0 ? vec4(sumDirect.rgb, 1.0) : sumDirect;
   outIndirect = key.w <= 0.0 ? vec4(sumIndirect.rgb, 1.0) : sumIndirect;
