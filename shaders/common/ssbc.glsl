@@ -114,14 +114,28 @@ vec3 ssbcTap(SsbcReceiver r, ivec2 q, int level, ivec2 levelSize, bool use) {
   // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (MANYLIGHTS 4).
   float excess = max(cos1 * cos2 / max(dist2, 1e-12) - uClampBound, 0.0);
   bool take = use && all(equal(q, qc)) && dist2 > 1e-12 && tap.w >= 0.0;
+#ifdef BRDF_LAMBERT_ONLY
+  // Pure Lambert: f(x1) does not depend on w and is applied once per sum (ssbcReflected).
+  return take ? excess * radianceArea : vec3(0.0);
+#else
   return take ? evaluateBrdf(r.brdf, r.n1, r.wo, w) * excess * radianceArea : vec3(0.0);
+#endif
+}
+
+// A sum of ssbcTap values as reflected radiance: times f(x1) where the taps left it out (pure Lambert).
+vec3 ssbcReflected(SsbcReceiver r, vec3 sum) {
+#ifdef BRDF_LAMBERT_ONLY
+  return dot(r.n1, r.wo) > 0.0 ? r.brdf.baseColor * kInvPi * sum : vec3(0.0);
+#else
+  return sum;
+#endif
 }
 
 // Level 0: the 12 pixels with 0 < |q - p| <= 2 (p itself has x2 = x1 and adds nothing); all of them lie in the ring.
 vec3 ssbcLevel0(SsbcReceiver r, ivec2 px) {
   vec3 sum = vec3(0.0);
   for (int tap = 0; tap < 12; ++tap) sum += ssbcTap(r, px + kSsbcLevel0Taps[tap], 0, r.size, true);
-  return sum;
+  return ssbcReflected(r, sum);
 }
 
 // Level 1 (if the footprint reaches it): the 10 texels of its ring, no per-tap ring test.
@@ -132,7 +146,7 @@ vec3 ssbcLevel1(SsbcReceiver r, ivec2 px) {
   bool use = r.topLevel >= 1;
   vec3 sum = vec3(0.0);
   for (int tap = 0; tap < 10; ++tap) sum += ssbcTap(r, base + kSsbcLevel1Taps[tap] * mirror, 1, levelSize, use);
-  return sum;
+  return ssbcReflected(r, sum);
 }
 
 // Levels first..last (>= 2) of the rings. Only window texels that can lie in the ring are visited (llvmpipe
@@ -154,7 +168,7 @@ vec3 ssbcRings(SsbcReceiver r, ivec2 px, int first, int last) {
       sum += ssbcTap(r, base + offset, level, levelSize, r2 > inner * inner && r2 <= outer * outer);
     }
   }
-  return sum;
+  return ssbcReflected(r, sum);
 }
 
 // The whole footprint at p.
