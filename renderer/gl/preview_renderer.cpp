@@ -56,19 +56,24 @@ std::string uniformTableDefine(const char* name, std::size_t elementBytes) {
   return std::string(name) + " " + std::to_string(uniformTableLayout(elementBytes).capacity);
 }
 
-// Calls draw(base, begin, end) for consecutive ranges [begin, end) that cover [first, last), with the table bound to
-// uniform binding `binding` from element base <= begin on.
+// Calls visit(base, begin, end) for consecutive ranges [begin, end) that cover [first, last), each of which fits one
+// uniform block bound from element base <= begin on.
 template <class F>
-void forEachUniformRange(const UniformTableLayout& layout, const GlBuffer& table, int binding, int first, int last,
-                         F&& draw) {
+void forEachUniformRange(const UniformTableLayout& layout, int first, int last, F&& visit) {
   for (int begin = first; begin < last;) {
     int base = begin / layout.alignment * layout.alignment;
     int end = std::min(last, base + layout.capacity);
-    table.bindUniformRange(binding, static_cast<std::size_t>(base) * layout.elementBytes,
-                           static_cast<std::size_t>(end - base) * layout.elementBytes);
-    draw(base, begin, end);
+    visit(base, begin, end);
     begin = end;
   }
+}
+
+// Draws per interleaving subset of a light table: one per uniform-block range of each shadow-map chunk.
+int lightTableDraws(const CubeShadowMaps& shadows, const UniformTableLayout& layout) {
+  int draws = 0;
+  for (int c = 0; c < shadows.chunkCount(); ++c)
+    forEachUniformRange(layout, shadows.chunkBegin(c), shadows.chunkEnd(c), [&](int, int, int) { ++draws; });
+  return draws;
 }
 
 // Interleaved sampling: subset s of a k x k pattern takes the lights i = s, s + k^2, ...; this is how far the first of
@@ -430,14 +435,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   tg.ensureRaw(settings.interleave);
   const int k = settings.interleave;
   // Draws `program` once per interleaving subset into its block of `raw` (the deinterleaved layout of
-  // gather.frag.glsl); drawSubset issues the draws of one subset. The merge of the subsets follows both passes.
-  auto interleaved = [&](ShaderProgram& program, Target& raw, auto&& drawSubset) {
+  // gather.frag.glsl); drawSubset issues the draws of one subset, drawsPerSubset of them. Every fragment of a block
+  // writes its texel, so a single draw per subset replaces the texels and needs neither a clear nor blending; several
+  // draws add up. The merge of the subsets follows both passes.
+  auto interleaved = [&](ShaderProgram& program, Target& raw, int drawsPerSubset, auto&& drawSubset) {
     raw.framebuffer.bind(tg.blockWidth * k, tg.blockHeight * k);
-    raw.framebuffer.clearColor(0, glm::vec4(0.0f));
+    if (drawsPerSubset != 1) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
     program.set("uInterleave", k);
     program.set("uImageSize", glm::ivec2(tg.width, tg.height));
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
+    if (drawsPerSubset > 1) {
+      glEnable(GL_BLEND);
+      glBlendFunc(GL_ONE, GL_ONE);
+    }
     for (int sy = 0; sy < k; ++sy)
       for (int sx = 0; sx < k; ++sx) {
         glm::ivec2 origin(sx * tg.blockWidth, sy * tg.blockHeight);
@@ -456,14 +465,15 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     for (int c = 0; c < shadows.chunkCount(); ++c) {
       shadows.chunkTexture(c).bind(6);
       program.set("uFirstLight", shadows.chunkBegin(c));
-      forEachUniformRange(layout, table, binding, shadows.chunkBegin(c), shadows.chunkEnd(c),
-                          [&](int base, int begin, int end) {
-                            program.set("uUboBase", base);
-                            program.set("uLightBegin", begin);
-                            program.set("uSubsetOffset", subsetOffset(begin, subset, k));
-                            program.set("uLightEnd", end);
-                            drawFullscreen(program);
-                          });
+      forEachUniformRange(layout, shadows.chunkBegin(c), shadows.chunkEnd(c), [&](int base, int begin, int end) {
+        table.bindUniformRange(binding, static_cast<std::size_t>(base) * layout.elementBytes,
+                               static_cast<std::size_t>(end - base) * layout.elementBytes);
+        program.set("uUboBase", base);
+        program.set("uLightBegin", begin);
+        program.set("uSubsetOffset", subsetOffset(begin, subset, k));
+        program.set("uLightEnd", end);
+        drawFullscreen(program);
+      });
     }
   };
 
@@ -475,7 +485,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       direct.set("uCameraPosition", camera.position);
       direct.set("uShadowFar", far);
       direct.set("uShadowBias", bias);
-      interleaved(direct, *tg.directRaw,
+      interleaved(direct, *tg.directRaw, lightTableDraws(directShadows_, directTable_),
                   [&](int subset) { drawLightTable(direct, directShadows_, directTable_, directLights_, 7, subset); });
     });
     ++counters_.direct;
@@ -491,7 +501,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       gather.set("uVslSamples", settings.vslSamples);
       gather.set("uShadowFar", far);
       gather.set("uShadowBias", bias);
-      interleaved(gather, *tg.indirectRaw,
+      interleaved(gather, *tg.indirectRaw, lightTableDraws(vplShadows_, vplTable_),
                   [&](int subset) { drawLightTable(gather, vplShadows_, vplTable_, vplBuffer_, 8, subset); });
     });
     ++counters_.gather;
