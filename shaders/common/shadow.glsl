@@ -8,19 +8,19 @@
 float shadowVisibilityAt(sampler2DArrayShadow maps, int caster, vec3 casterPos, vec3 x, float distance, vec3 geoNormal,
                          float far, float bias) {
   float texelAngle = 2.0 / float(textureSize(maps, 0).x);
-  vec3 p = x + geoNormal * (1.5 * texelAngle * distance);
-  vec3 d = p - casterPos;
+  vec3 d = x + geoNormal * (1.5 * texelAngle * distance) - casterPos;
   vec3 a = abs(d);
-  // Major axis, its face (+x, -x, +y, -y, +z, -z) and the face coordinates of the GL cube-map convention the maps are
-  // rendered with (shadow_maps.cpp): face f looks down the axis with view space (s, u, -target). Written with selects,
-  // not branches: llvmpipe would run all three branches for every lane.
+  // Major axis m (signed), its face (+x, -x, +y, -y, +z, -z) and the face coordinates of the GL cube-map convention the
+  // maps are rendered with (shadow_maps.cpp): face f looks down the axis with view space (s, u, -target), i.e.
+  //   +-x: (-sign(m) d.z, -d.y) / |m|,  +-y: (d.x, sign(m) d.z) / |m|,  +-z: (sign(m) d.x, -d.y) / |m|,
+  // where sign(m) / |m| = 1 / m. Written with selects, not branches: llvmpipe would run all three branches for every
+  // lane.
   bool xMajor = a.x >= a.y && a.x >= a.z;
   bool yMajor = !xMajor && a.y >= a.z;
-  float major = xMajor ? a.x : yMajor ? a.y : a.z;
-  vec2 st = xMajor ? vec2(-sign(d.x) * d.z, -d.y) : yMajor ? vec2(d.x, sign(d.y) * d.z) : vec2(sign(d.z) * d.x, -d.y);
-  float face = xMajor ? (d.x > 0.0 ? 0.0 : 1.0) : yMajor ? (d.y > 0.0 ? 2.0 : 3.0) : (d.z > 0.0 ? 4.0 : 5.0);
-  vec2 uv = st / major * 0.5 + 0.5;
-  // Hardware 2x2 PCF (linear filtering with depth comparison) softens the texel staircase.
+  float m = xMajor ? d.x : yMajor ? d.y : d.z;
+  float inv = 0.5 / m, absInv = abs(inv);
+  vec2 uv = vec2(xMajor ? -d.z * inv : d.x * (yMajor ? absInv : inv), yMajor ? d.z * inv : -d.y * absInv) + 0.5;
+  float face = (xMajor ? 0.0 : yMajor ? 2.0 : 4.0) + (m > 0.0 ? 0.0 : 1.0);
   return texture(maps, vec4(uv, float(6 * caster) + face, (length(d) - bias) / far));
 }
 
