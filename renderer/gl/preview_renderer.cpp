@@ -113,6 +113,8 @@ struct PreviewRenderer::Targets {
   int width, height;
   GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gMergeKey, gDepth;
   GlFramebuffer gbuffer;
+  // Whether the mips of gPosition and gNormal (compensation only) were made from the current G-buffer.
+  bool gbufferMipsCurrent = false;
   Target direct, indirect, i0, r1, r2, linear, display;
   // The direct, indirect and I0 = direct + indirect targets as three colour attachments: the de-interleave merges
   // both in one pass and writes their sum, the input of the first compensation step.
@@ -404,9 +406,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       vao_.bind();
       drawProceduralTriangles(3 * glScene_->triangleCount());
       glDisable(GL_DEPTH_TEST);
-      // Mips of position and normal feed the hierarchical compensation (coverage and normal length flag edges).
-      tg.gPosition.generateMipmaps();
-      tg.gNormal.generateMipmaps();
+      tg.gbufferMipsCurrent = false;
     });
     ++counters_.gbuffer;
   }
@@ -584,6 +584,13 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           tg.ssbcFlat.framebuffer.bind(tg.ssbcFlat.texture.width(), tg.ssbcFlat.texture.height());
           drawFullscreen(ssbcFlatColumns_);
           tg.ssbcFlat.texture.bind(14);
+        }
+        // Mips of position and normal feed the hierarchical compensation (coverage and normal length flag edges):
+        // made here, so that a frame without compensation does not pay for them.
+        if (!tg.gbufferMipsCurrent) {
+          tg.gPosition.generateMipmaps();
+          tg.gNormal.generateMipmaps();
+          tg.gbufferMipsCurrent = true;
         }
         // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
         ssbcTaps_.set("uCameraPosition", camera.position);
