@@ -116,12 +116,8 @@ struct PreviewRenderer::Targets {
   // Whether the mips of gPosition and gNormal (compensation only) were made from the current G-buffer.
   bool gbufferMipsCurrent = false;
   Target direct, indirect, i0, r1, r2, linear, display;
-  // The direct, indirect and I0 = direct + indirect targets as three colour attachments: the de-interleave merges
-  // both in one pass and writes their sum, the input of the first compensation step.
-  GlFramebuffer merged;
-  // Row sums of the separable de-interleave (deinterleave.frag.glsl), direct and indirect, accepted count in w.
-  GlTexture directRows, indirectRows;
-  GlFramebuffer rows;
+  // Row sums of the separable de-interleave (deinterleave.frag.glsl), accepted count in w.
+  Target rows;
   // Per mip texel of the G-buffer: x2 with the packed unit normal, and dA, of a compensation tap
   // (ssbc_taps.frag.glsl), one framebuffer per level; I dA per mip texel of a step's input (ssbc_radiance.frag.glsl).
   GlTexture ssbcTaps, ssbcArea, ssbcRadiance;
@@ -166,8 +162,7 @@ struct PreviewRenderer::Targets {
         r2(w, h),
         linear(w, h),
         display(w, h),
-        directRows(w, h, TextureFormat::Rgba32F),
-        indirectRows(w, h, TextureFormat::Rgba32F),
+        rows(w, h),
         ssbcTaps(w, h, TextureFormat::Rgba32F, 0),
         ssbcArea(w, h, TextureFormat::R32F, 0),
         ssbcRadiance(w, h, TextureFormat::Rgba32F, 0),
@@ -198,13 +193,6 @@ struct PreviewRenderer::Targets {
     gbuffer.attachColor(5, gMergeKey);
     gbuffer.attachDepth(gDepth);
     gbuffer.finalize(6);
-    merged.attachColor(0, direct.texture);
-    merged.attachColor(1, indirect.texture);
-    merged.attachColor(2, i0.texture);
-    merged.finalize(3);
-    rows.attachColor(0, directRows);
-    rows.attachColor(1, indirectRows);
-    rows.finalize(2);
   }
 
   void bindGbuffer() const {
@@ -507,30 +495,17 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     ++counters_.gather;
   }
 
-  // Geometry-aware de-interleave of the direct light and the gather together (deinterleave.frag.glsl): the weights
-  // depend on the G-buffer only, so one pass serves both and reads each neighbour's geometry once. Its time is
-  // counted in the gather pass (in the direct pass when only that one ran).
+  // Geometry-aware de-interleave of the direct light and the gather together into I0 (deinterleave.frag.glsl): the
+  // merge is linear and its weights depend on the G-buffer only, so one merge serves both. Its time is counted in the
+  // gather pass (in the direct pass when only that one ran).
   if (directChanged || gatherChanged) {
     double wallMs = 0.0;
-    double gpuMs = timed(timer_, wallMs, [&] {
-      // Rows, then columns (separable: 2k neighbours per pixel instead of k^2).
-      tg.rows.bind(tg.width, tg.height);
-      tg.directRaw->texture.bind(6);
-      tg.indirectRaw->texture.bind(7);
-      deinterleaveRows_.set("uInterleave", k);
-      deinterleaveRows_.set("uBlockSize", glm::ivec2(tg.blockWidth, tg.blockHeight));
-      drawFullscreen(deinterleaveRows_);
-      tg.merged.bind(tg.width, tg.height);
-      tg.directRows.bind(6);
-      tg.indirectRows.bind(7);
-      deinterleaveColumns_.set("uInterleave", k);
-      drawFullscreen(deinterleaveColumns_);
-    });
+    double gpuMs = timed(timer_, wallMs, [&] { mergeInterleaved(glm::vec2(1.0f), tg.i0.framebuffer); });
     (gatherChanged ? t.gatherMs : t.directMs) += gpuMs;
     (gatherChanged ? t.gatherWallMs : t.directWallMs) += wallMs;
   }
 
-  // Pass 5: R1 = T_r(I0) (I0 = direct + indirect, written by the de-interleave), R2 = T_r(R1), final = Le + I0 + R1
+  // Pass 5: R1 = T_r(I0) (I0 = direct + indirect, merged by the de-interleave), R2 = T_r(R1), final = Le + I0 + R1
   // + R2 (the final composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
   if (ssbcChanged) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
@@ -657,9 +632,27 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   return t;
 }
 
-Image PreviewRenderer::readLinear(PreviewOutput which) const {
+void PreviewRenderer::mergeInterleaved(glm::vec2 weights, GlFramebuffer& out) {
+  Targets& tg = *targets_;
+  const int k = tg.rawInterleave;
+  // Rows, then columns (separable: 2k neighbours per pixel instead of k^2).
+  tg.rows.framebuffer.bind(tg.width, tg.height);
+  tg.gMergeKey.bind(10);
+  tg.directRaw->texture.bind(6);
+  tg.indirectRaw->texture.bind(7);
+  deinterleaveRows_.set("uInterleave", k);
+  deinterleaveRows_.set("uBlockSize", glm::ivec2(tg.blockWidth, tg.blockHeight));
+  deinterleaveRows_.set("uWeights", weights);
+  drawFullscreen(deinterleaveRows_);
+  out.bind(tg.width, tg.height);
+  tg.rows.texture.bind(6);
+  deinterleaveColumns_.set("uInterleave", k);
+  drawFullscreen(deinterleaveColumns_);
+}
+
+Image PreviewRenderer::readLinear(PreviewOutput which) {
   if (!targets_) return {};
-  const Targets& tg = *targets_;
+  Targets& tg = *targets_;
   if (which == PreviewOutput::Residual) {
     // R1 + R2: the final composition adds them itself, so the sum is formed only when asked for.
     Image residual(tg.width, tg.height);
@@ -669,10 +662,16 @@ Image PreviewRenderer::readLinear(PreviewOutput which) const {
     }
     return residual;
   }
-  const Target& src = which == PreviewOutput::Direct     ? tg.direct
-                      : which == PreviewOutput::Indirect ? tg.indirect
-                                                         : tg.linear;
-  return readFramebuffer(src.framebuffer, 0, tg.width, tg.height);
+  if (which == PreviewOutput::Direct || which == PreviewOutput::Indirect) {
+    // A frame merges only their sum I0; one component is merged from the interleaved passes' results on demand.
+    if (!tg.directRaw) return {};
+    const bool direct = which == PreviewOutput::Direct;
+    Target& out = direct ? tg.direct : tg.indirect;
+    mergeInterleaved(direct ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f, 1.0f), out.framebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return readFramebuffer(out.framebuffer, 0, tg.width, tg.height);
+  }
+  return readFramebuffer(tg.linear.framebuffer, 0, tg.width, tg.height);
 }
 
 Image PreviewRenderer::readTonemapped() const {

@@ -85,8 +85,9 @@ class PreviewRenderer {
   /// move would; shadow maps are kept. For timing steady-state frames.
   void invalidateFrame();
 
-  /// Linear radiance (before tonemapping) of the last render, row 0 at the top.
-  Image readLinear(PreviewOutput which = PreviewOutput::Final) const;
+  /// Linear radiance (before tonemapping) of the last render, row 0 at the top. Direct and Indirect are de-interleaved
+  /// from the last render's interleaved results when asked for (a frame merges only their sum).
+  Image readLinear(PreviewOutput which = PreviewOutput::Final);
   /// Tonemapped (exposure, sRGB-encoded, [0, 1]) image of the last render, row 0 at the top.
   Image readTonemapped() const;
 
@@ -96,6 +97,8 @@ class PreviewRenderer {
   struct Targets;
   void ensureTargets(int width, int height);
   void drawFullscreen(ShaderProgram& program);
+  /// The geometry-aware de-interleave of weights.x x direct + weights.y x indirect into `out`.
+  void mergeInterleaved(glm::vec2 weights, GlFramebuffer& out);
   void uploadDirectLights(const Scene& scene, const Settings& settings);
   void uploadVpls(const Scene& scene, const VplSet& vpls);
 

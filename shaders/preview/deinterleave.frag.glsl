@@ -1,25 +1,26 @@
 #version 450 core
 // Geometry-aware de-interleaving (MANYLIGHTS 8): average the k x k window, which holds every VPL subset once, over
 // neighbours on the same surface (relative depth and normal tests), renormalised by the accepted weight so that
-// rejected neighbours do not darken the result. The direct light and the VPL gather are interleaved alike and share
-// the weights, so both are merged here at once (two outputs).
+// rejected neighbours do not darken the result. The direct light and the VPL gather are interleaved alike, so the
+// merge is linear in them: the row pass reads both and merges uWeights.x direct + uWeights.y indirect (1, 1 per frame:
+// I0, the input of the compensation; one of them alone when a component is read back).
 // The window is filtered separably, rows then columns (DEINTERLEAVE_COLUMNS 0 / 1): 2k instead of k^2 neighbours per
 // pixel. The row pass writes each row segment's sum with its accepted count in w, so on a surface the column pass
 // divides the sum of all k^2 values by their count, exactly the k x k mean; at a discontinuity a diagonal neighbour
-// counts only when the row's centre is on the pixel's surface too. The column pass also writes their sum I0, the input
-// of the first compensation step (ssbc.frag.glsl).
+// counts only when the row's centre is on the pixel's surface too.
 #include "common/fullscreen.glsl"
 
-layout(binding = 6) uniform sampler2D uDirectIn;    // rows: deinterleaved blocks; columns: row sums (w = count)
+#if DEINTERLEAVE_COLUMNS
+layout(binding = 6) uniform sampler2D uRows;        // row sums, accepted count in w
+#else
+layout(binding = 6) uniform sampler2D uDirectIn;    // deinterleaved blocks of the direct light
 layout(binding = 7) uniform sampler2D uIndirectIn;  // same for the gather
+uniform vec2 uWeights;                              // of the direct light and of the gather
+#endif
 layout(binding = 10) uniform sampler2D gMergeKey;   // xyz shading normal, w distance to the camera (0: background)
 uniform int uInterleave;
 uniform ivec2 uBlockSize;
-layout(location = 0) out vec4 outDirect;
-layout(location = 1) out vec4 outIndirect;
-#if DEINTERLEAVE_COLUMNS
-layout(location = 2) out vec4 outI0;  // direct + indirect
-#endif
+layout(location = 0) out vec4 outColor;
 
 // Texel of pixel q in the deinterleaved layout: block (q mod k), texel q / k inside it. The quotient comes from a float
 // multiply (exact for q < 2^22 / k): llvmpipe has no vector integer division and would run it lane by lane.
@@ -28,11 +29,14 @@ ivec2 rawTexel(ivec2 q) {
   return (q - quotient * uInterleave) * uBlockSize + quotient;
 }
 
-ivec2 inputTexel(ivec2 q) {
+// The input at pixel q: the row sum (columns), or the weighted raw values with a count of 1 (rows).
+vec4 inputAt(ivec2 q) {
 #if DEINTERLEAVE_COLUMNS
-  return q;
+  return texelFetch(uRows, q, 0);
 #else
-  return rawTexel(q);
+  ivec2 t = rawTexel(q);
+  vec3 value = uWeights.x * texelFetch(uDirectIn, t, 0).rgb + uWeights.y * texelFetch(uIndirectIn, t, 0).rgb;
+  return vec4(value, 1.0);
 #endif
 }
 
@@ -40,11 +44,10 @@ void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   ivec2 size = textureSize(gMergeKey, 0);
   vec4 key = texelFetch(gMergeKey, px, 0);
-  vec4 sumDirect = vec4(0.0), sumIndirect = vec4(0.0);
+  vec4 sum = vec4(0.0);
   if (key.w <= 0.0) {
     // Background: nothing to merge with; the row pass passes the texel on with a count of 1.
-    sumDirect = texelFetch(uDirectIn, inputTexel(px), 0);
-    sumIndirect = texelFetch(uIndirectIn, inputTexel(px), 0);
+    sum = inputAt(px);
   } else {
     vec3 n = key.xyz;
     float depth = key.w;
@@ -58,23 +61,13 @@ void main() {
       if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
       vec4 qk = texelFetch(gMergeKey, q, 0);
       if (qk.w <= 0.0 || abs(qk.w - depth) > 0.05 * depth || dot(qk.xyz, n) < 0.9) continue;
-      ivec2 t = inputTexel(q);
-#if DEINTERLEAVE_COLUMNS
-      sumDirect += texelFetch(uDirectIn, t, 0);
-      sumIndirect += texelFetch(uIndirectIn, t, 0);
-#else
-      sumDirect += vec4(texelFetch(uDirectIn, t, 0).rgb, 1.0);
-      sumIndirect += vec4(texelFetch(uIndirectIn, t, 0).rgb, 1.0);
-#endif
+      sum += inputAt(q);
     }
   }
 #if DEINTERLEAVE_COLUMNS
   // p itself always passes its own test and its row sum counts p, so w >= 1 (background: the count of 1 passed on).
-  outDirect = vec4(sumDirect.rgb / sumDirect.w, 1.0);
-  outIndirect = vec4(sumIndirect.rgb / sumIndirect.w, 1.0);
-  outI0 = vec4(outDirect.rgb + outIndirect.rgb, 1.0);
+  outColor = vec4(sum.rgb / sum.w, 1.0);
 #else
-  outDirect = key.w <= 0.0 ? vec4(sumDirect.rgb, 1.0) : sumDirect;
-  outIndirect = key.w <= 0.0 ? vec4(sumIndirect.rgb, 1.0) : sumIndirect;
+  outColor = sum;
 #endif
 }
