@@ -31,7 +31,7 @@ struct DirectLightGpu {
   glm::vec4 position, axis, weight;
 };
 struct VplGpu {
-  glm::vec4 position, normal, incoming, flux, baseColor, geoNormal;
+  glm::vec4 position, normal, incoming, flux, baseColor, geoNormal, lambertPower;
 };
 
 // The light tables (VPLs for the gather, light samples for the direct pass) are read from uniform blocks, which
@@ -316,7 +316,12 @@ void PreviewRenderer::uploadVpls(const Scene& scene, const VplSet& set) {
               glm::vec4(v.incoming, m.roughness),
               glm::vec4(v.flux, m.specular),
               glm::vec4(scene.baseColorAt(v.material, v.uv), 0.0f),
-              glm::vec4(v.geometricNormal, 0.0f)};
+              glm::vec4(v.geometricNormal, 0.0f),
+              glm::vec4(0.0f)};
+    // The pure-Lambert gather's whole VPL factor f(x2) Phi = albedo / pi Phi, 0 where the light arrived from behind
+    // the shading normal (common/gather.glsl).
+    if (glm::dot(v.normal, v.incoming) > 0.0f)
+      gpu[i].lambertPower = glm::vec4(glm::vec3(gpu[i].baseColor) * v.flux * kInvPi, 0.0f);
   }
   vplBuffer_.assign(gpu.data(), gpu.size() * sizeof(VplGpu));
 }

@@ -33,6 +33,9 @@ struct GlVpl {
   vec4 flux;       // rgb Phi, w specular
   vec4 baseColor;  // rgb (texture included)
   vec4 geoNormal;  // xyz geometric normal
+  // rgb f(x2) Phi = baseColor / pi Phi for a pure-Lambert VPL, 0 where its light arrived from behind the shading normal
+  // (then f(x2) = 0): the whole VPL factor of the pure-Lambert loop, precomputed by the renderer.
+  vec4 lambertPower;
 };
 layout(std140, binding = 8) uniform Vpls { GlVpl vpls[GATHER_UBO_VPLS]; };
 layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
@@ -75,8 +78,9 @@ void main() {
   vec3 sum = vec3(0.0);
 #if defined(BRDF_LAMBERT_ONLY) && !GATHER_VSL
   // Pure Lambert at both ends: f(x1) = albedo1 / pi and f(x2) = albedo2 / pi do not depend on w, so f(x1) leaves the
-  // loop, and the body is written without `continue`: llvmpipe pays for every branch in mask bookkeeping, while a
-  // zero factor costs one select. Same terms as the general loop below.
+  // loop and f(x2) Phi comes precomputed with the VPL (lambertPower), and the body is written without `continue`:
+  // llvmpipe pays for every branch in mask bookkeeping, while a zero factor costs one select. Same terms as the
+  // general loop below.
   vec3 f1 = dot(n1, wo) > 0.0 ? p1.baseColor * kInvPi : vec3(0.0);
   for (int i = first; i < uLightEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];
@@ -87,11 +91,10 @@ void main() {
     vec3 w = d * invDist;
     float cos1 = dot(n1, w), cos2 = -dot(n2, w);
     // One-sided surfaces at both ends, clamped cosines, G bounded by b (MANYLIGHTS 4).
-    bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 &&
-                       cos2 > 0.0 && dot(n2, vpl.incoming.xyz) > 0.0;
+    bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 && cos2 > 0.0;
     float v = shadowVisibilityAt(uShadowMaps, i - uFirstLight, x2, x1, dist2 * invDist, ng, uShadowFar, uShadowBias);
     float gv = contributes ? min(cos1 * cos2 * invDist * invDist, uClampBound) * v : 0.0;
-    sum += gv * (vpl.baseColor.rgb * kInvPi) * vpl.flux.rgb;
+    sum += gv * vpl.lambertPower.rgb;
   }
   sum *= f1;
 #else
