@@ -190,6 +190,13 @@ layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w dist
 layout(binding = 11) uniform sampler2D uCoarse;    // ssbcCoarseAt at the pixels kSsbcCoarseSpacing t
 layout(binding = 13) uniform sampler2D uCoarseFar; // its far rings (levels >= kSsbcFallbackExactLevels) alone
 
+// Whether the coarse sample at pixel q lies on the surface whose merge key is `key` (relative depth and normal tests,
+// as in deinterleave.frag.glsl); false off screen (size: the level-0 size).
+bool ssbcSampleOnSurface(vec4 key, ivec2 q, ivec2 size) {
+  vec4 qk = texelFetch(gMergeKey, min(q, size - 1), 0);
+  return all(lessThan(q, size)) && qk.w > 0.0 && abs(qk.w - key.w) <= 0.02 * key.w && dot(qk.xyz, key.xyz) >= 0.95;
+}
+
 // The coarse rings at p, interpolated bilinearly from the coarse grid. False (and coarse incomplete) where a sample
 // with non-zero weight is off screen or on another surface (relative depth and normal tests, as in
 // deinterleave.frag.glsl): such pixels evaluate the coarse rings themselves (ssbcRings), because renormalising over
@@ -206,10 +213,7 @@ bool ssbcCoarseInterpolated(SsbcReceiver r, ivec2 px, out vec3 coarse) {
     for (int i = 0; i <= 1; ++i) {
       float wb = (i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y);
       ivec2 t = base + ivec2(i, j);
-      ivec2 q = t * kSsbcCoarseSpacing;
-      vec4 qk = texelFetch(gMergeKey, min(q, r.size - 1), 0);
-      bool ok = all(lessThan(q, r.size)) && qk.w > 0.0 && abs(qk.w - key.w) <= 0.02 * key.w &&
-                dot(qk.xyz, key.xyz) >= 0.95;
+      bool ok = ssbcSampleOnSurface(key, t * kSsbcCoarseSpacing, r.size);
       complete = complete && (ok || wb <= 0.0);
       coarse += ok ? wb * texelFetch(uCoarse, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
     }
@@ -231,10 +235,7 @@ vec3 ssbcFromCoarseSamples(sampler2D coarseSamples, SsbcReceiver r, ivec2 px) {
     for (int i = 0; i <= 1; ++i) {
       float wb = max((i == 0 ? 1.0 - f.x : f.x) * (j == 0 ? 1.0 - f.y : f.y), 1.0 / 64.0);
       ivec2 t = base + ivec2(i, j);
-      ivec2 q = t << kSsbcFineLevels;
-      vec4 qk = texelFetch(gMergeKey, min(q, r.size - 1), 0);
-      bool ok = all(lessThan(q, r.size)) && qk.w > 0.0 && abs(qk.w - key.w) <= 0.02 * key.w &&
-                dot(qk.xyz, key.xyz) >= 0.95;
+      bool ok = ssbcSampleOnSurface(key, t << kSsbcFineLevels, r.size);
       sum += ok ? wb * texelFetch(coarseSamples, min(t, coarseSize - 1), 0).rgb : vec3(0.0);
       weight += ok ? wb : 0.0;
     }
