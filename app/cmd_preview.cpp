@@ -116,8 +116,8 @@ int cmdPreview(const Args& args) {
   double frameGpu = t.gbufferMs + t.directMs + t.gatherMs + t.ssbcMs + t.tonemapMs;
   std::printf("%-16s %10.2f %10.2f  (GPU: screen passes; wall: the whole render call)\n", "frame", frameGpu, t.frameWallMs);
   if (t.gatherMs > 0.0)
-    std::printf("gather      %.3g pixel x VPL evaluations, %.3f G/s\n", t.gatherEvaluations,
-                t.gatherEvaluations / (t.gatherMs * 1e6));
+    std::printf("gather      %.3g pixel x VPL evaluations, %.3f G/s (its de-interleave: %.2f ms)\n",
+                t.gatherEvaluations, t.gatherEvaluations / (t.gatherMs * 1e6), t.deinterleaveMs);
   if (out) std::printf("wrote       %s (exposure %+.2f EV)\n", out->c_str(), settings.exposure);
   if (exr) std::printf("wrote       %s\n", exr->c_str());
   return 0;

@@ -7,7 +7,8 @@
 // (shaders/bench/ceiling_probe.frag.glsl: per pixel and light 2 UBO reads + 1 shadow fetch + ~40 flops, STACK.md
 // "Measured speed") runs the same number of pixel x light evaluations as the gather; "of ceiling" is the gather's
 // evaluation rate over the probe's. The probe is timed with glFinish and the wall clock (llvmpipe's first timer query
-// is unreliable), median of 5 draws after a warm-up draw.
+// is unreliable), median of 5 draws after a warm-up draw. The gather's time includes the geometry-aware de-interleave
+// ("merge"); "draws" is the rate of the gather's own draws, without it, over the probe's.
 //
 // usage: vplab_bench_gl_bench [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv out.csv] [--scene file.gltf]
 //                             [--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--quick]
@@ -156,10 +157,11 @@ int main(int argc, char** argv) {
 
   std::ofstream csv(csvPath);
   csv << "vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
-         "gather_evals,gather_gevals_per_s,probe_lights,probe_ms,probe_gevals_per_s,gather_of_ceiling\n";
-  std::printf("%6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s\n", "VPLs", "k", "frame ms", "fps",
-              "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms", "gather G/s", "probe",
-              "probe ms", "probe G/s", "ceiling");
+         "gather_evals,gather_gevals_per_s,probe_lights,probe_ms,probe_gevals_per_s,gather_of_ceiling,deinterleave_ms,"
+         "gather_draws_of_ceiling\n";
+  std::printf("%6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s %6s %7s\n", "VPLs", "k", "frame ms",
+              "fps", "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms", "gather G/s", "probe",
+              "probe ms", "probe G/s", "ceiling", "merge", "draws");
   CeilingProbe probe(width, height);
   std::vector<int> counts = quick ? std::vector<int>{256} : std::vector<int>{64, 256, 1024};
   std::vector<int> ks = quick ? std::vector<int>{4} : std::vector<int>{1, 2, 4};
@@ -181,7 +183,7 @@ int main(int argc, char** argv) {
       // Warm-up: every pass once more with this k (first use compiles the shader variants).
       renderer.invalidateFrame();
       renderer.render(scene, vpls, settings, scene.camera);
-      std::vector<double> frame, gb, di, ga, ss, tm, wall;
+      std::vector<double> frame, gb, di, ga, ss, tm, wall, merge;
       double evals = 0.0;
       for (int f = 0; f < frames; ++f) {
         renderer.invalidateFrame();
@@ -193,6 +195,7 @@ int main(int argc, char** argv) {
         ss.push_back(t.ssbcMs);
         tm.push_back(t.tonemapMs);
         wall.push_back(t.frameWallMs);
+        merge.push_back(t.deinterleaveMs);
         evals = t.gatherEvaluations;
       }
       double fm = median(frame), gm = median(ga);
@@ -204,15 +207,19 @@ int main(int argc, char** argv) {
       double probeEvals = static_cast<double>(width) * height * probeLights;
       double probeRate = probeMs > 0.0 ? probeEvals / (probeMs * 1e6) : 0.0;
       double ofCeiling = probeRate > 0.0 ? rate / probeRate : 0.0;
+      // The gather's own draws, without the de-interleave that its time includes.
+      double mm = median(merge);
+      double drawsOfCeiling = probeRate > 0.0 && gm > mm ? evals / ((gm - mm) * 1e6) / probeRate : 0.0;
       if (!(probeMean > 0.0) || !std::isfinite(probeMean))
         std::fprintf(stderr, "gl_bench: ceiling probe wrote %g: its work was not done\n", probeMean);
-      std::printf("%6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f %6d %9.1f %9.3f %7.0f%%\n",
-                  vpls.vpls.size(), k, fm, 1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm), shadowMs,
-                  median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling);
+      std::printf(
+          "%6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f %6d %9.1f %9.3f %7.0f%% %6.1f %6.0f%%\n",
+          vpls.vpls.size(), k, fm, 1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm), shadowMs,
+          median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling, mm, 100.0 * drawsOfCeiling);
       csv << vpls.vpls.size() << ',' << k << ',' << fm << ',' << 1000.0 / fm << ',' << median(gb) << ',' << median(di)
           << ',' << gm << ',' << median(ss) << ',' << median(tm) << ',' << shadowMs << ',' << median(wall) << ','
           << evals << ',' << rate << ',' << probeLights << ',' << probeMs << ',' << probeRate << ',' << ofCeiling
-          << '\n';
+          << ',' << mm << ',' << drawsOfCeiling << '\n';
     }
   }
   std::printf("\nwrote %s\n", csvPath.c_str());

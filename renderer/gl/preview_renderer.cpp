@@ -506,6 +506,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (directChanged || gatherChanged) {
     double wallMs = 0.0;
     double gpuMs = timed(timer_, wallMs, [&] { mergeInterleaved(glm::vec2(1.0f), tg.i0.framebuffer); });
+    t.deinterleaveMs = gpuMs;
     (gatherChanged ? t.gatherMs : t.directMs) += gpuMs;
     (gatherChanged ? t.gatherWallMs : t.directWallMs) += wallMs;
   }

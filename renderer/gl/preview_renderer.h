@@ -37,6 +37,8 @@ struct PreviewTimings {
   double frameWallMs = 0;
   /// Pixel x VPL evaluations the gather pass performed (each with one shadow-map fetch): pixels x N / k^2.
   double gatherEvaluations = 0;
+  /// GPU time of the geometry-aware de-interleave, already counted in gatherMs (in directMs when only that ran).
+  double deinterleaveMs = 0;
 };
 
 /// How often each pass ran since construction (tests check the invalidation rules with these).
