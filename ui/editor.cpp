@@ -60,10 +60,12 @@ std::string recentFilesPath() {
   return home ? std::string(home) + "/.vplab_recent" : std::string();
 }
 
-/// A GL texture showing 8-bit sRGB pixels (nearest filtering: the view is shown at integer zoom).
+/// A GL texture showing 8-bit sRGB pixels, copied into the window by a framebuffer blit (nearest: the view is shown at
+/// integer zoom).
 class DisplayTexture {
  public:
   ~DisplayTexture() {
+    if (framebuffer_) glDeleteFramebuffers(1, &framebuffer_);
     if (id_) glDeleteTextures(1, &id_);
   }
   void upload(int width, int height, const std::vector<uint8_t>& rgb) {
@@ -81,13 +83,26 @@ class DisplayTexture {
     width_ = width;
     height_ = height;
   }
-  ImTextureID imguiId() const { return reinterpret_cast<ImTextureID>(static_cast<intptr_t>(id_)); }
+  /// Copies the image into the bound draw framebuffer at (x, y, w, h) in window pixels from the top left of a window
+  /// `windowHeight` pixels high. A blit, not a textured quad through ImGui: under llvmpipe it skips blending and
+  /// texture filtering for the largest thing on screen.
+  void blitTo(float x, float y, float w, float h, int windowHeight) {
+    if (!id_) return;
+    if (!framebuffer_) glGenFramebuffers(1, &framebuffer_);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
+    glFramebufferTexture2D(GL_READ_FRAMEBUFFER, GL_COLOR_ATTACHMENT0, GL_TEXTURE_2D, id_, 0);
+    // The image's first row is its top and sits at texture row 0; window rows count from the bottom.
+    const int x0 = static_cast<int>(x), x1 = static_cast<int>(x + w);
+    const int top = windowHeight - static_cast<int>(y), bottom = windowHeight - static_cast<int>(y + h);
+    glBlitFramebuffer(0, 0, width_, height_, x0, top, x1, bottom, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  }
   int width() const { return width_; }
   int height() const { return height_; }
   bool valid() const { return id_ != 0; }
 
  private:
-  GLuint id_ = 0;
+  GLuint id_ = 0, framebuffer_ = 0;
   int width_ = 0, height_ = 0;
 };
 
@@ -658,6 +673,12 @@ void Editor::frame() {
   glViewport(0, 0, width, height);
   glClearColor(kBackground[0], kBackground[1], kBackground[2], 1.0f);
   glClear(GL_COLOR_BUFFER_BIT);
+  glFinish();
+  // Showing the image is part of the preview's time, like its readback and upload; the UI draws over it.
+  const double viewStart = now();
+  if (texture_.valid()) texture_.blitTo(viewRect_[0], viewRect_[1], viewRect_[2], viewRect_[3], height);
+  glFinish();
+  const double viewEnd = now();
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   glFinish();
   const double uiEnd = now();
@@ -667,11 +688,11 @@ void Editor::frame() {
   }
   glfwSwapBuffers(window_);
   frameMs_ = (now() - start) * 1e3;
-  uiMs_ = ((uiPause - uiStart) + (uiEnd - previewEnd)) * 1e3;
+  uiMs_ = ((uiPause - uiStart) + (viewStart - previewEnd) + (uiEnd - viewEnd)) * 1e3;
   if (timingFrames_ > 0) {
     timingFrameSum_ += frameMs_;
     timingUiSum_ += uiMs_;
-    timingPreviewSum_ += (previewEnd - uiPause) * 1e3;
+    timingPreviewSum_ += ((previewEnd - uiPause) + (viewEnd - viewStart)) * 1e3;
     if (--timingFrames_ == 0) {
       double n = timingTotal_;
       std::printf(
@@ -730,7 +751,7 @@ void Editor::drawView() {
   viewRect_[1] = y0;
   viewRect_[2] = w * scale;
   viewRect_[3] = h * scale;
-  draw->AddImage(texture_.imguiId(), ImVec2(x0, y0), ImVec2(x0 + w * scale, y0 + h * scale));
+  // The image itself is blitted before ImGui draws (frame()); the overlays below go on top of it.
   if (view_ == ViewMode::Split && displayNote_.empty()) {
     float x = x0 + divider_ * w * scale;
     draw->AddLine(ImVec2(x, y0), ImVec2(x, y0 + h * scale), IM_COL32(255, 255, 255, 200), 1.0f);
