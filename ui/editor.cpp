@@ -676,7 +676,11 @@ void Editor::frame() {
   glFinish();
   // Showing the image is part of the preview's time, like its readback and upload; the UI draws over it.
   const double viewStart = now();
-  if (texture_.valid()) texture_.blitTo(viewRect_[0], viewRect_[1], viewRect_[2], viewRect_[3], height);
+  if (texture_.valid()) {
+    // viewRect_ is in ImGui's window coordinates; the framebuffer may have more pixels (HiDPI).
+    const ImVec2 fb = ImGui::GetIO().DisplayFramebufferScale;
+    texture_.blitTo(viewRect_[0] * fb.x, viewRect_[1] * fb.y, viewRect_[2] * fb.x, viewRect_[3] * fb.y, height);
+  }
   glFinish();
   const double viewEnd = now();
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
