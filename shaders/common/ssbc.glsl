@@ -178,16 +178,9 @@ vec3 ssbcFullAt(ivec2 px) {
   return ssbcLevel0(r, px) + ssbcLevel1(r, px) + ssbcRings(r, px, 2, r.topLevel);
 }
 
-// The coarse rings only (levels >= kSsbcFineLevels) at p: the samples that ssbcCoarseInterpolated interpolates.
-vec3 ssbcCoarseAt(ivec2 px) {
-  SsbcReceiver r;
-  if (!ssbcReceiver(px, r)) return vec3(0.0);
-  return ssbcRings(r, px, kSsbcFineLevels, r.topLevel);
-}
-
 #ifdef SSBC_SPLIT
 layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
-layout(binding = 11) uniform sampler2D uCoarse;    // ssbcCoarseAt at the pixels kSsbcCoarseSpacing t
+layout(binding = 11) uniform sampler2D uCoarse;    // the coarse rings at the pixels kSsbcCoarseSpacing t
 layout(binding = 13) uniform sampler2D uCoarseFar; // its far rings (levels >= kSsbcFallbackExactLevels) alone
 
 // Whether the coarse sample at pixel q lies on the surface whose merge key is `key` (relative depth and normal tests,
@@ -223,7 +216,7 @@ bool ssbcCoarseInterpolated(SsbcReceiver r, ivec2 px, out vec3 coarse) {
 // A coarse-grid quantity at p (coarseSamples: one texel per pixel kSsbcCoarseSpacing t), bilinear over the samples on
 // p's surface, renormalised (each such sample weighted at least 1/64, so that a pixel between samples of which only
 // zero-weight ones lie on its surface still gets them); 0 where none of the four does. Used for the far rings at a
-// pixel whose interpolation is incomplete, and for the whole second step.
+// pixel whose interpolation is incomplete, and for the coarse rings of the second step.
 vec3 ssbcFromCoarseSamples(sampler2D coarseSamples, SsbcReceiver r, ivec2 px) {
   vec4 key = texelFetch(gMergeKey, px, 0);
   ivec2 base = px >> kSsbcFineLevels;
@@ -243,5 +236,3 @@ vec3 ssbcFromCoarseSamples(sampler2D coarseSamples, SsbcReceiver r, ivec2 px) {
 }
 
 #endif
-
-vec3 ssbcAt(ivec2 px) { return ssbcFullAt(px); }

@@ -67,7 +67,7 @@ void main() {
     value = ssbcCoarseInterpolated(r, pc, coarse) ? coarse : vec3(0.0);
   }
 #else
-  vec3 value = ssbcAt(pc);
+  vec3 value = ssbcFullAt(pc);
 #endif
   outColor = vec4(any(greaterThanEqual(px, size)) ? vec3(0.0) : value, alpha);
 }
