@@ -8,7 +8,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/sweep_options.h"
-#include "renderer/bench/sweep.h"
+#include "evaluation/sweep.h"
 #include "renderer/gl/context.h"
 
 namespace vplab::app {

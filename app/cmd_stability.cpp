@@ -8,7 +8,7 @@
 #include "app/cli.h"
 #include "app/commands.h"
 #include "app/sweep_options.h"
-#include "renderer/bench/stability.h"
+#include "evaluation/stability.h"
 #include "renderer/gl/context.h"
 
 namespace vplab::app {

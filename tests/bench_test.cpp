@@ -10,10 +10,10 @@
 #include <set>
 #include <sstream>
 
-#include "renderer/bench/csv_log.h"
-#include "renderer/bench/svg_chart.h"
-#include "renderer/bench/sweep.h"
-#include "renderer/bench/xml_check.h"
+#include "evaluation/csv_log.h"
+#include "evaluation/svg_chart.h"
+#include "evaluation/sweep.h"
+#include "tests/xml_check.h"
 
 namespace vplab {
 namespace {

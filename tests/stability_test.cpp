@@ -2,7 +2,7 @@
 // less than VPLs reshuffled every frame under a small light move; the failure maps see the clamp's energy loss; the
 // grid of parameter extremes produces no non-finite or negative pixel. GlStability repeats the GL parts.
 
-#include "renderer/bench/stability.h"
+#include "evaluation/stability.h"
 
 #include <gtest/gtest.h>
 

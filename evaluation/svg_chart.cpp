@@ -1,4 +1,4 @@
-#include "renderer/bench/svg_chart.h"
+#include "evaluation/svg_chart.h"
 
 #include <algorithm>
 #include <cmath>

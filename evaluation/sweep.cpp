@@ -1,4 +1,4 @@
-#include "renderer/bench/sweep.h"
+#include "evaluation/sweep.h"
 
 #include <algorithm>
 #include <cmath>
@@ -9,7 +9,7 @@
 #include <set>
 #include <sstream>
 
-#include "renderer/bench/svg_chart.h"
+#include "evaluation/svg_chart.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"

@@ -9,8 +9,8 @@
 #include <string>
 #include <vector>
 
-#include "renderer/bench/csv_log.h"
-#include "renderer/bench/harness.h"
+#include "evaluation/csv_log.h"
+#include "evaluation/harness.h"
 #include "renderer/settings.h"
 
 namespace vplab {

@@ -1,4 +1,4 @@
-#include "renderer/bench/harness.h"
+#include "evaluation/harness.h"
 
 #include <glad/gl.h>
 

@@ -1,4 +1,4 @@
-#include "renderer/bench/xml_check.h"
+#include "tests/xml_check.h"
 
 #include <cctype>
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "renderer/bench/csv_log.h"
+#include "evaluation/csv_log.h"
 
 #include <cassert>
 #include <filesystem>

@@ -11,7 +11,7 @@
 #include <string>
 #include <vector>
 
-#include "renderer/bench/harness.h"
+#include "evaluation/harness.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 
