@@ -8,8 +8,7 @@
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
 
@@ -51,11 +50,10 @@ int cmdPreview(const Args& args) {
 
   Scene scene = loadScene(cl.positional()[0]);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "vplab preview: warning: %s\n", w.c_str());
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
-  if (lights.empty())
+  OfflineScene offline(scene);
+  if (offline.lights().empty())
     std::fprintf(stderr, "vplab preview: %s has no lights: the image is black\n", scene.sourcePath.c_str());
-  VplSet vpls = generateVpls(scene, embree, lights, settings);
+  VplSet vpls = generateVpls(offline, settings);
 
   // The context comes before the renderer (it loads the GL function table) and outlives it.
   HeadlessGlContext context(backend);
@@ -75,7 +73,7 @@ int cmdPreview(const Args& args) {
   const VplStats& st = vpls.stats;
   std::printf("gl          %s\n", context.description().c_str());
   std::printf("scene       %s (%zu triangles, %zu lights)\n", scene.sourcePath.c_str(), scene.triangles.size(),
-              lights.lightCount());
+              offline.lights().lightCount());
   std::printf("preview     %dx%d, k = %d, b = %g, ssbc %d, shadow maps %d, direct samples %d, seed %u\n",
               settings.width, settings.height, settings.interleave, settings.clampBound, settings.ssbcSteps,
               settings.shadowMapSize, settings.directLightSamples, settings.seed);

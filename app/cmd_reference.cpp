@@ -4,8 +4,7 @@
 #include "app/commands.h"
 #include "app/settings_options.h"
 #include "renderer/image/image_io.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/scene/gltf_loader.h"
 
@@ -37,10 +36,9 @@ int cmdReference(const Args& args) {
   Scene scene = loadScene(cl.positional()[0]);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "vplab reference: warning: %s\n", w.c_str());
   auto buildStart = std::chrono::steady_clock::now();
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
+  OfflineScene offline(scene);
   double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
-  if (lights.empty())
+  if (offline.lights().empty())
     std::fprintf(stderr, "vplab reference: %s has no lights (no emissive triangle with a non-zero area and no "
                          "punctual light): the image is black\n", scene.sourcePath.c_str());
 
@@ -48,7 +46,7 @@ int cmdReference(const Args& args) {
   cli::ProgressReporter progress("reference");
   control.onProgress = [&](float f) { progress.update(f); };
   ReferenceStats stats;
-  ProgressiveResult result = renderReference(scene, embree, lights, settings, &control, {}, &stats);
+  ProgressiveResult result = renderReference(offline, settings, &control, {}, &stats);
   progress.finish();
 
   if (out) writeImage(*out, result.image, settings.exposure);
@@ -56,7 +54,7 @@ int cmdReference(const Args& args) {
 
   double raysPerSecond = result.seconds > 0.0 ? static_cast<double>(stats.totalRays()) / result.seconds : 0.0;
   std::printf("scene       %s (%zu triangles, %zu lights; BVH + light table %.1f ms)\n", scene.sourcePath.c_str(),
-              scene.triangles.size(), lights.lightCount(), 1e3 * buildSeconds);
+              scene.triangles.size(), offline.lights().lightCount(), 1e3 * buildSeconds);
   std::printf("image       %dx%d, %d spp, components %s, max depth %d, seed %u\n", settings.width, settings.height,
               result.samplesPerPixel, toString(settings.components), settings.maxDepth, settings.seed);
   std::printf("time        %.3f s on %d threads\n", result.seconds, resolveThreadCount(settings.threads));

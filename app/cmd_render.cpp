@@ -5,8 +5,7 @@
 #include "app/settings_options.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -59,21 +58,21 @@ int cmdRender(const Args& args) {
 
   Scene scene = loadScene(cl.positional()[0]);
   for (const std::string& w : scene.warnings) std::fprintf(stderr, "vplab render: warning: %s\n", w.c_str());
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
-  if (lights.empty()) std::fprintf(stderr, "vplab render: %s has no lights: the image is black\n", scene.sourcePath.c_str());
+  OfflineScene offline(scene);
+  if (offline.lights().empty())
+    std::fprintf(stderr, "vplab render: %s has no lights: the image is black\n", scene.sourcePath.c_str());
 
   RenderControl genControl;
   cli::ProgressReporter genProgress("vpls");
   genControl.onProgress = [&](float f) { genProgress.update(f); };
-  VplSet vpls = generateVpls(scene, embree, lights, settings, &genControl);
+  VplSet vpls = generateVpls(offline, settings, &genControl);
   genProgress.finish();
   if (vplPath) saveVplSet(*vplPath, vpls);
 
   RenderControl control;
   cli::ProgressReporter progress("render");
   control.onProgress = [&](float f) { progress.update(f); };
-  VplRenderResult result = renderVpl(scene, embree, lights, vpls, method, settings, &control);
+  VplRenderResult result = renderVpl(offline, vpls, method, settings, &control);
   progress.finish();
 
   if (out) writeImage(*out, result.image, settings.exposure);
@@ -81,7 +80,7 @@ int cmdRender(const Args& args) {
 
   const VplStats& st = vpls.stats;
   std::printf("scene       %s (%zu triangles, %zu lights)\n", scene.sourcePath.c_str(), scene.triangles.size(),
-              lights.lightCount());
+              offline.lights().lightCount());
   std::printf("method      %s, %dx%d, %d spp, components %s, seed %u\n", toString(method), settings.width,
               settings.height, result.samplesPerPixel, toString(settings.components), settings.seed);
   std::printf("vpls        %llu accepted of %llu candidates from %llu light paths (acceptance %.1f%%%s), "

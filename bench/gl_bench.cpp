@@ -27,8 +27,7 @@
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/gl/resources.h"
 #include "renderer/gl/shader.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
 
@@ -146,8 +145,7 @@ int main(int argc, char** argv) {
   }
 
   Scene scene = loadScene(scenePath);
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
+  OfflineScene offline(scene);
   HeadlessGlContext context(backend);
   std::printf(
       "gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (coarse rings %s), median of %d frames "
@@ -173,7 +171,7 @@ int main(int argc, char** argv) {
     settings.clampBound = clamp;
     settings.ssbcSteps = ssbc;
     settings.ssbcCoarseRings = ssbcCoarseRings != 0;
-    VplSet vpls = generateVpls(scene, embree, lights, settings);
+    VplSet vpls = generateVpls(offline, settings);
     PreviewRenderer renderer;
     double shadowMs = 0.0;  // VPL shadow maps are rendered once per VPL set, with the first k
     for (int k : ks) {

@@ -8,8 +8,7 @@
 #include "renderer/core/parallel.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/progressive.h"
 #include "renderer/scene/gltf_loader.h"
@@ -105,8 +104,7 @@ int main(int argc, char** argv) {
   }
   threads = resolveThreadCount(threads);
   Scene scene = loadScene(scenePath);
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
+  OfflineScene offline(scene);
   RawScene raw(scene);
   std::vector<Row> rows;
 
@@ -115,11 +113,11 @@ int main(int argc, char** argv) {
   s.width = s.height = size;
   s.threads = threads;
   s.samplesPerPixel = 16;
-  renderReference(scene, embree, lights, s);  // warm-up (page faults, thread start)
+  renderReference(offline, s);  // warm-up (page faults, thread start)
   s.samplesPerPixel = 64;
   ReferenceStats stats;
   auto measureReference = [&]() {
-    ProgressiveResult r = renderReference(scene, embree, lights, s, nullptr, {}, &stats);
+    ProgressiveResult r = renderReference(offline, s, nullptr, {}, &stats);
     return static_cast<double>(stats.totalRays()) / r.seconds;
   };
 
@@ -133,7 +131,7 @@ int main(int argc, char** argv) {
   const glm::vec3 eye = scene.camera.position;
   std::vector<SurfaceHit> hits;
   for (const glm::vec3& d : dirs)
-    if (auto h = embree.intersect(eye, d)) hits.push_back(*h);
+    if (auto h = offline.embree().intersect(eye, d)) hits.push_back(*h);
   auto measureIntersect = [&]() { return measure(n, threads, 1.0, [&](std::size_t b, std::size_t e) {
     RTCIntersectContext ctx;
     rtcInitIntersectContext(&ctx);
@@ -154,7 +152,7 @@ int main(int argc, char** argv) {
   for (std::size_t i = 0; i < n; ++i) {
     const SurfaceHit& a = hits[rng.nextUint() % hits.size()];
     const SurfaceHit& b = hits[rng.nextUint() % hits.size()];
-    shadow[i] = embree.shadowRayBetween(a.position, a.geometricNormal, b.position, b.geometricNormal);
+    shadow[i] = offline.embree().shadowRayBetween(a.position, a.geometricNormal, b.position, b.geometricNormal);
   }
   auto measureOccluded = [&]() { return measure(n, threads, 1.0, [&](std::size_t b, std::size_t e) {
     RTCIntersectContext ctx;
@@ -171,7 +169,7 @@ int main(int argc, char** argv) {
   }); };
   std::vector<uint8_t> blocked(n);
   auto measureBatch = [&]() { return measure(n, threads, 1.0, [&](std::size_t b, std::size_t e) {
-    embree.occludedBatch(shadow.data() + b, blocked.data() + b, e - b);
+    offline.embree().occludedBatch(shadow.data() + b, blocked.data() + b, e - b);
   }); };
   // The machine is shared: the four rates are measured in interleaved rounds and each keeps its best round, so a
   // burst of foreign load cannot land on one side of the comparison only.
@@ -201,7 +199,7 @@ int main(int argc, char** argv) {
     rs.samplesPerPixel = refSpp;
     rs.seed = 4242;
     std::fprintf(stderr, "rendering the %d-spp reference (%dx%d)...\n", refSpp, size, size);
-    reference = renderReference(scene, embree, lights, rs).image;
+    reference = renderReference(offline, rs).image;
     if (!refCache.empty()) writeImage(refCache, reference);
   }
   Settings ts = s;
@@ -210,7 +208,7 @@ int main(int argc, char** argv) {
   double start = now(), reached = -1.0, metricSeconds = 0.0;
   int reachedSpp = -1;
   double lastRelMse = 0.0;
-  renderReference(scene, embree, lights, ts, &control, [&](const Image& mean, int spp) {
+  renderReference(offline, ts, &control, [&](const Image& mean, int spp) {
     double t0 = now();
     lastRelMse = compareImages(mean, reference).relMse;
     // The reference's own noise adds about relMSE * spp / refSpp; remove it so the figure is the render's error.

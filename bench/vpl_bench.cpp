@@ -7,8 +7,7 @@
 #include "bench/bench_args.h"
 #include "renderer/core/parallel.h"
 #include "renderer/image/metrics.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/progressive.h"
 #include "renderer/offline/vpl_renderer.h"
@@ -100,8 +99,7 @@ int main(int argc, char** argv) {
               "gen s", "render s", "relMSE", "energy", "clamp%", "Mray/s", "raw Mr/s", "ratio");
   for (const char* name : {"cornell-box", "two-rooms"}) {
     Scene scene = loadScene(std::string(VPLAB_ASSET_DIR) + "/scenes/" + name + ".gltf");
-    EmbreeScene embree(scene);
-    LightSampler lights(scene);
+    OfflineScene offline(scene);
     Settings base;
     base.width = base.height = size;
     base.threads = threads;
@@ -112,12 +110,13 @@ int main(int argc, char** argv) {
     base.vplMaxBounces = base.maxDepth - 1;
     Settings refSettings = base;
     refSettings.samplesPerPixel = refSpp;
-    Image reference = renderReference(scene, embree, lights, refSettings).image;
+    Image reference = renderReference(offline, refSettings).image;
 
     for (int n : counts) {
       Settings s = base;
       s.vplCount = n;
-      VplSet vpls = generateVpls(scene, embree, lights, s);
+      VplSet vpls = generateVpls(offline, s);
+      const EmbreeScene& embree = offline.embree();
       double raw = rawOcclusionRate(embree, shadowRaysOfImage(scene, embree, vpls, size, size), threads);
       for (Method method : {Method::Vpl, Method::VplKK, Method::Vsl}) {
         for (float b : bounds) {
@@ -127,7 +126,7 @@ int main(int argc, char** argv) {
           Settings rs = s;
           rs.clampBound = b;
           rs.vslRadius = method == Method::Vsl ? vslRadius : 0.0f;
-          VplRenderResult r = renderVpl(scene, embree, lights, vpls, method, rs);
+          VplRenderResult r = renderVpl(offline, vpls, method, rs);
           ImageMetrics m = compareImages(r.image, reference);
           Row row;
           row.scene = name;

@@ -22,19 +22,10 @@ const char* toString(Backend backend) {
   return backend == Backend::Cpu ? "cpu" : "gl";
 }
 
-SceneSetup::SceneSetup(Scene scene)
-    : scene_(std::make_unique<Scene>(std::move(scene))),
-      embree_(std::make_unique<EmbreeScene>(*scene_)),
-      lights_(std::make_unique<LightSampler>(*scene_)) {}
-
-VplSet SceneSetup::generate(const Settings& settings) const {
-  return generateVpls(*scene_, *embree_, *lights_, settings);
-}
-
-MeasuredImage SceneSetup::renderCpu(Method method, const VplSet& vpls, const Settings& settings) const {
+MeasuredImage renderCpu(const OfflineScene& offline, Method method, const VplSet& vpls, const Settings& settings) {
   assert(method != Method::Reference);
   MeasuredImage m;
-  VplRenderResult r = renderVpl(*scene_, *embree_, *lights_, vpls, method, settings);
+  VplRenderResult r = renderVpl(offline, vpls, method, settings);
   m.image = std::move(r.image);
   m.generationMs = 1000.0 * vpls.stats.generationSeconds;
   m.renderMs = 1000.0 * r.seconds;
@@ -42,9 +33,9 @@ MeasuredImage SceneSetup::renderCpu(Method method, const VplSet& vpls, const Set
   return m;
 }
 
-MeasuredImage SceneSetup::renderReferenceImage(const Settings& settings) const {
+MeasuredImage renderReferenceImage(const OfflineScene& offline, const Settings& settings) {
   MeasuredImage m;
-  ProgressiveResult r = renderReference(*scene_, *embree_, *lights_, settings);
+  ProgressiveResult r = renderReference(offline, settings);
   m.image = std::move(r.image);
   m.renderMs = 1000.0 * r.seconds;
   return m;
@@ -123,7 +114,7 @@ std::string sceneStem(const std::string& path) {
   return std::filesystem::path(path).stem().string();
 }
 
-MeasuredImage cachedReference(const SceneSetup& setup, const std::string& sceneName, const Settings& settings,
+MeasuredImage cachedReference(const OfflineScene& setup, const std::string& sceneName, const Settings& settings,
                               const std::string& cacheDir, bool* cached) {
   std::string file;
   if (!cacheDir.empty()) {
@@ -142,7 +133,7 @@ MeasuredImage cachedReference(const SceneSetup& setup, const std::string& sceneN
     }
   }
   if (cached) *cached = false;
-  MeasuredImage m = setup.renderReferenceImage(settings);
+  MeasuredImage m = renderReferenceImage(setup, settings);
   if (!file.empty()) writeImage(file, m.image);
   return m;
 }

@@ -1,9 +1,9 @@
 #pragma once
-// What the sweeps (bench, stability) need around the two renderers: one scene with its Embree BVH and light sampler,
-// VPL generation, the exact CPU VPL render, the GL preview in a headless context, and cached references, all
-// returning an image plus the time it took. Compared like with like: with Components::Indirect every backend returns
-// indirect light only (CPU: renderVpl's indirect component; GL: the de-interleaved gather plus the screen-space
-// residual), which is the part the many-light methods approximate; with Components::All the full image.
+// What the sweeps (bench, stability) need around the two renderers: the exact CPU VPL render, the GL preview in a
+// headless context, and cached references, all returning an image plus the time it took. Compared like with like:
+// with Components::Indirect every backend returns indirect light only (CPU: renderVpl's indirect component; GL: the
+// de-interleaved gather plus the screen-space residual), which is the part the many-light methods approximate; with
+// Components::All the full image.
 
 #include <memory>
 #include <optional>
@@ -12,8 +12,7 @@
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 #include "renderer/vpl/vpl.h"
@@ -32,28 +31,11 @@ struct MeasuredImage {
   VplStats vplStats;
 };
 
-/// A scene ready for the CPU passes. Owns a copy of the scene, so a moved light is a new SceneSetup.
-class SceneSetup {
- public:
-  explicit SceneSetup(Scene scene);
-  SceneSetup(const SceneSetup&) = delete;
-  SceneSetup& operator=(const SceneSetup&) = delete;
-
-  const Scene& scene() const { return *scene_; }
-  const EmbreeScene& embree() const { return *embree_; }
-  const LightSampler& lights() const { return *lights_; }
-
-  VplSet generate(const Settings& settings) const;
-  /// renderVpl with `method` (Vpl, VplKK or Vsl) on the given VPLs, restricted to settings.components.
-  MeasuredImage renderCpu(Method method, const VplSet& vpls, const Settings& settings) const;
-  /// renderReference at settings.samplesPerPixel, settings.components.
-  MeasuredImage renderReferenceImage(const Settings& settings) const;
-
- private:
-  std::unique_ptr<Scene> scene_;
-  std::unique_ptr<EmbreeScene> embree_;
-  std::unique_ptr<LightSampler> lights_;
-};
+/// The sweeps' CPU renders of a scene ready for the CPU passes, each returning the image and the time it took.
+/// renderVpl with `method` (Vpl, VplKK or Vsl) on the given VPLs, restricted to settings.components.
+MeasuredImage renderCpu(const OfflineScene& offline, Method method, const VplSet& vpls, const Settings& settings);
+/// renderReference at settings.samplesPerPixel, settings.components.
+MeasuredImage renderReferenceImage(const OfflineScene& offline, const Settings& settings);
 
 /// The GL preview in its own headless context (created on first use; never throws for a missing GL: available()
 /// is false and error() says why).
@@ -84,7 +66,7 @@ class PreviewBench {
 /// A reference for (scene, size, spp, components, seed), read from `cacheDir` when it was rendered before, else
 /// rendered and stored there as EXR. The file name holds every key, so a different setting never reuses a file.
 /// cacheDir empty: no cache. `cached`, when given, says whether the file was reused.
-MeasuredImage cachedReference(const SceneSetup& setup, const std::string& sceneName, const Settings& settings,
+MeasuredImage cachedReference(const OfflineScene& setup, const std::string& sceneName, const Settings& settings,
                               const std::string& cacheDir, bool* cached = nullptr);
 
 /// "cornell-box" for ".../cornell-box.gltf".

@@ -14,6 +14,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/vpl_generation.h"
 
 namespace vplab {
 
@@ -195,7 +196,7 @@ std::vector<FlickerRow> measureFlicker(const Scene& scene, const StabilityConfig
   bool haveGl = gl && config.gl && gl->available();
 
   // The scripted motion: the light slides sideways (x) and down a little, the camera slides along its right axis.
-  std::vector<std::unique_ptr<SceneSetup>> frames;
+  std::vector<std::unique_ptr<OfflineScene>> frames;
   for (int t = 0; t < config.frames; ++t) {
     Scene s;
     if (motion == "light") {
@@ -204,7 +205,7 @@ std::vector<FlickerRow> measureFlicker(const Scene& scene, const StabilityConfig
       s = scene;
       s.camera.position += s.camera.right() * (config.cameraStep * diag * static_cast<float>(t));
     }
-    frames.push_back(std::make_unique<SceneSetup>(std::move(s)));
+    frames.push_back(std::make_unique<OfflineScene>(std::move(s)));
   }
 
   // Path-traced frames with one seed: their per-pixel random streams are the same every frame, so what changes is
@@ -212,7 +213,7 @@ std::vector<FlickerRow> measureFlicker(const Scene& scene, const StabilityConfig
   Settings refSettings = base;
   refSettings.samplesPerPixel = config.referenceSpp;
   std::vector<Image> ref;
-  for (auto& f : frames) ref.push_back(f->renderReferenceImage(refSettings).image);
+  for (auto& f : frames) ref.push_back(renderReferenceImage(*f, refSettings).image);
   FlickerRow refRow;
   refRow.motion = motion;
   refRow.method = "reference";
@@ -236,9 +237,9 @@ std::vector<FlickerRow> measureFlicker(const Scene& scene, const StabilityConfig
         Settings gen = s;
         // Reshuffled: a new VPL seed per frame. Only the VPLs change; the pixel jitter keeps the base seed.
         if (reshuffle) gen.seed = base.seed + 7919u * static_cast<uint32_t>(t + 1);
-        VplSet vpls = frames[t]->generate(gen);
+        VplSet vpls = generateVpls(*frames[t], gen);
         images.push_back(m.backend == Backend::Cpu
-                             ? frames[t]->renderCpu(m.method, vpls, s).image
+                             ? renderCpu(*frames[t], m.method, vpls, s).image
                              : gl->render(frames[t]->scene(), vpls, s, frames[t]->scene().camera).image);
       }
       FlickerRow row;
@@ -275,7 +276,7 @@ std::vector<FlickerRow> measureFlicker(const Scene& scene, const StabilityConfig
   return rows;
 }
 
-std::vector<FailureRow> failureMaps(const SceneSetup& setup, const StabilityConfig& config, PreviewBench* gl) {
+std::vector<FailureRow> failureMaps(const OfflineScene& setup, const StabilityConfig& config, PreviewBench* gl) {
   const float diag = std::max(setup.scene().bounds.diagonal(), 1e-3f);
   const Settings base = baseSettings(config);
   Settings refSettings = base;
@@ -325,34 +326,34 @@ std::vector<FailureRow> failureMaps(const SceneSetup& setup, const StabilityConf
     rows.push_back(std::move(row));
   };
 
-  VplSet plain = setup.generate(base);
+  VplSet plain = generateVpls(setup, base);
   record("vpl (cpu)", "splotches near corners and creases, glossy surfaces",
-         setup.renderCpu(Method::Vpl, plain, base).image, ref, "reference", false);
+         renderCpu(setup, Method::Vpl, plain, base).image, ref, "reference", false);
   Settings clamp = base;
   clamp.clampBound = 1.0f / (0.01f * diag * diag);
   record("clamp (cpu)", "darkened corners and cavities, lost glossy inter-reflections",
-         setup.renderCpu(Method::Vpl, plain, clamp).image, ref, "reference", true);
+         renderCpu(setup, Method::Vpl, plain, clamp).image, ref, "reference", true);
   Settings kk = clamp;
   record("vpl-kk (cpu)", "none in bias; noise where the compensation paths go (cost)",
-         setup.renderCpu(Method::VplKK, plain, kk).image, ref, "reference", false);
+         renderCpu(setup, Method::VplKK, plain, kk).image, ref, "reference", false);
   Settings vsl = base;
   vsl.vslRadius = 0.03f * diag;
-  VplSet vslSet = setup.generate(vsl);
-  record("vsl (cpu)", "blurred sharp indirect features", setup.renderCpu(Method::Vsl, vslSet, vsl).image, ref,
+  VplSet vslSet = generateVpls(setup, vsl);
+  record("vsl (cpu)", "blurred sharp indirect features", renderCpu(setup, Method::Vsl, vslSet, vsl).image, ref,
          "reference", false);
   Settings rej = base;
   rej.rejection = true;
   rej.rejectionEpsilon = 0.0f;
-  VplSet rejSet = setup.generate(rej);
+  VplSet rejSet = generateVpls(setup, rej);
   record("reject eps=0 (cpu)", "bias where no sample point sees a VPL; local glossy effects",
-         setup.renderCpu(Method::Vpl, rejSet, rej).image, ref, "reference", false);
+         renderCpu(setup, Method::Vpl, rejSet, rej).image, ref, "reference", false);
   if (haveGl) {
     Settings ssbc = clamp;
     ssbc.ssbcSteps = 2;
     record("ssbc (gl)", "screen borders, depth discontinuities, occluded or off-screen geometry",
            gl->render(setup.scene(), plain, ssbc, setup.scene().camera).image, ref, "reference", true);
     // Shadow maps against the exact visibility of the CPU pass on the same VPLs: only visibility differs.
-    Image exact = setup.renderCpu(Method::Vpl, plain, base).image;
+    Image exact = renderCpu(setup, Method::Vpl, plain, base).image;
     for (int size : {16, 256}) {
       Settings sm = base;
       sm.shadowMapSize = size;
@@ -364,7 +365,7 @@ std::vector<FailureRow> failureMaps(const SceneSetup& setup, const StabilityConf
   return rows;
 }
 
-std::vector<ExtremeRow> runExtremes(const SceneSetup& setup, const StabilityConfig& config, PreviewBench* gl) {
+std::vector<ExtremeRow> runExtremes(const OfflineScene& setup, const StabilityConfig& config, PreviewBench* gl) {
   const float diag = std::max(setup.scene().bounds.diagonal(), 1e-3f);
   Settings base = baseSettings(config);
   base.components = Components::All;
@@ -426,11 +427,11 @@ std::vector<ExtremeRow> runExtremes(const SceneSetup& setup, const StabilityConf
     if (e.backend == Backend::Gl && !haveGl) continue;
     Settings s = base;
     e.edit(s);
-    VplSet vpls = setup.generate(s);
+    VplSet vpls = generateVpls(setup, s);
     MeasuredImage m;
     if (e.backend == Backend::Cpu) {
       Method method = e.method == "vpl-kk" ? Method::VplKK : e.method == "vsl" ? Method::Vsl : Method::Vpl;
-      m = setup.renderCpu(method, vpls, s);
+      m = renderCpu(setup, method, vpls, s);
     } else {
       m = gl->render(setup.scene(), vpls, s, setup.scene().camera);
     }
@@ -460,7 +461,7 @@ StabilityOutcome runStability(const std::string& scenePath, const StabilityConfi
     auto rows = measureFlicker(scene, config, motion, glp);
     out.flicker.insert(out.flicker.end(), rows.begin(), rows.end());
   }
-  SceneSetup setup(scene);
+  OfflineScene setup(scene);
   out.failures = failureMaps(setup, config, glp);
   out.extremes = runExtremes(setup, config, glp);
   for (const ExtremeRow& r : out.extremes) out.extremesClean = out.extremesClean && r.bad.total() == 0;

@@ -73,7 +73,7 @@ struct FailureRow {
   std::string image;                   ///< the method's image (PNG, relative to outDir)
 };
 
-std::vector<FailureRow> failureMaps(const SceneSetup& setup, const StabilityConfig& config, PreviewBench* gl);
+std::vector<FailureRow> failureMaps(const OfflineScene& setup, const StabilityConfig& config, PreviewBench* gl);
 
 /// One point of the extremes grid.
 struct ExtremeRow {
@@ -87,7 +87,7 @@ struct ExtremeRow {
 };
 
 /// Every extreme on the CPU and (when gl is usable) in the preview, full images (Components::All).
-std::vector<ExtremeRow> runExtremes(const SceneSetup& setup, const StabilityConfig& config, PreviewBench* gl);
+std::vector<ExtremeRow> runExtremes(const OfflineScene& setup, const StabilityConfig& config, PreviewBench* gl);
 
 struct StabilityOutcome {
   std::vector<FlickerRow> flicker;

@@ -14,6 +14,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/vpl_generation.h"
 
 namespace vplab {
 
@@ -217,7 +218,7 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
   for (const std::string& path : scenePaths) {
     const std::string name = sceneStem(path);
     names.push_back(name);
-    SceneSetup setup(loadScene(path));
+    OfflineScene setup(loadScene(path));
     std::vector<BenchCase> cases = benchCases(setup.scene(), config);
 
     Settings refSettings;
@@ -261,13 +262,13 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
       }
       std::string gk = generationKey(c.settings);
       auto it = vplCache.find(gk);
-      if (it == vplCache.end()) it = vplCache.emplace(gk, setup.generate(c.settings)).first;
+      if (it == vplCache.end()) it = vplCache.emplace(gk, generateVpls(setup, c.settings)).first;
       const VplSet& vpls = it->second;
 
       MeasuredImage m;
       if (c.backend == Backend::Cpu) {
         Method method = c.method == "vpl-kk" ? Method::VplKK : c.method == "vsl" ? Method::Vsl : Method::Vpl;
-        m = setup.renderCpu(method, vpls, c.settings);
+        m = renderCpu(setup, method, vpls, c.settings);
       } else {
         m = gl.render(setup.scene(), vpls, c.settings, setup.scene().camera);
       }

@@ -6,8 +6,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/image/tonemap.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/settings_json.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -196,9 +195,8 @@ TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) 
   settings.width = settings.height = 96;
   settings.vplCount = 48;
   settings.directLightSamples = 16;
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
-  VplSet vpls = generateVpls(scene, embree, lights, settings);
+  OfflineScene offline(scene);
+  VplSet vpls = generateVpls(offline, settings);
   ui::CameraController controller(scene.camera, glm::length(scene.bounds.center() - scene.camera.position),
                                   scene.bounds.diagonal());
   controller.orbit(glm::radians(15.0f), glm::radians(5.0f));

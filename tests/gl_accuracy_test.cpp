@@ -29,7 +29,7 @@
 namespace vplab {
 namespace {
 
-using Loaded = test::LoadedScene;
+using Loaded = OfflineScene;
 
 std::unique_ptr<Loaded> load(const std::string& name) {
   return test::loadAssetScene(name);
@@ -70,7 +70,7 @@ Image preview(const Scene& scene, const VplSet& vpls, const Settings& s, Preview
 Image cpuIndirect(const Loaded& l, const VplSet& vpls, Method method, Settings s, int spp) {
   s.components = Components::Indirect;
   s.samplesPerPixel = spp;
-  return renderVpl(l.scene, *l.embree, *l.lights, vpls, method, s).image;
+  return renderVpl(l, vpls, method, s).image;
 }
 
 class GlAccuracy : public ::testing::TestWithParam<GlBackend> {
@@ -90,9 +90,9 @@ TEST_P(GlAccuracy, PointVplsMatchCpuExactRender) {
   auto l = load("cornell-box");
   Settings s = baseSettings(128, 64);
   s.clampBound = 20.0f;
-  VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
+  VplSet vpls = generateVpls(*l, s);
   ASSERT_GT(vpls.vpls.size(), 32u);
-  Image gl = preview(l->scene, vpls, s, PreviewOutput::Indirect);
+  Image gl = preview(l->scene(), vpls, s, PreviewOutput::Indirect);
   Image cpu = cpuIndirect(*l, vpls, Method::Vpl, s, 16);
   ImageMetrics m = compareImages(gl, cpu);
   std::printf("[ measured ] cornell-box 128x128, %zu VPLs, b = 20: relMSE %.5f, energy ratio %.4f\n", vpls.vpls.size(),
@@ -109,9 +109,9 @@ TEST_P(GlAccuracy, VslsMatchCpuVslRender) {
   Settings s = baseSettings(128, 64);
   s.vslRadius = 0.05f;
   s.vslSamples = 16;
-  VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
+  VplSet vpls = generateVpls(*l, s);
   ASSERT_FLOAT_EQ(vpls.vpls[0].radius, 0.05f);
-  Image gl = preview(l->scene, vpls, s, PreviewOutput::Indirect);
+  Image gl = preview(l->scene(), vpls, s, PreviewOutput::Indirect);
   Image cpu = cpuIndirect(*l, vpls, Method::Vsl, s, 8);
   ImageMetrics m = compareImages(gl, cpu);
   std::printf("[ measured ] cornell-box VSL r = 0.05, %zu VPLs: relMSE %.5f, energy ratio %.4f\n", vpls.vpls.size(),
@@ -126,12 +126,12 @@ TEST_P(GlAccuracy, InterleavedMatchesFullGather) {
   auto l = load("cornell-box");
   Settings s = baseSettings(128, 256);
   s.clampBound = 20.0f;
-  VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
+  VplSet vpls = generateVpls(*l, s);
   PreviewRenderer renderer;
-  renderer.render(l->scene, vpls, s, l->scene.camera);
+  renderer.render(l->scene(), vpls, s, l->scene().camera);
   Image full = renderer.readLinear(PreviewOutput::Indirect);
   s.interleave = 4;
-  renderer.render(l->scene, vpls, s, l->scene.camera);
+  renderer.render(l->scene(), vpls, s, l->scene().camera);
   Image inter = renderer.readLinear(PreviewOutput::Indirect);
   ImageMetrics m = compareImages(inter, full);
   std::printf("[ measured ] cornell-box k = 4 vs k = 1, %zu VPLs: relMSE %.5f, energy ratio %.4f\n", vpls.vpls.size(),
@@ -160,13 +160,13 @@ SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int
   auto l = load(sceneName);
   Settings s = baseSettings(size, vplCount);
   s.ssbcCoarseRings = coarseRings;
-  VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
+  VplSet vpls = generateVpls(*l, s);
   PreviewRenderer renderer;
-  renderer.render(l->scene, vpls, s, l->scene.camera);
+  renderer.render(l->scene(), vpls, s, l->scene().camera);
   Image unclamped = renderer.readLinear(PreviewOutput::Indirect);
   s.clampBound = b;
   s.ssbcSteps = 2;
-  renderer.render(l->scene, vpls, s, l->scene.camera);
+  renderer.render(l->scene(), vpls, s, l->scene().camera);
   Image clamped = renderer.readLinear(PreviewOutput::Indirect);
   Image residual = renderer.readLinear(PreviewOutput::Residual);
   Image compensated = add(clamped, residual);
@@ -175,7 +175,7 @@ SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int
   if (truthKind == Truth::Reference) {
     Settings r = baseSettings(size, vplCount);
     r.samplesPerPixel = 64;
-    truth = renderReference(l->scene, *l->embree, *l->lights, r).image;
+    truth = renderReference(*l, r).image;
   }
   SsbcMeasurement m;
   m.removed = meanLuminance(unclamped) - meanLuminance(clamped);
@@ -282,9 +282,9 @@ TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
     Settings s = baseSettings(48, 32);
     s.vslSamples = 4;
     c.apply(s);
-    VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
-    Image a = preview(l->scene, vpls, s, PreviewOutput::Final);
-    Image b = preview(l->scene, vpls, s, PreviewOutput::Final);
+    VplSet vpls = generateVpls(*l, s);
+    Image a = preview(l->scene(), vpls, s, PreviewOutput::Final);
+    Image b = preview(l->scene(), vpls, s, PreviewOutput::Final);
     ImageMetrics m = compareImages(a, a);
     EXPECT_EQ(m.nonFinitePixels, 0u) << c.name;
     EXPECT_EQ(m.negativePixels, 0u) << c.name;
@@ -299,9 +299,9 @@ TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
 TEST_P(GlAccuracy, VplShadowMapsDependOnlyOnPositions) {
   auto l = load("cornell-box");
   Settings s = baseSettings(48, 32);
-  VplSet vpls = generateVpls(l->scene, *l->embree, *l->lights, s);
+  VplSet vpls = generateVpls(*l, s);
   PreviewRenderer renderer;
-  renderer.render(l->scene, vpls, s, l->scene.camera);
+  renderer.render(l->scene(), vpls, s, l->scene().camera);
   Image before = renderer.readLinear(PreviewOutput::Indirect);
   const int maps = renderer.counters().vplShadowMaps;
   ASSERT_EQ(maps, 1);
@@ -309,10 +309,10 @@ TEST_P(GlAccuracy, VplShadowMapsDependOnlyOnPositions) {
 
   // VSL radius, recomputed in place as the editor does.
   s.vslRadius = 0.05f;
-  std::vector<float> radii = vslRadii(vpls.vpls, s, l->scene.bounds.diagonal());
+  std::vector<float> radii = vslRadii(vpls.vpls, s, l->scene().bounds.diagonal());
   for (std::size_t i = 0; i < radii.size(); ++i) vpls.vpls[i].radius = radii[i];
   renderer.invalidateVpls();
-  renderer.render(l->scene, vpls, s, l->scene.camera);
+  renderer.render(l->scene(), vpls, s, l->scene().camera);
   Image vsl = renderer.readLinear(PreviewOutput::Indirect);
   EXPECT_EQ(renderer.counters().vplShadowMaps, maps);
   EXPECT_EQ(renderer.counters().gather, ++gathers);
@@ -321,7 +321,7 @@ TEST_P(GlAccuracy, VplShadowMapsDependOnlyOnPositions) {
   // Flux, in a new VplSet with the same positions (a regenerated set).
   VplSet brighter = vpls;
   for (Vpl& v : brighter.vpls) v.flux *= 2.0f;
-  renderer.render(l->scene, brighter, s, l->scene.camera);
+  renderer.render(l->scene(), brighter, s, l->scene().camera);
   Image doubled = renderer.readLinear(PreviewOutput::Indirect);
   EXPECT_EQ(renderer.counters().vplShadowMaps, maps);
   EXPECT_EQ(renderer.counters().gather, ++gathers);
@@ -329,14 +329,14 @@ TEST_P(GlAccuracy, VplShadowMapsDependOnlyOnPositions) {
 
   // Clamp bound.
   s.clampBound = 5.0f;
-  renderer.render(l->scene, brighter, s, l->scene.camera);
+  renderer.render(l->scene(), brighter, s, l->scene().camera);
   EXPECT_EQ(renderer.counters().vplShadowMaps, maps);
   EXPECT_EQ(renderer.counters().gather, ++gathers);
 
   // A moved VPL does re-render them.
   brighter.vpls[0].position += glm::vec3(0.01f, 0.0f, 0.0f);
   renderer.invalidateVpls();
-  renderer.render(l->scene, brighter, s, l->scene.camera);
+  renderer.render(l->scene(), brighter, s, l->scene().camera);
   EXPECT_EQ(renderer.counters().vplShadowMaps, maps + 1);
 }
 

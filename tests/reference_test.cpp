@@ -4,8 +4,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/direct_light.h"
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
@@ -28,9 +27,8 @@ glm::dvec3 imageMean(const Image& image) {
 }
 
 ProgressiveResult render(const Scene& scene, Settings s) {
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
-  return renderReference(scene, embree, lights, s);
+  OfflineScene offline(scene);
+  return renderReference(offline, s);
 }
 
 Settings smallSettings(int size, int spp) {
@@ -87,19 +85,18 @@ TEST(ReferenceFurnace, DepthOneIsEmissionPlusOneBounce) {
 /// Mean radiance reflected by the plane at x toward +y, estimated by the full path tracer (a ray straight down
 /// from just above x) and by estimateDirectLight() alone.
 void radianceAt(const Scene& scene, const glm::vec3& x, int samples, double& pathTraced, double& direct) {
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
+  OfflineScene offline(scene);
   glm::vec3 origin = x + glm::vec3(0.0f, 1e-3f, 0.0f);
   glm::vec3 down(0.0f, -1.0f, 0.0f);
-  std::optional<SurfaceHit> hit = embree.intersect(origin, down);
+  std::optional<SurfaceHit> hit = offline.embree().intersect(origin, down);
   ASSERT_TRUE(hit.has_value());
   BrdfParams brdf = brdfParamsAt(scene, hit->material, hit->uv);
   double sumPt = 0.0, sumDirect = 0.0;
   for (int i = 0; i < samples; ++i) {
     Rng rng(hashKey(7, static_cast<uint64_t>(i)));
-    sumPt += referenceRadiance(embree, lights, origin, down, 8, Components::All, rng).g;
+    sumPt += referenceRadiance(offline.embree(), offline.lights(), origin, down, 8, Components::All, rng).g;
     Rng rng2(hashKey(8, static_cast<uint64_t>(i)));
-    sumDirect += estimateDirectLight(embree, lights, *hit, -down, brdf, rng2).g;
+    sumDirect += estimateDirectLight(offline.embree(), offline.lights(), *hit, -down, brdf, rng2).g;
   }
   pathTraced = sumPt / samples;
   direct = sumDirect / samples;
@@ -149,10 +146,10 @@ TEST(ReferenceAnalytic, PointLightGivesIntensityCosineOverDistanceSquared) {
 TEST(ReferenceAnalytic, BackOfOneSidedEmitterIsDark) {
   // The light faces down: seen from above (its back) it emits nothing, and it lights nothing above it.
   Scene scene = test::makePlaneUnderSquareLight(4.0f, 0.25f, 1.0f, 10.0f);
-  EmbreeScene embree(scene);
-  LightSampler lights(scene);
+  OfflineScene offline(scene);
   Rng rng(3);
-  glm::vec3 L = referenceRadiance(embree, lights, {0.0f, 3.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 8, Components::All, rng);
+  glm::vec3 L = referenceRadiance(offline.embree(), offline.lights(), {0.0f, 3.0f, 0.0f}, {0.0f, -1.0f, 0.0f}, 8,
+                                  Components::All, rng);
   EXPECT_EQ(L, glm::vec3(0.0f));
 }
 
@@ -221,12 +218,11 @@ TEST_F(ReferenceCornell, NoLightsGivesBlackImage) {
 }
 
 TEST_F(ReferenceCornell, CancelledRenderReturnsCompletedPasses) {
-  EmbreeScene embree(*scene_);
-  LightSampler lights(*scene_);
+  OfflineScene offline(*scene_);
   RenderControl control;
   Settings s = smallSettings(16, 64);
   int passes = 0;
-  ProgressiveResult r = renderReference(*scene_, embree, lights, s, &control, [&](const Image&, int) {
+  ProgressiveResult r = renderReference(offline, s, &control, [&](const Image&, int) {
     if (++passes == 2) control.cancel = true;
   });
   EXPECT_TRUE(r.cancelled);

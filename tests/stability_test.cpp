@@ -77,7 +77,7 @@ TEST(Stability, CoherentVplsFlickerLessThanReshuffledUnderALightMove) {
 TEST(Stability, FailureMapsSeeTheClampDarkenTheImage) {
   StabilityConfig config = tinyConfig("stability_failures");
   config.writeImages = true;
-  SceneSetup setup(cornellBox());
+  OfflineScene setup(cornellBox());
   std::vector<FailureRow> rows = failureMaps(setup, config, nullptr);
   ASSERT_EQ(rows.size(), 5u);  // vpl, clamp, vpl-kk, vsl, reject (CPU only)
   const FailureRow* vpl = nullptr;
@@ -97,7 +97,7 @@ TEST(Stability, FailureMapsSeeTheClampDarkenTheImage) {
 
 TEST(Stability, CpuExtremesProduceNoBadPixels) {
   StabilityConfig config = tinyConfig("stability_extremes");
-  SceneSetup setup(cornellBox());
+  OfflineScene setup(cornellBox());
   std::vector<ExtremeRow> rows = runExtremes(setup, config, nullptr);
   // N 0/1/large, b 0/inf for vpl and vpl-kk, r 0/huge, epsilon 0/1.
   ASSERT_EQ(rows.size(), 11u);
@@ -110,7 +110,7 @@ TEST(Stability, CpuExtremesProduceNoBadPixels) {
 TEST(GlStability, GlExtremesProduceNoBadPixels) {
   StabilityConfig config = tinyConfig("gl_stability_extremes");
   config.gl = true;
-  SceneSetup setup(cornellBox());
+  OfflineScene setup(cornellBox());
   PreviewBench gl;
   ASSERT_TRUE(gl.available()) << gl.error();
   std::vector<ExtremeRow> rows = runExtremes(setup, config, &gl);

@@ -8,12 +8,8 @@
 
 namespace vplab::test {
 
-std::unique_ptr<LoadedScene> loadAssetScene(const std::string& name) {
-  auto l = std::make_unique<LoadedScene>();
-  l->scene = loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/" + name + ".gltf");
-  l->embree = std::make_unique<EmbreeScene>(l->scene);
-  l->lights = std::make_unique<LightSampler>(l->scene);
-  return l;
+std::unique_ptr<OfflineScene> loadAssetScene(const std::string& name) {
+  return std::make_unique<OfflineScene>(loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/" + name + ".gltf"));
 }
 
 uint32_t addLambertMaterial(Scene& scene, const glm::vec3& albedo, const glm::vec3& emission) {

@@ -2,8 +2,7 @@
 // Scenes for the tests: built in code with a closed-form answer (independent of the glTF loader and the generated
 // assets), or loaded from assets/scenes/ together with their BVH and light sampler.
 
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/scene/scene.h"
 
 #include <glm/glm.hpp>
@@ -13,15 +12,8 @@
 
 namespace vplab::test {
 
-/// A scene with its BVH and light sampler; heap-allocated because both keep a reference to the scene.
-struct LoadedScene {
-  Scene scene;
-  std::unique_ptr<EmbreeScene> embree;
-  std::unique_ptr<LightSampler> lights;
-};
-
 /// Loads assets/scenes/<name>.gltf and builds its BVH and light sampler.
-std::unique_ptr<LoadedScene> loadAssetScene(const std::string& name);
+std::unique_ptr<OfflineScene> loadAssetScene(const std::string& name);
 
 /// Index of a new material in scene.materials: Lambertian (specular 0, metallic 0) with the given albedo and
 /// emitted radiance.

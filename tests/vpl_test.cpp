@@ -21,7 +21,7 @@
 namespace vplab {
 namespace {
 
-using Loaded = test::LoadedScene;
+using Loaded = OfflineScene;
 
 std::unique_ptr<Loaded> load(const std::string& name) { return test::loadAssetScene(name); }
 
@@ -35,10 +35,10 @@ Settings smallSettings(int size, int vpls) {
   return s;
 }
 
-VplSet generate(const Loaded& l, const Settings& s) { return generateVpls(l.scene, *l.embree, *l.lights, s); }
+VplSet generate(const Loaded& l, const Settings& s) { return generateVpls(l, s); }
 
 VplRenderResult render(const Loaded& l, const VplSet& v, Method m, const Settings& s) {
-  return renderVpl(l.scene, *l.embree, *l.lights, v, m, s);
+  return renderVpl(l, v, m, s);
 }
 
 double meanLuminance(const Image& image) {
@@ -69,8 +69,8 @@ double meanOverSeeds(const Loaded& l, Settings s, Method method, int seeds) {
 // at bounce k (what a bounce-k VPL stores; f(x2) reflects it later) sums to Phi_light a^(k-1) in expectation.
 TEST(VplGeneration, FurnaceFluxPerBounceIsPowerTimesAlbedoPowers) {
   auto l = load("furnace");
-  const float albedo = l->scene.materials[0].baseColor.r;
-  const double power = l->lights->totalPower().r;
+  const float albedo = l->scene().materials[0].baseColor.r;
+  const double power = l->lights().totalPower().r;
   Settings s = smallSettings(8, 30000);
   s.vplMaxBounces = 4;
   double sums[5] = {0, 0, 0, 0, 0};
@@ -132,14 +132,11 @@ TEST(VplGeneration, SmallLightMoveMovesVplsCoherently) {
   Settings s = smallSettings(16, 400);
   VplSet before = generate(*l, s);
   // Move the light 2 mm along x.
-  auto moved = std::make_unique<Loaded>();
-  moved->scene = l->scene;
-  for (uint32_t tri : moved->scene.emissiveTriangles)
-    for (int c = 0; c < 3; ++c) moved->scene.positions[moved->scene.triangles[tri][c]].x += 0.002f;
-  moved->scene.finalize();
-  moved->embree = std::make_unique<EmbreeScene>(moved->scene);
-  moved->lights = std::make_unique<LightSampler>(moved->scene);
-  VplSet after = generate(*moved, s);
+  Scene movedScene = l->scene();
+  for (uint32_t tri : movedScene.emissiveTriangles)
+    for (int c = 0; c < 3; ++c) movedScene.positions[movedScene.triangles[tri][c]].x += 0.002f;
+  movedScene.finalize();
+  VplSet after = generate(OfflineScene(std::move(movedScene)), s);
   // A reshuffled set (another seed) as the contrast: the same test must fail for it.
   s.seed = 99;
   VplSet reshuffled = generate(*l, s);
@@ -173,7 +170,7 @@ TEST(VplGeneration, JsonRoundTripIsExact) {
 
 TEST(VplUnbiased, FurnaceUnclampedGivesOneOverOneMinusAlbedo) {
   auto l = load("furnace");
-  const double albedo = l->scene.materials[0].baseColor.r;
+  const double albedo = l->scene().materials[0].baseColor.r;
   Settings s = smallSettings(16, 256);
   s.vplMaxBounces = 24;
   s.samplesPerPixel = 2;
@@ -192,7 +189,7 @@ void expectKkMatchesReference(const std::string& name) {
   s.samplesPerPixel = 2;
   Settings ref = s;
   ref.samplesPerPixel = 2048;
-  double reference = meanLuminance(renderReference(l->scene, *l->embree, *l->lights, ref).image);
+  double reference = meanLuminance(renderReference(*l, ref).image);
   // Averaged over seeds: the spread between VPL sets (a few % per seed) is what the tolerance must absorb.
   double kk = meanOverSeeds(*l, s, Method::VplKK, 10);
   double clamped = meanOverSeeds(*l, s, Method::Vpl, 2);
@@ -273,7 +270,7 @@ TEST(VplRejection, TwoRoomsRelMseLowerAtEqualCount) {
   s.components = Components::Indirect;
   Settings ref = s;
   ref.samplesPerPixel = 1024;
-  Image reference = renderReference(l->scene, *l->embree, *l->lights, ref).image;
+  Image reference = renderReference(*l, ref).image;
   double plainErr = 0.0, rejectErr = 0.0, plainCount = 0.0, rejectCount = 0.0, acceptance = 0.0;
   const int seeds = 6;
   for (int i = 0; i < seeds; ++i) {
@@ -324,8 +321,8 @@ TEST(VplVsl, LargeRadiusIsFiniteAndKeepsEnergy) {
   // Radius from the VPL density (scaled by vslRadius): finite too.
   s.vslRadius = 1.0f;
   s.vslRadiusFromDensity = true;
-  std::vector<float> radii = vslRadii(set.vpls, s, l->scene.bounds.diagonal());
-  for (float r : radii) ASSERT_TRUE(r > 0.0f && r < l->scene.bounds.diagonal());
+  std::vector<float> radii = vslRadii(set.vpls, s, l->scene().bounds.diagonal());
+  for (float r : radii) ASSERT_TRUE(r > 0.0f && r < l->scene().bounds.diagonal());
   EXPECT_EQ(nonFinite(render(*l, set, Method::Vsl, s).image), 0u);
 }
 

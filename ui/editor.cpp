@@ -6,7 +6,7 @@
 #include "renderer/image/metrics.h"
 #include "renderer/image/tonemap.h"
 #include "renderer/invalidation.h"
-#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/light_sampler.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
@@ -157,8 +157,7 @@ class Editor {
 
   Scene scene_;
   Camera sceneCamera_;
-  std::unique_ptr<EmbreeScene> embree_;
-  std::unique_ptr<LightSampler> lights_;
+  std::unique_ptr<OfflineScene> offline_;  ///< over scene_, rebuilt when its geometry or lights change
   std::vector<glm::vec3> lightOffsets_;
   std::vector<float> lightScales_;
 
@@ -345,9 +344,8 @@ bool Editor::openScene(const std::string& path, bool /*keepSettingsSize*/) {
 }
 
 void Editor::rebuildAcceleration() {
-  embree_.reset();
-  embree_ = std::make_unique<EmbreeScene>(scene_);
-  lights_ = std::make_unique<LightSampler>(scene_);
+  offline_.reset();
+  offline_ = std::make_unique<OfflineScene>(scene_);
 }
 
 void Editor::editLight(std::size_t index, const glm::vec3& offset, float scale) {
@@ -386,7 +384,7 @@ void Editor::changeSettings(const Settings& next) {
 void Editor::regenerateVpls() {
   // Rejection measures importance at the pixels of the current view.
   scene_.camera = camera_.camera();
-  vpls_ = generateVpls(scene_, *embree_, *lights_, settings_);
+  vpls_ = generateVpls(*offline_, settings_);
   ++vplGenerations_;
   vslRadiiStale_ = false;
   preview_->invalidateVpls();
@@ -403,7 +401,8 @@ void Editor::measureClampEnergy() {
   Settings pointSettings = settings_;
   pointSettings.rejectionSamplePoints = std::max(16, std::min(256, 65536 / static_cast<int>(vpls_.vpls.size() + 1)));
   scene_.camera = camera_.camera();
-  std::vector<ShadingPoint> points = rejectionSamplePoints(scene_, *embree_, pointSettings);
+  std::vector<ShadingPoint> points = rejectionSamplePoints(*offline_, pointSettings);
+  const EmbreeScene& embree = offline_->embree();
   double clamped = 0.0, unclamped = 0.0;
   for (const ShadingPoint& sp : points)
     for (const Vpl& vpl : vpls_.vpls) {
@@ -411,7 +410,7 @@ void Editor::measureClampEnergy() {
       glm::vec3 c =
           vplUnoccludedContribution(sp, vpl, brdfParamsAt(scene_, vpl.material, vpl.uv), settings_.clampBound, &full);
       if (luminance(full) <= 0.0f) continue;
-      if (!embree_->visible(sp.hit.position, sp.hit.geometricNormal, vpl.position, vpl.geometricNormal)) continue;
+      if (!embree.visible(sp.hit.position, sp.hit.geometricNormal, vpl.position, vpl.geometricNormal)) continue;
       clamped += luminance(c);
       unclamped += luminance(full);
     }

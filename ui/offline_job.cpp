@@ -1,7 +1,6 @@
 #include "ui/offline_job.h"
 
-#include "renderer/offline/embree_scene.h"
-#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vpl_renderer.h"
 
@@ -70,13 +69,12 @@ void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& v
       imageChanged_ = true;
     };
     try {
-      EmbreeScene embree(sceneCopy);
-      LightSampler lights(sceneCopy);
+      OfflineScene offline(sceneCopy);
       ProgressiveResult result;
       if (method == Method::Reference) {
-        result = renderReference(sceneCopy, embree, lights, settings, &control_, onPass);
+        result = renderReference(offline, settings, &control_, onPass);
       } else {
-        VplRenderResult vr = renderVpl(sceneCopy, embree, lights, vplCopy, method, settings, &control_, onPass);
+        VplRenderResult vr = renderVpl(offline, vplCopy, method, settings, &control_, onPass);
         clampEnergyRemoved_ = vr.clampEnergyRemoved;
         result = std::move(vr);
       }

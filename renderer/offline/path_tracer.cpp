@@ -91,11 +91,12 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
   return finite3(radiance) ? radiance : glm::vec3(0.0f);
 }
 
-ProgressiveResult renderReference(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
-                                  const Settings& settings, RenderControl* control,
+ProgressiveResult renderReference(const OfflineScene& offline, const Settings& settings, RenderControl* control,
                                   std::function<void(const Image& mean, int samplesSoFar)> onPass,
                                   ReferenceStats* stats) {
-  assert(&embree.scene() == &scene && "the BVH must be built from the scene being rendered");
+  const Scene& scene = offline.scene();
+  const EmbreeScene& embree = offline.embree();
+  const LightSampler& lights = offline.lights();
   requireValidSettings(settings);
 
   // About 32 passes: frequent enough to watch, few enough that the per-pass bookkeeping stays negligible.

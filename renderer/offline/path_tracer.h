@@ -6,6 +6,7 @@
 #include "renderer/core/parallel.h"
 #include "renderer/offline/embree_scene.h"
 #include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/progressive.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
@@ -36,8 +37,8 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
 /// Renders settings.width x settings.height at settings.samplesPerPixel (seed, threads, maxDepth, components from
 /// settings). onPass (may be empty) sees the running mean after each progressive pass. With no lights the image is
 /// black and nothing is traced. stats, when given, receives the ray counts of everything traced.
-ProgressiveResult renderReference(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
-                                  const Settings& settings, RenderControl* control = nullptr,
+ProgressiveResult renderReference(const OfflineScene& offline, const Settings& settings,
+                                  RenderControl* control = nullptr,
                                   std::function<void(const Image& mean, int samplesSoFar)> onPass = {},
                                   ReferenceStats* stats = nullptr);
 

@@ -173,9 +173,11 @@ glm::vec3 compensation(const Context& ctx, const ShadingPoint& sp, Rng& rng, int
 
 }  // namespace
 
-VplRenderResult renderVpl(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
-                          const VplSet& vplSet, Method method, const Settings& settings, RenderControl* control,
-                          std::function<void(const Image& mean, int samplesSoFar)> onPass) {
+VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Method method, const Settings& settings,
+                          RenderControl* control, std::function<void(const Image& mean, int samplesSoFar)> onPass) {
+  const Scene& scene = offline.scene();
+  const EmbreeScene& embree = offline.embree();
+  const LightSampler& lights = offline.lights();
   assert(method == Method::Vpl || method == Method::VplKK || method == Method::Vsl);
   Context ctx{scene, embree, lights, vplSet.vpls, {}, {}, method, settings.clampBound};
   ctx.vplBrdfs.reserve(vplSet.vpls.size());

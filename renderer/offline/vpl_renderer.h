@@ -32,6 +32,7 @@
 #include "renderer/core/parallel.h"
 #include "renderer/offline/embree_scene.h"
 #include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/offline/progressive.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
@@ -52,8 +53,7 @@ struct VplRenderResult : ProgressiveResult {
 
 /// Renders settings.width x settings.height with the given method (Vpl, VplKK or Vsl; Reference is a programmer
 /// error). Progressive (one sample per pixel per pass), multithreaded, cancellable through control.
-VplRenderResult renderVpl(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
-                          const VplSet& vpls, Method method, const Settings& settings,
+VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vpls, Method method, const Settings& settings,
                           RenderControl* control = nullptr,
                           std::function<void(const Image& mean, int samplesSoFar)> onPass = {});
 

@@ -155,8 +155,9 @@ double vplImportance(const Scene& scene, const EmbreeScene& embree, const std::v
 
 }  // namespace
 
-std::vector<ShadingPoint> rejectionSamplePoints(const Scene& scene, const EmbreeScene& embree,
-                                                const Settings& settings) {
+std::vector<ShadingPoint> rejectionSamplePoints(const OfflineScene& offline, const Settings& settings) {
+  const Scene& scene = offline.scene();
+  const EmbreeScene& embree = offline.embree();
   std::vector<ShadingPoint> points;
   const int m = std::max(1, settings.rejectionSamplePoints);
   const float aspect = static_cast<float>(settings.width) / static_cast<float>(std::max(1, settings.height));
@@ -206,8 +207,10 @@ std::vector<float> vslRadii(const std::vector<Vpl>& vpls, const Settings& settin
   return radii;
 }
 
-VplSet generateVpls(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
-                    const Settings& settings, RenderControl* control) {
+VplSet generateVpls(const OfflineScene& offline, const Settings& settings, RenderControl* control) {
+  const Scene& scene = offline.scene();
+  const EmbreeScene& embree = offline.embree();
+  const LightSampler& lights = offline.lights();
   const auto start = std::chrono::steady_clock::now();
   VplSet set;
   auto finish = [&]() {
@@ -242,7 +245,7 @@ VplSet generateVpls(const Scene& scene, const EmbreeScene& embree, const LightSa
   double phiV = 0.0;
   double acceptedPerPath = vplsPerPath;
   if (reject && !pilot.empty()) {
-    points = rejectionSamplePoints(scene, embree, settings);
+    points = rejectionSamplePoints(offline, settings);
     std::size_t evaluated = std::min(pilot.size(), wantedPilotVpls);
     std::vector<double> phi(evaluated);
     parallelFor(static_cast<int64_t>(evaluated), settings.threads, [&](int64_t i, int) {

@@ -17,6 +17,7 @@
 #include "renderer/core/parallel.h"
 #include "renderer/offline/embree_scene.h"
 #include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 #include "renderer/vpl/vpl.h"
@@ -36,8 +37,7 @@ inline constexpr int kVslDensityNeighbour = 8;
 /// VPL: direct light is computed exactly). With settings.rejection, candidates are accepted with
 /// p_i = min(Phi_i / Phi_v + epsilon, 1) and their flux divided by p_i. Fills Vpl::radius as vslRadii() does.
 /// A cancelled generation returns the VPLs of the paths finished so far (normalised by the planned path count).
-VplSet generateVpls(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights,
-                    const Settings& settings, RenderControl* control = nullptr);
+VplSet generateVpls(const OfflineScene& offline, const Settings& settings, RenderControl* control = nullptr);
 
 /// VSL radius of every VPL (MANYLIGHTS 7): settings.vslRadius, or with vslRadiusFromDensity, vslRadius times the
 /// distance to the kVslDensityNeighbour-th nearest other VPL (Hasan et al. 2009 tie r to the local VPL density;
@@ -46,7 +46,6 @@ std::vector<float> vslRadii(const std::vector<Vpl>& vpls, const Settings& settin
 
 /// Camera-visible points used by rejection: primary hits through the centres of a coarse grid of about
 /// settings.rejectionSamplePoints cells over the image (deterministic; misses and back faces are dropped).
-std::vector<ShadingPoint> rejectionSamplePoints(const Scene& scene, const EmbreeScene& embree,
-                                                  const Settings& settings);
+std::vector<ShadingPoint> rejectionSamplePoints(const OfflineScene& offline, const Settings& settings);
 
 }  // namespace vplab
