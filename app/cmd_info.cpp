@@ -56,6 +56,11 @@ int cmdInfo(const Args& args) {
   std::printf("punctual lights:\n");
   if (scene.punctualLights.empty()) std::printf("  none\n");
   for (const PunctualLight& l : scene.punctualLights) {
+    if (l.isDirectional()) {
+      std::printf("  %-20s directional along %s, irradiance %s lx\n", l.name.c_str(), vec(l.direction).c_str(),
+                  vec(l.intensity).c_str());
+      continue;
+    }
     bool spot = l.type == PunctualLight::Type::Spot;
     std::printf("  %-20s %s at %s, intensity %s cd", l.name.c_str(), spot ? "spot " : "point", vec(l.position).c_str(),
                 vec(l.intensity).c_str());

@@ -143,6 +143,101 @@ TEST(ReferenceAnalytic, PointLightGivesIntensityCosineOverDistanceSquared) {
   }
 }
 
+TEST(ReferenceAnalytic, DirectionalLightGivesAlbedoIrradianceCosineOverPi) {
+  // A light at infinity: the same irradiance E cos(theta) everywhere on the plane, so L = albedo E cos / pi.
+  const glm::vec3 direction = glm::normalize(glm::vec3(0.6f, -0.8f, 0.0f));
+  const float irradiance = 3.0f, albedo = 0.5f;
+  Scene scene = test::makePlaneUnderDirectionalLight(2.0f, direction, irradiance, albedo);
+  const double expected = albedo * irradiance * 0.8 / kPi;
+  for (glm::vec3 x : {glm::vec3(0.0f), glm::vec3(1.5f, 0.0f, -1.0f), glm::vec3(-1.9f, 0.0f, 1.9f)}) {
+    double pt = 0.0, direct = 0.0;
+    radianceAt(scene, x, 4, pt, direct);
+    EXPECT_NEAR(pt, expected, 1e-5 * expected);
+    EXPECT_NEAR(direct, expected, 1e-5 * expected);
+  }
+  // The whole reference image (the camera sees only the plane): every pixel within 1 %.
+  ProgressiveResult r = render(scene, smallSettings(16, 4));
+  for (const glm::vec3& p : r.image.pixels) ASSERT_NEAR(p.g, expected, 0.01 * expected);
+}
+
+TEST(ReferenceAnalytic, DirectionalLightIsShadowedAndLightsNothingFacingAway) {
+  // A blocker between the sun and the plane casts a shadow; a plane turned away from the sun stays dark.
+  const glm::vec3 direction(0.0f, -1.0f, 0.0f);
+  Scene scene = test::makePlaneUnderDirectionalLight(2.0f, direction, 3.0f);
+  uint32_t black = test::addLambertMaterial(scene, glm::vec3(0.0f));
+  test::addQuad(scene, {-0.5f, 1.0f, -0.5f}, {0.5f, 1.0f, -0.5f}, {0.5f, 1.0f, 0.5f}, {-0.5f, 1.0f, 0.5f}, black,
+                {0, 1, 0});
+  scene.finalize();
+  double pt = 0.0, direct = 0.0;
+  radianceAt(scene, glm::vec3(0.1f, 0.0f, 0.2f), 4, pt, direct);
+  EXPECT_EQ(direct, 0.0);
+  radianceAt(scene, glm::vec3(1.5f, 0.0f, 0.2f), 4, pt, direct);
+  EXPECT_NEAR(direct, 3.0 / kPi, 1e-5);
+
+  Scene away = test::makePlaneUnderDirectionalLight(2.0f, glm::vec3(0.0f, 1.0f, 0.0f), 3.0f);
+  radianceAt(away, glm::vec3(0.0f), 4, pt, direct);
+  EXPECT_EQ(pt, 0.0);
+  EXPECT_EQ(direct, 0.0);
+}
+
+// --- spot lights: the KHR_lights_punctual falloff, its flux and its emission sampling -------------------------
+
+PunctualLight testSpot(float inner, float outer) {
+  PunctualLight l;
+  l.type = PunctualLight::Type::Spot;
+  l.direction = glm::vec3(0.0f, 0.0f, -1.0f);
+  l.intensity = glm::vec3(2.0f);
+  l.innerConeAngle = inner;
+  l.outerConeAngle = outer;
+  return l;
+}
+
+glm::vec3 atAngle(float theta) { return {std::sin(theta), 0.0f, -std::cos(theta)}; }
+
+TEST(SpotLight, FalloffIsTheSpecificationsSquaredRamp) {
+  PunctualLight l = testSpot(0.2f, 0.6f);
+  EXPECT_FLOAT_EQ(l.intensityToward(atAngle(0.0f)).g, 2.0f);
+  EXPECT_FLOAT_EQ(l.intensityToward(atAngle(0.2f)).g, 2.0f);
+  EXPECT_FLOAT_EQ(l.intensityToward(atAngle(0.61f)).g, 0.0f);
+  for (float theta : {0.25f, 0.4f, 0.55f}) {
+    double t = (std::cos(theta) - std::cos(0.6)) / (std::cos(0.2) - std::cos(0.6));
+    EXPECT_NEAR(l.intensityToward(atAngle(theta)).g, 2.0 * t * t, 1e-5) << theta;
+  }
+}
+
+TEST(SpotLight, FluxIsTheFalloffIntegratedOverTheSphere) {
+  // Midpoint rule over theta (the falloff has no phi dependence): dw = 2 pi sin(theta) dtheta.
+  for (auto [inner, outer] : {std::pair{0.0f, 0.785f}, std::pair{0.3f, 0.5f}, std::pair{1.0f, 1.5707f},
+                              std::pair{0.4f, 0.4001f}}) {
+    PunctualLight l = testSpot(inner, outer);
+    const int n = 200000;
+    double sum = 0.0;
+    for (int i = 0; i < n; ++i) {
+      double theta = (i + 0.5) * kPi / n;
+      sum += l.intensityToward(atAngle(static_cast<float>(theta))).g * 2.0 * kPi * std::sin(theta) * (kPi / n);
+    }
+    EXPECT_NEAR(l.flux().g, sum, 2e-3 * sum) << inner << " " << outer;
+  }
+}
+
+TEST(SpotLight, EmissionWeightsAverageToTheFlux) {
+  Scene scene = test::makePlaneUnderPointLight(4.0f, glm::vec3(0.0f, 2.0f, 0.0f), 1.0f);
+  scene.punctualLights[0] = testSpot(0.3f, 0.7f);
+  scene.punctualLights[0].position = glm::vec3(0.0f, 2.0f, 0.0f);
+  LightSampler lights(scene);
+  Rng rng(11);
+  const int n = 200000;
+  double sum = 0.0;
+  for (int i = 0; i < n; ++i) {
+    EmissionSample e = lights.sampleEmission(rng.next1D(), rng.next2D(), rng.next2D());
+    ASSERT_TRUE(e.valid);
+    sum += e.weight.g;
+  }
+  const double flux = scene.punctualLights[0].flux().g;
+  EXPECT_NEAR(sum / n, flux, 0.01 * flux);
+  EXPECT_NEAR(lights.totalPower().g, flux, 1e-5 * flux);
+}
+
 TEST(ReferenceAnalytic, BackOfOneSidedEmitterIsDark) {
   // The light faces down: seen from above (its back) it emits nothing, and it lights nothing above it.
   Scene scene = test::makePlaneUnderSquareLight(4.0f, 0.25f, 1.0f, 10.0f);

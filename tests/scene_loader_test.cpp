@@ -342,6 +342,44 @@ TEST(SceneLoaderValid, AutomaticCameraFramesTheBounds) {
   }
 }
 
+TEST(SceneLoaderValid, DirectionalLightKeepsDirectionAndIrradiance) {
+  GltfBuilder b;
+  b.meshNode(b.mesh({GltfBuilder::primitive(b.vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}))}));
+  b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {
+      {{"name", "sun"}, {"type", "directional"}, {"color", {1.0, 0.5, 0.25}}, {"intensity", 4.0}}};
+  // Rotated -90 deg about x (local -z becomes world -y) and translated far away: the translation is irrelevant.
+  float h = std::sqrt(0.5f);
+  b.node({{"translation", {100, 200, 300}},
+          {"rotation", {-h, 0, 0, h}},
+          {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  Scene s = loadScene(b.writeGltf("directional.gltf"));
+  ASSERT_EQ(s.punctualLights.size(), 1u);
+  const PunctualLight& sun = s.punctualLights[0];
+  EXPECT_EQ(sun.type, PunctualLight::Type::Directional);
+  EXPECT_TRUE(sun.isDirectional());
+  expectVec3Near(sun.direction, glm::vec3(0, -1, 0), 1e-5f);
+  expectVec3Near(sun.intensity, glm::vec3(4.0f, 2.0f, 1.0f), 1e-6f);
+  EXPECT_TRUE(s.hasLights());
+  // The light has no position: the bounds are the triangle's alone, and nothing warns.
+  expectVec3Near(s.bounds.upper, glm::vec3(1, 1, 0), 1e-6f);
+  EXPECT_TRUE(s.warnings.empty());
+}
+
+TEST(SceneLoaderValid, AutomaticCameraFramesTheGeometryNotTheLights) {
+  GltfBuilder b;
+  b.meshNode(b.mesh({GltfBuilder::primitive(b.vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}))}));
+  b.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 10.0}}};
+  b.node({{"translation", {20, 30, 5}}, {"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  Scene s = loadScene(b.writeGltf("far-light.gltf"));
+  EXPECT_FALSE(s.camera.fromFile);
+  expectVec3Near(s.geometryBounds.upper, glm::vec3(1, 1, 0), 1e-6f);
+  expectVec3Near(s.bounds.upper, glm::vec3(20, 30, 5), 1e-6f);
+  // Framed on the triangle: its centre straight ahead, the triangle filling a good part of the view.
+  glm::vec3 toCenter = glm::normalize(s.geometryBounds.center() - s.camera.position);
+  EXPECT_GT(glm::dot(toCenter, s.camera.forward), 0.9999f);
+  EXPECT_LT(glm::length(s.geometryBounds.center() - s.camera.position), 5.0f);
+}
+
 TEST(SceneLoaderValid, TextureIsDecodedFromSrgb) {
   GltfBuilder b = triangleScene();
   test::writeBytes(tmpPath("tex.bmp"), test::bmp(2, 1, {{255, 128, 0}, {0, 0, 255}}));

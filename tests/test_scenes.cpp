@@ -75,8 +75,8 @@ Scene makeFurnaceBox(float albedo) {
 
 namespace {
 
-void addPlane(Scene& s, float half) {
-  uint32_t white = addLambertMaterial(s, glm::vec3(1.0f));
+void addPlane(Scene& s, float half, float albedo = 1.0f) {
+  uint32_t white = addLambertMaterial(s, glm::vec3(albedo));
   addQuad(s, {-half, 0, -half}, {half, 0, -half}, {half, 0, half}, {-half, 0, half}, white, {0, 1, 0});
 }
 
@@ -112,6 +112,21 @@ Scene makePlaneUnderPointLight(float planeHalf, const glm::vec3& position, float
   l.intensity = glm::vec3(intensity);
   s.punctualLights.push_back(l);
   lookDown(s, position.y);
+  s.finalize();
+  return s;
+}
+
+Scene makePlaneUnderDirectionalLight(float planeHalf, const glm::vec3& direction, float irradiance, float albedo) {
+  Scene s;
+  s.sourcePath = "plane-under-directional-light";
+  addPlane(s, planeHalf, albedo);
+  PunctualLight l;
+  l.name = "sun";
+  l.type = PunctualLight::Type::Directional;
+  l.direction = glm::normalize(direction);
+  l.intensity = glm::vec3(irradiance);
+  s.punctualLights.push_back(l);
+  lookDown(s, planeHalf);
   s.finalize();
   return s;
 }

@@ -35,6 +35,11 @@ Scene makePlaneUnderSquareLight(float planeHalf, float lightHalf, float h, float
 /// The same plane under a point light of intensity `intensity` (candela) at `position`.
 Scene makePlaneUnderPointLight(float planeHalf, const glm::vec3& position, float intensity);
 
+/// The same plane (albedo `albedo`) under a directional light whose rays travel along `direction` (normalised
+/// here) and deliver irradiance `irradiance` (lux) to a surface facing them.
+Scene makePlaneUnderDirectionalLight(float planeHalf, const glm::vec3& direction, float irradiance,
+                                     float albedo = 1.0f);
+
 /// Irradiance at point x with unit normal n from a one-sided Lambertian polygon of uniform radiance le
 /// (Lambert 1760; Arvo 1994, eq. 3): E = le/2 sum_i Theta_i (n . Gamma_i), unoccluded, polygon fully above x.
 double polygonIrradiance(const glm::dvec3& x, const glm::dvec3& n, const glm::dvec3* vertices, int count, double le);

@@ -93,6 +93,28 @@ TEST(VplGeneration, FurnaceFluxPerBounceIsPowerTimesAlbedoPowers) {
     EXPECT_NEAR(sums[k] / seeds / power, std::pow(albedo, k - 1), 0.04 * std::pow(albedo, k - 1)) << "bounce " << k;
 }
 
+// A directional light's paths start uniformly on a disk covering the scene (pdf_A = 1 / (pi R^2)) with weight
+// E pi R^2: the flux they bring to a plane is E cos(theta) times its area, whatever R is.
+TEST(VplGeneration, DirectionalLightDeliversIrradianceTimesCosineTimesArea) {
+  const float half = 2.0f, irradiance = 3.0f;
+  const glm::vec3 direction = glm::normalize(glm::vec3(0.0f, -0.8f, 0.6f));
+  auto l = std::make_unique<Loaded>();
+  l->scene = test::makePlaneUnderDirectionalLight(half, direction, irradiance);
+  l->embree = std::make_unique<EmbreeScene>(l->scene);
+  l->lights = std::make_unique<LightSampler>(l->scene);
+  Settings s = smallSettings(8, 4000);
+  s.vplMaxBounces = 1;
+  VplSet set = generate(*l, s);
+  ASSERT_FALSE(set.vpls.empty());
+  double sum = 0.0;
+  for (const Vpl& v : set.vpls) {
+    sum += v.flux.g;
+    ASSERT_NEAR(glm::dot(v.incoming, -direction), 1.0f, 1e-5f);  // every VPL saw the sun's own direction
+  }
+  const double expected = irradiance * 0.8 * (2.0 * half) * (2.0 * half);
+  EXPECT_NEAR(sum, expected, 0.02 * expected);
+}
+
 TEST(VplGeneration, SameSeedSameVplsAnyThreadCountAndImage) {
   auto l = load("cornell-box");
   Settings s = smallSettings(16, 200);

@@ -266,6 +266,11 @@ void PreviewRenderer::drawFullscreen(ShaderProgram& program) {
 }
 
 void PreviewRenderer::uploadDirectLights(const Scene& scene, const Settings& settings) {
+  // The direct pass has no shading or shadow map for a light at infinity yet: refuse rather than leave it black.
+  for (const PunctualLight& l : scene.punctualLights)
+    if (l.isDirectional())
+      throw GlError("the GL preview does not render directional lights yet ('" + l.name +
+                    "'); the Embree passes (reference, render) do");
   std::vector<DirectLightGpu> lights;
   directPositions_.clear();
   // Area lights: K points y_k chosen with p(triangle) proportional to its power (luminance(Le) x area) and uniform

@@ -20,8 +20,11 @@ glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& light
   glm::vec3 f = evaluateBrdf(brdf, n, wo, ls.wi);
   if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return glm::vec3(0.0f);
 
-  // Exact visibility between the shading point and the light point (both ends nudged off their surfaces).
-  ShadowRay ray = embree.shadowRayBetween(hit.position, hit.geometricNormal, ls.position, ls.normal);
+  // Exact visibility between the shading point and the light point (both ends nudged off their surfaces); toward a
+  // directional light, along wi to infinity.
+  ShadowRay ray = std::isinf(ls.distance)
+                      ? ShadowRay{embree.offsetOrigin(hit.position, hit.geometricNormal, ls.wi), ls.wi, ls.distance}
+                      : embree.shadowRayBetween(hit.position, hit.geometricNormal, ls.position, ls.normal);
   if (shadowRays) ++*shadowRays;
   if (ray.tMax > 0.0f && embree.occluded(ray.origin, ray.direction, ray.tMax)) return glm::vec3(0.0f);
 

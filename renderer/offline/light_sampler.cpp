@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vplab {
 
@@ -15,14 +16,6 @@ glm::vec3 pointOnTriangle(const Scene& scene, uint32_t triangle, glm::vec2 u) {
   return b.x * scene.positions[t.x] + b.y * scene.positions[t.y] + (1.0f - b.x - b.y) * scene.positions[t.z];
 }
 
-/// Flux of a punctual light: 4 pi I for a point light; for a spot, the integral of the glTF falloff over the cone
-/// approximated by the solid angle of the mid cone (used only to choose lights, so the choice stays unbiased).
-glm::vec3 punctualPower(const PunctualLight& l) {
-  if (l.type == PunctualLight::Type::Point) return 4.0f * kPi * l.intensity;
-  float mid = 0.5f * (l.innerConeAngle + l.outerConeAngle);
-  return 2.0f * kPi * (1.0f - std::cos(mid)) * l.intensity;
-}
-
 float selectionWeight(const glm::vec3& power) {
   float w = luminance(power);
   return w > 0.0f ? w : (power.r + power.g + power.b) / 3.0f;
@@ -31,6 +24,10 @@ float selectionWeight(const glm::vec3& power) {
 }  // namespace
 
 LightSampler::LightSampler(const Scene& scene) : scene_(scene), triangleToLight_(scene.triangles.size(), -1) {
+  if (scene.geometryBounds.valid()) {
+    sceneCenter_ = scene.geometryBounds.center();
+    diskRadius_ = 0.5f * scene.geometryBounds.diagonal();
+  }
   for (uint32_t tri : scene.emissiveTriangles) {
     // A one-sided Lambertian emitter of radiance L and area A emits pi A L.
     glm::vec3 power = kPi * scene.triangleArea(tri) * scene.materialOf(tri).emission;
@@ -41,7 +38,9 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene), triangleToLight_
     totalPower_ += power;
   }
   for (uint32_t i = 0; i < scene.punctualLights.size(); ++i) {
-    glm::vec3 power = punctualPower(scene.punctualLights[i]);
+    const PunctualLight& l = scene.punctualLights[i];
+    // A directional light's power is the flux through its emission disk: E pi R^2.
+    glm::vec3 power = l.isDirectional() ? kPi * diskRadius_ * diskRadius_ * l.intensity : l.flux();
     float w = selectionWeight(power);
     if (!(w > 0.0f)) continue;
     lights_.push_back({true, i, w});
@@ -77,6 +76,16 @@ LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2
 
   if (light.punctual) {
     const PunctualLight& pl = scene_.punctualLights[light.index];
+    if (pl.isDirectional()) {
+      // Parallel rays from infinity: irradiance E on a surface facing them, E cos on a tilted one.
+      s.wi = -pl.direction;
+      s.distance = std::numeric_limits<float>::infinity();
+      s.position = x;
+      s.radiance = pl.intensity;
+      s.pdf = pLight;
+      s.isDelta = true;
+      return s;
+    }
     glm::vec3 d = pl.position - x;
     float dist2 = glm::dot(d, d);
     if (!(dist2 > 0.0f)) return s;
@@ -131,6 +140,17 @@ EmissionSample LightSampler::sampleEmission(float uLight, glm::vec2 uPoint, glm:
   if (light.punctual) {
     const PunctualLight& pl = scene_.punctualLights[light.index];
     s.position = pl.position;
+    if (pl.isDirectional()) {
+      // Uniform on the disk of radius R centred on the light's side of the bounding sphere, perpendicular to the
+      // direction: pdf_A = 1 / (pi R^2); the direction is the light's own, so alpha_0 = E pi R^2 / p_light.
+      glm::vec2 d = sampleConcentricDisk(uPoint) * diskRadius_;
+      Frame frame(pl.direction);
+      s.position = emissionDiskCenter(pl) + frame.toWorld(glm::vec3(d, 0.0f));
+      s.direction = pl.direction;
+      s.weight = pl.intensity * (kPi * diskRadius_ * diskRadius_) / pLight;
+      s.valid = true;
+      return s;
+    }
     if (pl.type == PunctualLight::Type::Point) {
       // Uniform sphere: pdf_dir = 1 / (4 pi).
       float z = 1.0f - 2.0f * uDirection.x;
@@ -158,6 +178,12 @@ EmissionSample LightSampler::sampleEmission(float uLight, glm::vec2 uPoint, glm:
   s.weight = scene_.materialOf(light.index).emission * (kPi * scene_.triangleArea(light.index)) / pLight;
   s.valid = true;
   return s;
+}
+
+glm::vec3 LightSampler::emissionDiskCenter(const PunctualLight& directional) const {
+  // The plane touching the bounding sphere on the side the light comes from, pushed back by a small margin so that
+  // no geometry lies on it (a ray starting on a surface would not see that surface).
+  return sceneCenter_ - directional.direction * (1.01f * diskRadius_ + 1e-4f);
 }
 
 }  // namespace vplab

@@ -1,6 +1,6 @@
 #pragma once
-// Sampling the scene's lights: emissive triangles (one-sided area lights) and KHR_lights_punctual lights, chosen in
-// proportion to their power. Used for next-event estimation (sampleLi / pdfLi) and for light tracing when VPLs are
+// Sampling the scene's lights: emissive triangles (one-sided area lights) and KHR_lights_punctual lights (point,
+// spot, directional), chosen in proportion to their power. Used for next-event estimation (sampleLi / pdfLi) and for light tracing when VPLs are
 // generated (sampleEmission, MANYLIGHTS.md section 2).
 
 #include "renderer/scene/scene.h"
@@ -14,11 +14,13 @@ namespace vplab {
 
 /// A light sample seen from a receiving point x.
 struct LightSampleLi {
-  glm::vec3 position{0.0f};  ///< point on the light
+  glm::vec3 position{0.0f};  ///< point on the light (x itself for a directional light, which has none)
   glm::vec3 normal{0.0f};    ///< emitter normal (zero for punctual lights)
   glm::vec3 wi{0.0f};        ///< unit direction from x toward the light
-  float distance = 0.0f;
-  glm::vec3 radiance{0.0f};  ///< incident radiance Le (area) or intensity / d^2 (punctual), before dividing by pdf
+  float distance = 0.0f;     ///< infinite for a directional light
+  /// Incident radiance Le (area), intensity / d^2 (point, spot) or irradiance E (directional), before dividing by
+  /// pdf: for the delta lights, the factor that multiplies f cos.
+  glm::vec3 radiance{0.0f};
   float pdf = 0.0f;          ///< solid-angle pdf including the light choice; for delta lights the choice probability
   bool isDelta = false;
   bool valid() const { return pdf > 0.0f; }
@@ -26,11 +28,12 @@ struct LightSampleLi {
 
 /// A point and direction leaving a light, for light tracing.
 struct EmissionSample {
-  glm::vec3 position{0.0f};
+  glm::vec3 position{0.0f};   ///< on the light; for a directional light, on its emission disk outside the scene
   glm::vec3 normal{0.0f};     ///< emitter normal (zero for punctual lights)
   glm::vec3 direction{0.0f};  ///< unit
-  /// Le cos / (p_light pdf_A pdf_dir) for area lights, I(dir) / (p_light pdf_dir) for punctual lights: the initial
-  /// path throughput alpha_0 before dividing by the number of paths.
+  /// Le cos / (p_light pdf_A pdf_dir) for area lights, I(dir) / (p_light pdf_dir) for point and spot lights,
+  /// E / (p_light pdf_A) for a directional light: the initial path throughput alpha_0 before dividing by the number
+  /// of paths.
   glm::vec3 weight{0.0f};
   bool valid = false;
 };
@@ -52,8 +55,14 @@ class LightSampler {
   glm::vec3 emittedRadiance(uint32_t triangle, const glm::vec3& emitterNormal, const glm::vec3& w) const;
 
   /// Light tracing: light by power, point uniform on the area, direction cosine-weighted (area) or uniform over the
-  /// sphere / spot cone (punctual).
+  /// sphere / spot cone (point, spot). A directional light starts its paths uniformly on a disk of radius R (the
+  /// geometry's bounding sphere) perpendicular to its direction, outside the scene: pdf_A = 1 / (pi R^2), the
+  /// direction is fixed (a delta), and the disk's flux E pi R^2 is the light's power (docs/methods.md).
   EmissionSample sampleEmission(float uLight, glm::vec2 uPoint, glm::vec2 uDirection) const;
+
+  /// Centre and radius of the disk directional lights emit from (radius zero for a scene without geometry).
+  glm::vec3 emissionDiskCenter(const PunctualLight& directional) const;
+  float emissionDiskRadius() const { return diskRadius_; }
 
  private:
   struct LightRef {
@@ -70,6 +79,8 @@ class LightSampler {
   std::vector<float> cdf_;                     ///< normalised, cdf_.back() == 1
   std::vector<int32_t> triangleToLight_;       ///< scene triangle -> index in lights_ (-1 if not emissive)
   glm::vec3 totalPower_{0.0f};
+  glm::vec3 sceneCenter_{0.0f};  ///< geometry bounding sphere
+  float diskRadius_ = 0.0f;
 };
 
 }  // namespace vplab

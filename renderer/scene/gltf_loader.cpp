@@ -649,6 +649,8 @@ void Loader::addLight(int nodeIndex, const glm::mat4& world) {
     l.outerConeAngle = static_cast<float>(g.spot.outerConeAngle);
     if (!(l.innerConeAngle >= 0.0f && l.innerConeAngle < l.outerConeAngle && l.outerConeAngle <= 0.5f * kPi))
       fail(lightAt + ".spot", "needs 0 <= innerConeAngle < outerConeAngle <= pi/2");
+  } else if (g.type == "directional") {
+    l.type = PunctualLight::Type::Directional;
   } else {
     warn(lightAt, "type '" + g.type + "' not supported; light skipped");
     return;
@@ -661,10 +663,11 @@ void Loader::addLight(int nodeIndex, const glm::mat4& world) {
   l.intensity = color * static_cast<float>(g.intensity);
   if (!finite(l.intensity) || l.intensity.r < 0.0f || l.intensity.g < 0.0f || l.intensity.b < 0.0f)
     fail(lightAt, "intensity or color is negative or not finite");
-  // Punctual lights sit at their node's origin and shine down its local -Z (KHR_lights_punctual).
-  l.position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  // Punctual lights sit at their node's origin and shine down its local -Z (KHR_lights_punctual); a directional
+  // light keeps only the direction (its node's translation does not matter).
+  l.position = l.isDirectional() ? glm::vec3(0.0f) : glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
   glm::vec3 dir = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);
-  if (!finite(l.position) || !(glm::length(dir) > 0.0f))
+  if (!finite(l.position) || !finite(dir) || !(glm::length(dir) > 0.0f))
     fail("nodes[" + std::to_string(nodeIndex) + "]", "degenerate transform for a light");
   l.direction = glm::normalize(dir);
   scene_.punctualLights.push_back(l);
@@ -701,9 +704,10 @@ void Loader::addCamera(int nodeIndex, const glm::mat4& world) {
 void Loader::frameBounds() {
   // Look down -Z at the bounding sphere from far enough that it fits the vertical field of view.
   Camera c;
-  float radius = std::max(0.5f * scene_.bounds.diagonal(), 1e-3f);
+  // The geometry only: lights outside the model must not shrink it into a corner of the image.
+  float radius = std::max(0.5f * scene_.geometryBounds.diagonal(), 1e-3f);
   float distance = radius / std::sin(0.5f * c.yfov);
-  c.position = scene_.bounds.center() + glm::vec3(0.0f, 0.0f, distance);
+  c.position = scene_.geometryBounds.center() + glm::vec3(0.0f, 0.0f, distance);
   c.znear = std::max(1e-4f, 0.01f * (distance - radius));
   c.zfar = 2.0f * (distance + radius);
   c.fromFile = false;

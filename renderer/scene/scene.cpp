@@ -1,5 +1,7 @@
 #include "renderer/scene/scene.h"
 
+#include "renderer/core/sampling.h"
+
 #include <algorithm>
 #include <cmath>
 
@@ -20,15 +22,34 @@ glm::vec3 Texture::sample(glm::vec2 uv) const {
          tx * ty * at(x1, y1);
 }
 
+namespace {
+
+/// The spot's angular attenuation as the KHR_lights_punctual specification's reference code computes it: a linear
+/// ramp in cos(angle) from 0 at the outer cone to 1 at the inner cone, squared. The 0.001 floor on the ramp's width
+/// is part of that code (it keeps inner == outer finite).
+float spotRampScale(const PunctualLight& l) {
+  return 1.0f / std::max(0.001f, std::cos(l.innerConeAngle) - std::cos(l.outerConeAngle));
+}
+
+}  // namespace
+
 glm::vec3 PunctualLight::intensityToward(const glm::vec3& dirFromLight) const {
-  if (type == Type::Point) return intensity;
-  // KHR_lights_punctual reference falloff: a squared linear ramp in cos between the outer and inner cone.
+  if (type != Type::Spot) return intensity;
   float cd = glm::dot(direction, dirFromLight);
-  float cosOuter = std::cos(outerConeAngle);
-  float cosInner = std::cos(innerConeAngle);
-  float scale = 1.0f / std::max(0.001f, cosInner - cosOuter);
-  float t = std::clamp((cd - cosOuter) * scale, 0.0f, 1.0f);
+  float t = std::clamp((cd - std::cos(outerConeAngle)) * spotRampScale(*this), 0.0f, 1.0f);
   return intensity * (t * t);
+}
+
+glm::vec3 PunctualLight::flux() const {
+  if (type != Type::Spot) return 4.0f * kPi * intensity;
+  // Over the sphere, dw = 2 pi dc with c = cos(angle). The ramp t = (c - cos_outer) s reaches 1 at
+  // c1 = cos_outer + 1/s: the integral of t^2 from cos_outer to c1 is 1/(3s), and full intensity from c1 to 1 adds
+  // 1 - c1. Together 2 pi (1 - cos_outer - 2/(3s)).
+  float cosOuter = std::cos(outerConeAngle);
+  float width = 1.0f / spotRampScale(*this);
+  float c1 = std::min(1.0f, cosOuter + width);
+  float rampPart = width > 0.0f ? (c1 - cosOuter) * (c1 - cosOuter) * (c1 - cosOuter) / (3.0f * width * width) : 0.0f;
+  return 2.0f * kPi * (rampPart + (1.0f - c1)) * intensity;
 }
 
 glm::vec3 Camera::rayDirection(glm::vec2 ndc, float aspect) const {
@@ -56,9 +77,11 @@ glm::vec3 Scene::baseColorAt(uint32_t material, glm::vec2 uv) const {
 }
 
 void Scene::finalize() {
-  bounds = Bounds{};
-  for (const glm::vec3& p : positions) bounds.extend(p);
-  for (const PunctualLight& l : punctualLights) bounds.extend(l.position);
+  geometryBounds = Bounds{};
+  for (const glm::vec3& p : positions) geometryBounds.extend(p);
+  bounds = geometryBounds;
+  for (const PunctualLight& l : punctualLights)
+    if (!l.isDirectional()) bounds.extend(l.position);
   faceNormals_.resize(triangles.size());
   faceAreas_.resize(triangles.size());
   for (uint32_t i = 0; i < triangles.size(); ++i) {

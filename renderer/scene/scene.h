@@ -36,20 +36,28 @@ struct Material {
   bool isEmissive() const { return emission.r > 0.0f || emission.g > 0.0f || emission.b > 0.0f; }
 };
 
-/// KHR_lights_punctual light. Intensity is in candela as the extension defines; vplab renders in photometric
-/// units throughout (emissive radiance in cd/m^2), so no 683 lm/W factor is applied anywhere.
+/// KHR_lights_punctual light. vplab renders in photometric units throughout (emissive radiance in cd/m^2), so no
+/// 683 lm/W factor is applied anywhere: point and spot intensities are in candela, a directional light's in lux, as
+/// the extension defines them.
 struct PunctualLight {
-  enum class Type { Point, Spot };
+  /// Point and Spot sit at `position`; Directional has no position: it is a light at infinity whose parallel rays
+  /// travel along `direction` (docs/methods.md, "Directional lights").
+  enum class Type { Point, Spot, Directional };
   std::string name;
   Type type = Type::Point;
-  glm::vec3 position{0.0f};
-  glm::vec3 direction{0.0f, 0.0f, -1.0f};  ///< spot axis (world space, unit length)
-  glm::vec3 intensity{1.0f};               ///< colour * intensity, candela
-  float innerConeAngle = 0.0f;             ///< radians
-  float outerConeAngle = 0.7853981634f;    ///< radians (glTF default pi/4)
+  glm::vec3 position{0.0f};                ///< world space; unused by Directional
+  glm::vec3 direction{0.0f, 0.0f, -1.0f};  ///< spot axis, or the direction a directional light's rays travel (unit)
+  /// colour * intensity: radiant intensity in candela (Point, Spot), or for Directional the irradiance in lux that
+  /// it delivers to a surface facing it (perpendicular to `direction`).
+  glm::vec3 intensity{1.0f};
+  float innerConeAngle = 0.0f;           ///< radians, Spot only
+  float outerConeAngle = 0.7853981634f;  ///< radians (glTF default pi/4), Spot only
 
-  /// Radiant intensity toward a unit direction leaving the light (spot falloff as the extension defines).
+  bool isDirectional() const { return type == Type::Directional; }
+  /// Radiant intensity toward a unit direction leaving a Point or Spot light (spot falloff as the extension defines).
   glm::vec3 intensityToward(const glm::vec3& dirFromLight) const;
+  /// Integral of intensityToward() over the sphere: the flux of a Point or Spot light (lumens).
+  glm::vec3 flux() const;
 };
 
 struct Camera {
@@ -98,7 +106,10 @@ struct Scene {
   std::vector<PunctualLight> punctualLights;
 
   Camera camera;
+  /// Triangles plus the positions of Point and Spot lights: what shadow-map ranges and ray offsets must cover.
   Bounds bounds;
+  /// Triangles only: what the automatic camera frames and a directional light's emission disk covers.
+  Bounds geometryBounds;
 
   std::vector<std::string> warnings;      ///< non-fatal problems found while loading
   /// Numeric members of the file's asset.extras: facts a generated scene records for its tests (e.g. the furnace's
@@ -119,7 +130,7 @@ struct Scene {
   /// Base colour at a surface point (factor times texture).
   glm::vec3 baseColorAt(uint32_t material, glm::vec2 uv) const;
 
-  /// Recomputes bounds, emissiveTriangles and the per-triangle normal/area caches from the geometry and materials.
+  /// Recomputes bounds, geometryBounds, emissiveTriangles and the per-triangle normal/area caches from the geometry and materials.
   /// Loaders and builders call it last, and so does anything that edits positions afterwards.
   void finalize();
 

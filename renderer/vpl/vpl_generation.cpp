@@ -68,7 +68,9 @@ class PathSampler {
 void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights, int maxBounces,
                     PathSampler& sampler, std::vector<Vpl>& out) {
   // Step 1: emission sample. The sampler draws the light by power, a point uniform on its area and a cosine
-  // direction; weight = Le cos / (p_light pdf_A pdf_dir) = alpha_0 (before the 1/N_paths normalisation).
+  // direction; weight = Le cos / (p_light pdf_A pdf_dir) = alpha_0 (before the 1/N_paths normalisation). A
+  // directional light starts on a disk covering the scene, pdf_A = 1 / (pi R^2), weight E pi R^2 / p_light
+  // (LightSampler::sampleEmission, docs/methods.md "Directional lights").
   float uLight = sampler.next();
   glm::vec2 uPoint(sampler.next(), sampler.next());
   glm::vec2 uDir(sampler.next(), sampler.next());
