@@ -98,13 +98,10 @@ TEST(VplGeneration, FurnaceFluxPerBounceIsPowerTimesAlbedoPowers) {
 TEST(VplGeneration, DirectionalLightDeliversIrradianceTimesCosineTimesArea) {
   const float half = 2.0f, irradiance = 3.0f;
   const glm::vec3 direction = glm::normalize(glm::vec3(0.0f, -0.8f, 0.6f));
-  auto l = std::make_unique<Loaded>();
-  l->scene = test::makePlaneUnderDirectionalLight(half, direction, irradiance);
-  l->embree = std::make_unique<EmbreeScene>(l->scene);
-  l->lights = std::make_unique<LightSampler>(l->scene);
+  Loaded l(test::makePlaneUnderDirectionalLight(half, direction, irradiance));
   Settings s = smallSettings(8, 4000);
   s.vplMaxBounces = 1;
-  VplSet set = generate(*l, s);
+  VplSet set = generate(l, s);
   ASSERT_FALSE(set.vpls.empty());
   double sum = 0.0;
   for (const Vpl& v : set.vpls) {
