@@ -30,7 +30,7 @@ std::vector<OptionSpec> manyLightOptions() {
       {"clamp", "b", "clamp bound b on the geometry term, 1/m^2, 'inf' = none (default inf)"},
       {"vsl-radius", "r", "virtual spherical light radius in metres, 0 = point VPLs (default 0)"},
       {"vsl-density", "", "derive each VSL radius from the local VPL density (scaled by --vsl-radius)"},
-      {"vsl-samples", "N", "cone/BRDF samples per VSL (default 8)"},
+      {"vsl-samples", "N", "samples per VSL of the exact CPU render (default 4; the GL preview takes none)"},
       {"reject", "", "rejection of unimportant VPLs (Georgiev-Slusallek)"},
       {"epsilon", "e", "rejection epsilon in [0,1] (default 0.1)"},
       {"pilot-vpls", "N", "pilot VPLs for rejection (default 64)"},

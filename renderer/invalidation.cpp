@@ -79,12 +79,13 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   if (a.ssbcSteps != b.ssbcSteps || a.ssbcCoarseRings != b.ssbcCoarseRings)
     s.ssbc = true;
 
-  // VSLs (section 7) change the gather integral, not the VPL positions.
-  if (a.vslRadius != b.vslRadius || a.vslRadiusFromDensity != b.vslRadiusFromDensity ||
-      a.vslSamples != b.vslSamples) {
+  // VSLs (section 7) change the gather integral, not the VPL positions. The cone samples are the CPU estimator's
+  // only: the preview evaluates the integral without samples.
+  if (a.vslRadius != b.vslRadius || a.vslRadiusFromDensity != b.vslRadiusFromDensity) {
     s.gather = true;
     s.offline |= method == Method::Vsl;
   }
+  if (a.vslSamples != b.vslSamples) s.offline |= method == Method::Vsl;
 
   // Preview-only parameters (section 8).
   if (a.directLightSamples != b.directLightSamples) s.lightShadowMaps = true;

@@ -8,13 +8,13 @@
 //                        with rejection on also the image size, since the importance sample points are pixels)
 //   VPL shadow maps   <- the VPLs, shadowMapSize
 //   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points)
-//   gather            <- the camera, image size, VPLs and both shadow-map sets, clampBound, VSL parameters,
+//   gather            <- the camera, image size, VPLs and both shadow-map sets, clampBound, the VSL radius,
 //                        interleave, shadowBias, components
 //   SSBC              <- the gather, ssbcSteps
 //   tonemap           <- SSBC, exposure
 //   offline result    <- scene, lights, camera, image size, seed, and the parameters of the offline method: the
 //                        reference ignores every VPL parameter; the VPL methods read the VPLs and clampBound; the VSL
-//                        method reads the VSL parameters. Exposure, threads and the preview-only parameters never
+//                        method reads the VSL parameters (the radius and the CPU's cone samples). Exposure, threads and the preview-only parameters never
 //                        touch it (results do not depend on the thread count).
 
 #include "renderer/settings.h"

@@ -80,9 +80,10 @@ struct Settings {
   float vslRadius = 0.0f;
   /// When on, each VSL's radius is derived from the local VPL density (vslRadius then scales it). Default off.
   bool vslRadiusFromDensity = false;
-  /// Cone samples per VSL and shading point (half from the cone, half from the BRDF, combined by MIS) [1, 256].
-  /// Default 8.
-  int vslSamples = 8;
+  /// Samples per VSL and shading point of the exact CPU estimator: one-sample MIS over the cone and the BRDFs of the
+  /// glossy ends (pure-Lambert pairs whose cone no surface cuts take none: closed form) [1, 256]. The GL preview
+  /// evaluates the integral without samples. Default 4.
+  int vslSamples = 4;
 
   // --- GL preview (section 8) -------------------------------------------------------------------------------
   /// Shadow-mapped samples on area lights for the preview's direct light [1, 4096]. Default 64.

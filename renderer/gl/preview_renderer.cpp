@@ -218,8 +218,6 @@ BrdfVariants::BrdfVariants(const std::string& fragmentShader, const std::vector<
 
 PreviewRenderer::PreviewRenderer()
     : gbuffer_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}),
-      gatherVsl_({"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"},
-                 {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       deinterleaveRows_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}, {"DEINTERLEAVE_COLUMNS 0"}),
       deinterleaveColumns_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"},
                            {"DEINTERLEAVE_COLUMNS 1"}),
@@ -227,6 +225,7 @@ PreviewRenderer::PreviewRenderer()
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
       direct_("preview/direct.frag.glsl", {uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
       gather_("preview/gather.frag.glsl", {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
+      gatherVsl_("preview/gather_vsl.frag.glsl", {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       ssbc_("preview/ssbc.frag.glsl"),
       ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
       ssbcRadiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}),
@@ -370,7 +369,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   bool directChanged = cameraChanged || directMapsChanged || settings.shadowBias != last.shadowBias ||
                        settings.interleave != last.interleave;
   bool gatherChanged = cameraChanged || vplDataChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
-                       settings.interleave != last.interleave || settings.vslSamples != last.vslSamples ||
+                       settings.interleave != last.interleave ||
                        settings.shadowBias != last.shadowBias;
   bool ssbcChanged = directChanged || gatherChanged || settings.ssbcSteps != last.ssbcSteps ||
                      settings.ssbcCoarseRings != last.ssbcCoarseRings;
@@ -493,10 +492,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (gatherChanged) {
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
       // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
-      ShaderProgram& gather = vplsHaveRadius_ ? gatherVsl_ : gather_[lambertOnly_];
+      ShaderProgram& gather = (vplsHaveRadius_ ? gatherVsl_ : gather_)[lambertOnly_];
       gather.set("uCameraPosition", camera.position);
       gather.set("uClampBound", settings.clampBound);
-      gather.set("uVslSamples", settings.vslSamples);
       gather.set("uShadowFar", far);
       gather.set("uShadowBias", bias);
       interleaved(gather, *tg.indirectRaw, lightTableDraws(vplShadows_, vplTable_),

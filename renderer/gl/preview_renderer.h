@@ -120,9 +120,9 @@ class PreviewRenderer {
   std::vector<glm::vec3> directPositions_;
   /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
   bool vplsHaveRadius_ = false;
-  ShaderProgram gbuffer_, gatherVsl_, deinterleaveRows_, deinterleaveColumns_, compose_, tonemap_;
+  ShaderProgram gbuffer_, deinterleaveRows_, deinterleaveColumns_, compose_, tonemap_;
   // Indexed by lambertOnly_: true when every material of the scene is Lambert.
-  BrdfVariants direct_, gather_, ssbc_;
+  BrdfVariants direct_, gather_, gatherVsl_, ssbc_;
   ShaderProgram ssbcTaps_, ssbcRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
   // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are

@@ -5,6 +5,7 @@
 #include "renderer/scene/brdf_params.h"
 #include "renderer/vpl/vpl_contribution.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "renderer/vpl/vsl_integral.h"
 
 #include <array>
 #include <cassert>
@@ -25,10 +26,11 @@ struct Context {
   const std::vector<Vpl>& vpls;
   std::vector<BrdfParams> vplBrdfs;  ///< f(x2) parameters, looked up once per render
   std::vector<float> radii;          ///< VSL radii (Method::Vsl)
+  std::vector<VslEnd> vslEnds;       ///< the VPL ends of the VSL exchanges (Method::Vsl)
+  std::vector<uint8_t> vplLambert;   ///< whether f(x2) is pure Lambert (Method::Vsl)
   Method method;
   float clampBound;
-  int coneSamples = 0;
-  int brdfSamples = 0;
+  int vslSamples = 1;
   int maxDepth = 1;
 };
 
@@ -40,57 +42,64 @@ struct GatherTally {
   uint64_t evaluations = 0;
 };
 
-/// f(x1; wo, w) f(x2; w_in, -w) cos1 cos2 for one direction w from x1 toward a VSL (MANYLIGHTS 7 integrand).
-glm::vec3 vslIntegrand(const ShadingPoint& sp, const Vpl& vpl, const BrdfParams& vplBrdf, const glm::vec3& w) {
-  // One-sided surfaces at both ends, as for point VPLs.
-  if (glm::dot(sp.hit.geometricNormal, w) <= 0.0f || glm::dot(vpl.geometricNormal, w) >= 0.0f) return glm::vec3(0.0f);
-  float cos1 = glm::dot(sp.hit.shadingNormal, w);
-  float cos2 = -glm::dot(vpl.normal, w);
-  if (cos1 <= 0.0f || cos2 <= 0.0f) return glm::vec3(0.0f);
-  return evaluateBrdf(sp.brdf, sp.hit.shadingNormal, sp.wo, w) * evaluateBrdf(vplBrdf, vpl.normal, vpl.incoming, -w) *
-         (cos1 * cos2);
-}
-
-/// Unoccluded VSL contribution Phi / (pi r^2) * integral over the cone (see vpl_renderer.h for the definition).
-glm::vec3 vslContribution(const Context& ctx, const ShadingPoint& sp, const Vpl& vpl, const BrdfParams& vplBrdf,
-                          float radius, Rng& rng) {
-  if (!(radius > 0.0f)) return vplUnoccludedContribution(sp, vpl, vplBrdf, kInfinity);
-  glm::vec3 d = vpl.position - sp.hit.position;
-  float dist2 = glm::dot(d, d);
-  float r2 = radius * radius;
-  // Step 1: the cone subtended by the sphere; inside the sphere, every direction (cos theta_max = -1).
-  float cosThetaMax = -1.0f, oneMinusCos = 2.0f;
-  if (dist2 > r2) {
-    float s2 = r2 / dist2;  // sin^2 theta_max
-    float root = std::sqrt(1.0f - s2);
-    cosThetaMax = root;
-    oneMinusCos = s2 / (1.0f + root);  // 1 - cos without cancellation for tiny r
-  }
-  const float pdfCone = 1.0f / (2.0f * kPi * oneMinusCos);
-  glm::vec3 axis = dist2 > 0.0f ? d / std::sqrt(dist2) : sp.hit.shadingNormal;
-  Frame frame(axis);
-  const float nCone = static_cast<float>(ctx.coneSamples), nBrdf = static_cast<float>(ctx.brdfSamples);
+/// Unoccluded VSL contribution Phi T (see vpl_renderer.h for the definition of T and its estimator).
+glm::vec3 vslContribution(const Context& ctx, const ShadingPoint& sp, std::size_t index, Rng& rng) {
+  const Vpl& vpl = ctx.vpls[index];
+  const float radius = ctx.radii[index];
+  if (!(radius > 0.0f)) return vplUnoccludedContribution(sp, vpl, ctx.vplBrdfs[index], kInfinity);
+  const VslEnd x1{sp.hit.position, sp.hit.shadingNormal, sp.hit.geometricNormal, sp.wo, sp.brdf};
+  const VslEnd& x2 = ctx.vslEnds[index];
+  const glm::vec3 d = x2.position - x1.position;
+  // A cone entirely behind either surface carries nothing.
+  if (glm::dot(x1.geometricNormal, d) < -radius || glm::dot(x2.geometricNormal, d) > radius) return glm::vec3(0.0f);
+  // Both surfaces facing the same way (coplanar walls, a block's top and the floor): no direction leaves x1's front
+  // side and reaches the VPL's front side.
+  if (glm::dot(x1.geometricNormal, x2.geometricNormal) >= 1.0f - 1e-6f) return glm::vec3(0.0f);
+  const bool lambert1 = isPureLambert(x1.brdf), lambert2 = ctx.vplLambert[index] != 0;
+  // Step 1: a pure-Lambert pair whose cone no plane cuts has the closed form (vsl_integral.h): no samples.
+  if (lambert1 && lambert2 && vslConeUnclipped(x1, x2, radius)) return vpl.flux * vslLambertTransfer(x1, x2, radius);
+  // Step 2: one-sample MIS over the strategies that fit the pair (balance heuristic, Veach 1997): each of the S
+  // samples picks the cone with probability pCone, else the BRDF of a glossy end (x1's f(x1) cos1, or the VPL's
+  // f(x2) cos2 toward -w); its weight is g / (sum_k p_k pdf_k).
+  const VslCone cone = vslCone(d, radius, x1.normal);
+  const float pdfCone = 1.0f / cone.solidAngle;
+  const float pB1 = lambert1 ? 0.0f : (lambert2 ? 0.5f : 0.25f);
+  const float pB2 = lambert2 ? 0.0f : (lambert1 ? 0.5f : 0.25f);
+  const float pCone = 1.0f - pB1 - pB2;
+  const Frame frame(cone.axis);
   glm::vec3 sum(0.0f);
-  // Step 2: cone samples, balance-heuristic weighted against BRDF sampling (Veach 1997, multi-sample MIS).
-  for (int s = 0; s < ctx.coneSamples; ++s) {
-    glm::vec2 u = rng.next2D();
-    glm::vec3 w = frame.toWorld(sampleUniformCone(u, cosThetaMax));
-    glm::vec3 g = vslIntegrand(sp, vpl, vplBrdf, w);
-    if (g.r <= 0.0f && g.g <= 0.0f && g.b <= 0.0f) continue;
-    float pdfB = ctx.brdfSamples > 0 ? brdfPdf(sp.brdf, sp.hit.shadingNormal, sp.wo, w) : 0.0f;
-    sum += g / (nCone * pdfCone + nBrdf * pdfB);
-  }
-  // Step 3: BRDF samples of f(x1); only directions inside the cone count (Omega bounds the integral).
-  for (int s = 0; s < ctx.brdfSamples; ++s) {
+  for (int s = 0; s < ctx.vslSamples; ++s) {
+    float pick = rng.next1D();
     glm::vec3 u(rng.next1D(), rng.next1D(), rng.next1D());
-    BrdfSample bs = sampleBrdf(sp.brdf, sp.hit.shadingNormal, sp.wo, u);
-    if (!bs.valid() || glm::dot(bs.wi, axis) < cosThetaMax) continue;
-    glm::vec3 g = vslIntegrand(sp, vpl, vplBrdf, bs.wi);
-    if (g.r <= 0.0f && g.g <= 0.0f && g.b <= 0.0f) continue;
-    sum += g / (nCone * pdfCone + nBrdf * bs.pdf);
+    // A BRDF sample brings its own f and pdf; the other end's are evaluated below.
+    glm::vec3 w, f1(-1.0f), f2(-1.0f);
+    float pdf1 = -1.0f, pdf2 = -1.0f;
+    if (pick < pCone) {
+      w = frame.toWorld(sampleUniformCone({u.y, u.z}, cone.cosThetaMax));
+    } else if (pick < pCone + pB1) {
+      BrdfSample bs = sampleBrdf(x1.brdf, x1.normal, x1.wo, u);
+      if (!bs.valid()) continue;
+      w = bs.wi, f1 = bs.f, pdf1 = bs.pdf;
+    } else {
+      BrdfSample bs = sampleBrdf(x2.brdf, x2.normal, x2.wo, u);
+      if (!bs.valid()) continue;
+      w = -bs.wi, f2 = bs.f, pdf2 = bs.pdf;
+    }
+    // Omega bounds the integral: directions outside the cone count zero. One-sided surfaces at both ends, as for
+    // point VPLs.
+    if (glm::dot(w, cone.axis) < cone.cosThetaMax) continue;
+    if (glm::dot(x1.geometricNormal, w) <= 0.0f || glm::dot(x2.geometricNormal, w) >= 0.0f) continue;
+    float cos1 = glm::dot(x1.normal, w), cos2 = -glm::dot(x2.normal, w);
+    if (cos1 <= 0.0f || cos2 <= 0.0f) continue;
+    if (f1.r < 0.0f) f1 = evaluateBrdfForVpl(x1.brdf, x1.normal, x1.wo, w);
+    if (f2.r < 0.0f) f2 = evaluateBrdfForVpl(x2.brdf, x2.normal, x2.wo, -w);
+    float pdf = pCone * pdfCone;
+    if (pB1 > 0.0f) pdf += pB1 * (pdf1 >= 0.0f ? pdf1 : brdfPdf(x1.brdf, x1.normal, x1.wo, w));
+    if (pB2 > 0.0f) pdf += pB2 * (pdf2 >= 0.0f ? pdf2 : brdfPdf(x2.brdf, x2.normal, x2.wo, -w));
+    sum += f1 * f2 * (cos1 * cos2 / pdf);
   }
-  // Step 4: the flux spread over the sphere's cross-section, Phi / (pi r^2).
-  return vpl.flux * sum / (kPi * r2);
+  // Step 3: the flux spread over the sphere's cross-section, Phi / (pi r^2).
+  return vpl.flux * sum * (1.0f / (static_cast<float>(ctx.vslSamples) * kPi * radius * radius));
 }
 
 /// sum_i C_i(x1) V(x1, x2_i) with batched exact shadow rays (MANYLIGHTS 1, 4, 7).
@@ -118,7 +127,7 @@ glm::vec3 gatherVpls(const Context& ctx, const ShadingPoint& sp, Rng& rng, Gathe
     const Vpl& vpl = ctx.vpls[i];
     glm::vec3 c, u;
     if (vsl) {
-      c = vslContribution(ctx, sp, vpl, ctx.vplBrdfs[i], ctx.radii[i], rng);
+      c = vslContribution(ctx, sp, i, rng);
       u = c;
     } else {
       c = vplUnoccludedContribution(sp, vpl, ctx.vplBrdfs[i], ctx.clampBound, &u);
@@ -179,15 +188,19 @@ VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Met
   const EmbreeScene& embree = offline.embree();
   const LightSampler& lights = offline.lights();
   assert(method == Method::Vpl || method == Method::VplKK || method == Method::Vsl);
-  Context ctx{scene, embree, lights, vplSet.vpls, {}, {}, method, settings.clampBound};
+  Context ctx{scene, embree, lights, vplSet.vpls, {}, {}, {}, {}, method, settings.clampBound};
   ctx.vplBrdfs.reserve(vplSet.vpls.size());
   for (const Vpl& v : vplSet.vpls) ctx.vplBrdfs.push_back(brdfParamsAt(scene, v.material, v.uv));
   if (method == Method::Vsl) {
     ctx.radii = vslRadii(vplSet.vpls, settings, scene.bounds.diagonal());
     ctx.clampBound = kInfinity;
+    for (std::size_t i = 0; i < vplSet.vpls.size(); ++i) {
+      const Vpl& v = vplSet.vpls[i];
+      ctx.vslEnds.push_back({v.position, v.normal, v.geometricNormal, v.incoming, ctx.vplBrdfs[i]});
+      ctx.vplLambert.push_back(isPureLambert(ctx.vplBrdfs[i]) ? 1 : 0);
+    }
   }
-  ctx.coneSamples = (std::max(1, settings.vslSamples) + 1) / 2;
-  ctx.brdfSamples = std::max(1, settings.vslSamples) / 2;
+  ctx.vslSamples = std::max(1, settings.vslSamples);
   ctx.maxDepth = std::max(1, settings.maxDepth);
 
   const bool wantDirect = settings.components != Components::Indirect;

@@ -3,12 +3,11 @@
 // a lane mask even when the condition is uniform, so the VSL code would cost every point-VPL evaluation ~30% of the
 // gather; the renderer picks the variant from the VPL set.
 //   point VPL:  f(x1; wo, w) G_b(x1, x2) V f(x2; w_in, -w) Phi,  G_b = min(G, b)     (same as vpl_contribution.h)
-//   VSL (r>0):  Phi / (pi r^2) V  integral over the cone Omega subtended by the sphere of radius r around x2 of
-//               f(x1; wo, w) f(x2; w_in, -w) max(0, n1.w) max(0, n2.(-w)) dw        (Hasan et al. 2009, eq. of §7)
-//               estimated with uVslSamples directions uniform in the cone (pdf 1/(2 pi (1 - cos theta_max))), or
-//               cosine-distributed over the hemisphere of n1 when x1 lies inside the sphere. For d >> r the cone
-//               has solid angle pi r^2 / d^2 and the estimate tends to the point VPL; no G clamp is applied to a VSL,
-//               its integrand is bounded by construction. V is the shadow-map visibility toward the sphere centre.
+//   VSL:        Phi T V, T = 1 / (pi r^2) * integral over the cone Omega subtended by the sphere of radius r around
+//               x2 of f(x1; wo, w) f(x2; w_in, -w) max(0, n1.w) max(0, n2.(-w)) dw   (Hasan et al. 2009, §7),
+//               evaluated by the deterministic approximation of common/vsl.glsl (no per-pixel random samples); a VPL
+//               of radius 0 in such a set is the unclamped point VPL (T's limit), as on the CPU. No G clamp: T is
+//               bounded by construction. V is the shadow-map visibility toward the sphere centre.
 //   Interleaved sampling (Keller & Heidrich 2001): pixel (x, y) uses the subset s = (y mod k) k + (x mod k), i.e.
 //   VPLs i = s, s + k^2, ..., each with flux * k^2; the de-interleave pass merges the k x k subsets.
 //   Deinterleaved layout (Segovia et al. 2006): the output is split into k x k blocks of ceil(w/k) x ceil(h/k) texels;
@@ -21,10 +20,10 @@
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/interleaved.glsl"
-#if GATHER_VSL
-#include "common/hash.glsl"
-#endif
 #include "common/shadow.glsl"
+#if GATHER_VSL
+#include "common/vsl.glsl"
+#endif
 
 struct GlVpl {
   vec4 position;   // xyz, w: VSL radius (0 = point)
@@ -40,28 +39,11 @@ struct GlVpl {
 layout(std140, binding = 8) uniform Vpls { GlVpl vpls[GATHER_UBO_VPLS]; };
 layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
-uniform float uClampBound; // b (a large finite value stands for infinity)
-uniform int uVslSamples;
+uniform float uClampBound; // b (a large finite value stands for infinity); point-VPL sets only
 uniform float uShadowFar;
 uniform float uShadowBias;
 
 layout(location = 0) out vec4 outColor;
-
-#if GATHER_VSL
-vec3 coneSample(vec2 u, float cosThetaMax) {
-  float cosTheta = (1.0 - u.x) + u.x * cosThetaMax;
-  float sinTheta = sqrt(max(0.0, 1.0 - cosTheta * cosTheta));
-  float phi = 2.0 * kPi * u.y;
-  return vec3(cos(phi) * sinTheta, sin(phi) * sinTheta, cosTheta);
-}
-
-mat3 frameAround(vec3 n) {
-  float s = n.z >= 0.0 ? 1.0 : -1.0;
-  float a = -1.0 / (s + n.z);
-  float b = n.x * n.y * a;
-  return mat3(vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x), vec3(b, s + n.y * n.y * a, -n.y), n);
-}
-#endif
 
 void main() {
   InterleavedSurface surface;
@@ -76,7 +58,29 @@ void main() {
   // First VPL of this pixel's subset inside the draw's range (common/interleaved.glsl).
   int first = uLightBegin + uSubsetOffset;
   vec3 sum = vec3(0.0);
-#if defined(BRDF_LAMBERT_ONLY) && !GATHER_VSL
+#if GATHER_VSL
+  // Virtual spherical lights: one transfer per VPL (common/vsl.glsl), every VPL through the same code.
+#ifdef BRDF_LAMBERT_ONLY
+  // Pure Lambert at both ends: f(x1) leaves the loop, f(x2) Phi comes precomputed (lambertPower), as below.
+  vec3 f1 = dot(n1, wo) > 0.0 ? p1.baseColor * kInvPi : vec3(0.0);
+#endif
+  for (int i = first; i < uLightEnd; i += k2) {
+    GlVpl vpl = vpls[i - uUboBase];
+    vec3 x2 = vpl.position.xyz;
+    float v = shadowVisibility(uShadowMaps, i - uFirstLight, x2, x1, ng, uShadowFar, uShadowBias);
+#ifdef BRDF_LAMBERT_ONLY
+    sum += vslLambertCosineTransfer(x1, n1, ng, x2, vpl.normal.xyz, vpl.geoNormal.xyz, vpl.position.w) * v *
+           vpl.lambertPower.rgb;
+#else
+    BrdfParams p2 = BrdfParams(vpl.baseColor.rgb, vpl.normal.w, vpl.incoming.w, vpl.flux.w);
+    sum += vslApproxTransfer(x1, n1, ng, wo, p1, x2, vpl.normal.xyz, vpl.geoNormal.xyz, vpl.incoming.xyz, p2,
+                             vpl.position.w) * v * vpl.flux.rgb;
+#endif
+  }
+#ifdef BRDF_LAMBERT_ONLY
+  sum *= f1;
+#endif
+#elif defined(BRDF_LAMBERT_ONLY)
   // Pure Lambert at both ends: f(x1) = albedo1 / pi and f(x2) = albedo2 / pi do not depend on w, so f(x1) leaves the
   // loop and f(x2) Phi comes precomputed with the VPL (lambertPower), and the body is written without `continue`:
   // llvmpipe pays for every branch in mask bookkeeping, while a zero factor costs one select. Same terms as the
@@ -105,53 +109,17 @@ void main() {
     vec3 d = x2 - x1;
     float dist2 = dot(d, d);
     if (!(dist2 > 0.0)) continue;
-    float dist = sqrt(dist2);
-    vec3 w = d / dist;
-    float r = vpl.position.w;
-    if (r <= 0.0) {
-      // One-sided surfaces: both ends must face each other geometrically.
-      if (dot(ng, w) <= 0.0 || dot(vpl.geoNormal.xyz, w) >= 0.0) continue;
-      // Geometry term with clamped cosines, bounded by b (MANYLIGHTS 4).
-      float cos1 = dot(n1, w), cos2 = -dot(n2, w);
-      if (cos1 <= 0.0 || cos2 <= 0.0) continue;
-      float g = min(cos1 * cos2 / dist2, uClampBound);
-      float v = shadowVisibility(uShadowMaps, i - uFirstLight, x2, x1, ng, uShadowFar, uShadowBias);
-      if (v <= 0.0) continue;
-      // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
-      sum += evaluateBrdf(p1, n1, wo, w) * g * v * evaluateBrdf(p2, n2, vpl.incoming.xyz, -w) * vpl.flux.rgb;
-    }
-#if GATHER_VSL
-    else {
-      float v = shadowVisibility(uShadowMaps, i - uFirstLight, x2, x1, ng, uShadowFar, uShadowBias);
-      if (v <= 0.0) continue;
-      bool inside = dist <= r;
-      float cosThetaMax = inside ? 0.0 : sqrt(max(0.0, 1.0 - r * r / dist2));
-      mat3 frame = frameAround(inside ? n1 : w);
-      uint seed = pcgHash(uint(px.x) * 73856093u ^ uint(px.y) * 19349663u ^ uint(i) * 83492791u);
-      vec2 shift = vec2(hashToFloat(seed), hashToFloat(pcgHash(seed)));
-      vec3 acc = vec3(0.0);
-      for (int j = 0; j < uVslSamples; ++j) {
-        // Stratified in u.x, Cranley-Patterson rotated per pixel and VSL.
-        vec2 u = fract(vec2((float(j) + 0.5) / float(uVslSamples), float(j) * 0.6180339887) + shift);
-        vec3 dir;
-        float pdf;
-        if (inside) {
-          float rr = sqrt(u.x), phi = 2.0 * kPi * u.y;
-          dir = frame * vec3(rr * cos(phi), rr * sin(phi), sqrt(max(0.0, 1.0 - u.x)));
-          pdf = max(0.0, dot(dir, n1)) * kInvPi;
-        } else {
-          dir = frame * coneSample(u, cosThetaMax);
-          pdf = 1.0 / (2.0 * kPi * (1.0 - cosThetaMax));
-        }
-        float cos1 = dot(n1, dir), cos2 = -dot(n2, dir);
-        // One-sided at both ends (geometric normals), as the CPU VSL estimator requires.
-        if (cos1 <= 0.0 || cos2 <= 0.0 || dot(ng, dir) <= 0.0 || dot(vpl.geoNormal.xyz, dir) >= 0.0 || !(pdf > 0.0))
-          continue;
-        acc += evaluateBrdf(p1, n1, wo, dir) * evaluateBrdf(p2, n2, vpl.incoming.xyz, -dir) * cos1 * cos2 / pdf;
-      }
-      sum += acc / float(uVslSamples) * vpl.flux.rgb / (kPi * r * r) * v;
-    }
-#endif
+    vec3 w = d * inversesqrt(dist2);
+    // One-sided surfaces: both ends must face each other geometrically.
+    if (dot(ng, w) <= 0.0 || dot(vpl.geoNormal.xyz, w) >= 0.0) continue;
+    // Geometry term with clamped cosines, bounded by b (MANYLIGHTS 4).
+    float cos1 = dot(n1, w), cos2 = -dot(n2, w);
+    if (cos1 <= 0.0 || cos2 <= 0.0) continue;
+    float g = min(cos1 * cos2 / dist2, uClampBound);
+    float v = shadowVisibility(uShadowMaps, i - uFirstLight, x2, x1, ng, uShadowFar, uShadowBias);
+    if (v <= 0.0) continue;
+    // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
+    sum += evaluateBrdf(p1, n1, wo, w) * g * v * evaluateBrdf(p2, n2, vpl.incoming.xyz, -w) * vpl.flux.rgb;
   }
 #endif
   outColor = vec4(sum * float(k2), 1.0);

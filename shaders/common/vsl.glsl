@@ -1,0 +1,179 @@
+// Virtual-spherical-light transfer T (Hasan et al. 2009): the deterministic approximation of
+//   T = 1 / (pi r^2) * integral over the cone Omega of f(x1; wo, w) f(x2; w_in, -w) cos1+ cos2+ dw
+// that renderer/vpl/vsl_integral.h derives and documents (docs/methods.md gives its measured error); every function
+// here mirrors the C++ function of the same name line by line, with the same constants. A VPL's contribution is
+// Phi T V. No random numbers: the same pixel gives the same value every frame.
+#include "common/brdf.glsl"
+
+const int kVslRingNodes = 6;
+// cos and sin of 2 pi k / 6.
+const vec2 kVslRing[kVslRingNodes] = vec2[](vec2(1.0, 0.0), vec2(0.5, 0.8660254), vec2(-0.5, 0.8660254),
+                                            vec2(-1.0, 0.0), vec2(-0.5, -0.8660254), vec2(0.5, -0.8660254));
+
+struct VslCone {
+  vec3 axis;                 // unit direction x1 -> centre
+  float cosThetaMax;         // -1 inside the sphere
+  float oneMinusCos;         // 1 - cosThetaMax without cancellation (2 inside)
+  float solidAngle;          // Omega
+  float solidAngleOverArea;  // Omega / (pi r^2); 1 / d^2 as r -> 0
+  bool inside;
+};
+
+VslCone vslCone(vec3 toCentre, float radius, vec3 fallbackAxis) {
+  VslCone c;
+  float dist2 = dot(toCentre, toCentre);
+  float r2 = radius * radius;
+  c.axis = dist2 > 0.0 ? toCentre * inversesqrt(dist2) : fallbackAxis;
+  // Written with selects: llvmpipe would run both branches anyway.
+  c.inside = dist2 <= r2;
+  float s2 = r2 / max(dist2, 1e-30);  // sin^2 theta_max
+  float root = sqrt(max(0.0, 1.0 - s2));
+  c.cosThetaMax = c.inside ? -1.0 : root;
+  c.oneMinusCos = c.inside ? 2.0 : s2 / (1.0 + root);
+  c.solidAngle = 2.0 * kPi * c.oneMinusCos;
+  c.solidAngleOverArea = c.inside ? 4.0 / r2 : 2.0 / (max(dist2, 1e-30) * (1.0 + root));
+  return c;
+}
+
+mat3 vslFrameAround(vec3 n) {
+  float s = n.z >= 0.0 ? 1.0 : -1.0;
+  float a = -1.0 / (s + n.z);
+  float b = n.x * n.y * a;
+  return mat3(vec3(1.0 + s * n.x * n.x * a, s * b, -s * n.x), vec3(b, s + n.y * n.y * a, -n.y), n);
+}
+
+// Means over the cone of cos1+ cos2+ (x), cos1+ (y) and cos2+ (z), with the one-sided tests g1.w > 0, g2.w > 0;
+// m2 = -n2, g2 = -VPL geometric normal. Centre + ring rule; inside the sphere the closed forms over the sphere.
+vec3 vslCosineMeans(VslCone cone, vec3 n1, vec3 g1, vec3 m2, vec3 g2) {
+  if (cone.inside) {
+    float cosG = clamp(dot(n1, m2), -1.0, 1.0);
+    float g = acos(cosG);
+    float product = (2.0 / 3.0) * ((kPi - g) * cosG + sqrt(max(0.0, 1.0 - cosG * cosG))) / cone.solidAngle;
+    return vec3(product, vec2(0.125 * (1.0 + cosG)));
+  }
+  // Components of the four normals in the cone's frame (transpose = inverse): each node is two multiply-adds.
+  mat3 toLocal = transpose(vslFrameAround(cone.axis));
+  vec3 l1 = toLocal * n1, lg1 = toLocal * g1, l2 = toLocal * m2, lg2 = toLocal * g2;
+  float z = 1.0 - 2.0 * cone.oneMinusCos / 3.0;  // (1 + 2 cos theta_max) / 3
+  float sinT = sqrt(max(0.0, (2.0 * cone.oneMinusCos / 3.0) * (1.0 + z)));
+  vec2 c0 = max(vec2(l1.z, l2.z), 0.0);
+  vec3 m = lg1.z > 0.0 && lg2.z > 0.0 ? 0.25 * vec3(c0.x * c0.y, c0) : vec3(0.0);
+  for (int k = 0; k < kVslRingNodes; ++k) {
+    vec3 node = vec3(sinT * kVslRing[k], z);
+    vec2 c = max(vec2(dot(l1, node), dot(l2, node)), 0.0);
+    bool pass = dot(lg1, node) > 0.0 && dot(lg2, node) > 0.0;
+    m += pass ? (0.75 / float(kVslRingNodes)) * vec3(c.x * c.y, c) : vec3(0.0);
+  }
+  return m;
+}
+
+// Mass of the GGX slope distribution (alpha^2 = a2) over the disk of radius^2 rho2PerSolidAngle * solidAngle
+// centred at slope length^2 s2, divided by solidAngle; the point-to-parallel-disk form factor without cancellation.
+float ggxDiskMassPerSolidAngle(float a2, float s2, float rho2PerSolidAngle, float solidAngle) {
+  float rho2 = rho2PerSolidAngle * solidAngle;
+  float s = sqrt(s2), rho = sqrt(rho2);
+  float q = sqrt(((s - rho) * (s - rho) + a2) * ((s + rho) * (s + rho) + a2));
+  float a = a2 + s2;
+  float small = 2.0 * a2 * rho2PerSolidAngle / (q * (q + a - rho2));
+  float large = min(1.0, 0.5 * (1.0 - (a - rho2) / q)) / solidAngle;
+  return a > rho2 ? small : large;
+}
+
+// A GGX lobe over the cone: mean <s cos_i>, coverage A B / (A B + alpha^2), the cone direction closest to the mirror
+// direction of wo.
+struct VslLobe {
+  vec3 mean;
+  float coverage;
+  vec3 peak;
+};
+
+// The cone direction (around `axis`, the cone's own or its reverse) closest to `dir`.
+vec3 vslClosestInCone(VslCone cone, vec3 axis, vec3 dir) {
+  float c = dot(dir, axis);
+  vec3 perp = dir - c * axis;
+  float len = length(perp);
+  float sinMax = sqrt(max(0.0, cone.oneMinusCos * (2.0 - cone.oneMinusCos)));
+  vec3 edge = len > 1e-6 ? axis * cone.cosThetaMax + perp * (sinMax / len) : axis;
+  return cone.inside || c >= cone.cosThetaMax ? dir : edge;
+}
+
+// The GGX part of f(n; wo, w) times cos_i over the cone, w around `axis`.
+VslLobe vslMeanSpecular(BrdfParams p, vec3 n, vec3 wo, vec3 axis, VslCone cone) {
+  float cosO = dot(n, wo), cosI = dot(n, axis);
+  vec3 h = wo + axis;
+  float hl = length(h);
+  h /= max(hl, 1e-30);
+  float cosH = dot(n, h);
+  bool lobe = cosO > 0.0 && cosI > 0.0 && hl > 0.0 && cosH > 0.0 && (p.metallic > 0.0 || p.specular > 0.0);
+  cosH = max(cosH, 1e-6);
+  float vDotH = max(1e-6, dot(wo, h));
+  float fw = brdfSchlickWeight(vDotH);
+  vec3 weight = (1.0 - p.metallic) * p.specular * (0.04 + 0.96 * fw) +
+                p.metallic * (p.baseColor + (1.0 - p.baseColor) * fw);
+  float alpha = max(kMinGgxAlpha, p.roughness * p.roughness);
+  float cosH2 = cosH * cosH;
+  float tan2 = max(0.0, 1.0 - cosH2) / cosH2;
+  // The cone's image in the slope plane: an ellipse of area det * Omega (vsl_integral.h).
+  float det = 1.0 / (4.0 * vDotH * cosH2 * cosH);
+  float a2 = alpha * alpha;
+  float mass = ggxDiskMassPerSolidAngle(a2, tan2, det / kPi, cone.solidAngle);
+  // Centred-ellipse correction of the equal-area disk.
+  float sinO = sqrt(max(0.0, 1.0 - vDotH * vDotH)), sinH = sqrt(max(0.0, 1.0 - cosH2));
+  float cosBeta = sinO * sinH > 1e-6 ? clamp((cosO - vDotH * cosH) / max(sinO * sinH, 1e-6), -1.0, 1.0) : 1.0;
+  float cb2 = cosBeta * cosBeta;
+  float sr2 = 1.0 / (cosH2 * cosH2), st2 = 1.0 / cosH2;
+  float ti2 = 0.25, tp2 = 0.25 / (vDotH * vDotH);
+  float frob2 = (sr2 * ti2 + st2 * tp2) * cb2 + (sr2 * tp2 + st2 * ti2) * (1.0 - cb2);
+  float ab = det * cone.solidAngle / kPi, sumSq = frob2 * cone.solidAngle / kPi;
+  mass *= (ab + a2) / sqrt(ab * ab + a2 * sumSq + a2 * a2);
+  vec3 s = weight * (brdfSmithVisibility(cosO, max(cosI, 0.0), alpha) * max(cosI, 0.0) * 4.0 * vDotH / cosH * mass);
+  VslLobe result;
+  result.mean = lobe ? s : vec3(0.0);
+  result.coverage = lobe ? ab / (ab + a2) : 0.0;
+  result.peak = vslClosestInCone(cone, axis, 2.0 * cosO * n - wo);
+  return result;
+}
+
+// The diffuse part of f toward wi, with the Fresnel transmission at cos_i clamped to [0, 1].
+vec3 vslDiffuseBrdf(BrdfParams p, vec3 n, vec3 wo, vec3 wi) {
+  float cosO = dot(n, wo);
+  float transmitO = 1.0 - p.specular * (0.04 + 0.96 * brdfSchlickWeight(cosO));
+  float transmitI = 1.0 - p.specular * (0.04 + 0.96 * brdfSchlickWeight(max(0.0, dot(n, wi))));
+  return cosO > 0.0 ? (1.0 - p.metallic) * transmitO * transmitI * p.baseColor * kInvPi : vec3(0.0);
+}
+
+// T for receiver (x1, n1, g1, wo, p1) and VPL (x2, n2, g2, wIn, p2) of radius r; r = 0 gives the unclamped point VPL.
+vec3 vslApproxTransfer(vec3 x1, vec3 n1, vec3 g1, vec3 wo, BrdfParams p1, vec3 x2, vec3 n2, vec3 g2, vec3 wIn,
+                       BrdfParams p2, float radius) {
+  vec3 d = x2 - x1;
+  VslCone cone = vslCone(d, radius, n1);
+  vec3 a = cone.axis;
+  vec3 c = vslCosineMeans(cone, n1, g1, -n2, -g2);
+  vec3 d1 = vslDiffuseBrdf(p1, n1, wo, a), d2 = vslDiffuseBrdf(p2, n2, wIn, -a);
+  vec3 mean = d1 * d2 * c.x;
+#ifndef BRDF_LAMBERT_ONLY
+  VslLobe s1 = vslMeanSpecular(p1, n1, wo, a, cone);
+  VslLobe s2 = vslMeanSpecular(p2, n2, wIn, -a, cone);
+  // A lobe's smooth partner: the other end's cosine, from <c1 c2> / <c1> for a cone small against the lobe to its
+  // value where the lobe peaks for a cone that holds it.
+  vec3 w1 = s1.peak, w2 = -s2.peak;
+  float atPeak1 = dot(g1, w1) > 0.0 && dot(g2, w1) < 0.0 ? max(0.0, -dot(n2, w1)) : 0.0;
+  float atPeak2 = dot(g1, w2) > 0.0 && dot(g2, w2) < 0.0 ? max(0.0, dot(n1, w2)) : 0.0;
+  float mean1 = c.x / max(c.y, 1e-30), mean2 = c.x / max(c.z, 1e-30);
+  float partner1 = mean1 + s1.coverage * (atPeak1 - mean1), partner2 = mean2 + s2.coverage * (atPeak2 - mean2);
+  vec3 lobes = d2 * s1.mean * partner1 + d1 * s2.mean * partner2 + s1.mean * s2.mean * (c.x / max(c.y * c.z, 1e-30));
+  mean += c.x > 0.0 ? lobes : vec3(0.0);
+#endif
+  bool valid = dot(d, d) > 0.0 || radius > 0.0;
+  return valid ? mean * cone.solidAngleOverArea : vec3(0.0);
+}
+
+// The pure-Lambert case (BRDF_LAMBERT_ONLY): f(x1) and f(x2) Phi leave the integral, T = f1 f2 <c1 c2> Omega/(pi r^2);
+// this returns <c1 c2> Omega / (pi r^2), the caller multiplies by f1 and f2 Phi.
+float vslLambertCosineTransfer(vec3 x1, vec3 n1, vec3 g1, vec3 x2, vec3 n2, vec3 g2, float radius) {
+  vec3 d = x2 - x1;
+  VslCone cone = vslCone(d, radius, n1);
+  float product = vslCosineMeans(cone, n1, g1, -n2, -g2).x;
+  bool valid = dot(d, d) > 0.0 || radius > 0.0;
+  return valid ? product * cone.solidAngleOverArea : 0.0;
+}
