@@ -112,7 +112,7 @@ void expectVslsMatchCpu(const std::string& scene, float radius) {
   VplSet vpls = generateVpls(*l, s);
   ASSERT_FLOAT_EQ(vpls.vpls[0].radius, radius);
   Image gl = preview(l->scene(), vpls, s, PreviewOutput::Indirect);
-  Image cpu = cpuIndirect(*l, vpls, Method::Vsl, s, 8);
+  Image cpu = cpuIndirect(*l, vpls, Method::Vsl, s, 16);
   ImageMetrics m = compareImages(gl, cpu);
   std::printf("[ measured ] %s VSL r = %g, %zu VPLs: relMSE %.5f, energy ratio %.4f\n", scene.c_str(), radius,
               vpls.vpls.size(), m.relMse, m.energyRatioOverall);

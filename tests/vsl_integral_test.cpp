@@ -5,7 +5,6 @@
 
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 
 #include "renderer/core/sampling.h"
 #include "renderer/settings.h"
@@ -144,14 +143,20 @@ TEST(VslIntegral, TinyRadiusIsThePointVpl) {
   }
 }
 
-// The approximation against the brute-force integral on glossy pairs (a GGX end, lobes from alpha = 0.04 up): the
-// error in total (sum of T over the pairs, what an image's mean sees) and per pair.
+// The approximation against the brute-force integral on glossy pairs (a GGX end, lobes from alpha = 0.04 up, random
+// orientations with r/d = 1/8): the error in total (sum of T over the pairs, what an image's mean sees) and per pair.
+// The bounds are the measured errors (docs/methods.md) with a margin; two glossy ends are the least accurate case.
 TEST(VslIntegral, GlossyApproximationErrorIsBounded) {
   Rng rng(5);
-  const BrdfParams ends[][2] = {{metal(0.25f), lambert(0.7f)},  {lambert(0.7f), metal(0.25f)},
-                                {plastic(0.2f), lambert(0.7f)}, {lambert(0.7f), plastic(0.2f)},
-                                {metal(0.5f), plastic(0.2f)}};
-  for (const auto& e : ends) {
+  struct Case {
+    BrdfParams receiver, vpl;
+    double maxBias, maxMeanAbs;
+  };
+  const Case cases[] = {{metal(0.25f), lambert(0.7f), 0.02, 0.05},  {lambert(0.7f), metal(0.25f), 0.06, 0.1},
+                        {plastic(0.2f), lambert(0.7f), 0.02, 0.03}, {lambert(0.7f), plastic(0.2f), 0.02, 0.03},
+                        {metal(0.5f), plastic(0.2f), 0.13, 0.16}};
+  for (const Case& c : cases) {
+    const BrdfParams e[2] = {c.receiver, c.vpl};
     double sumApprox = 0.0, sumExact = 0.0, sumAbsErr = 0.0;
     for (int i = 0; i < 200; ++i) {
       Pair p = randomPair(rng, 0.4f, e[0], e[1]);
@@ -161,20 +166,13 @@ TEST(VslIntegral, GlossyApproximationErrorIsBounded) {
       sumApprox += approx;
       sumExact += exact;
       sumAbsErr += std::abs(approx - exact);
-      if (std::getenv("VSL_DEBUG") && std::abs(approx - exact) > 0.3f) {
-        glm::vec3 a = glm::normalize(p.x2.position);
-        glm::vec3 h2 = glm::normalize(p.x2.wo - a), h1 = glm::normalize(p.x1.wo + a);
-        std::printf("ex %.4g ap %.4g c1 %.3f c2 %.3f cosO1 %.3f cosO2 %.3f cosH1 %.3f cosH2 %.3f\n", exact, approx,
-                    glm::dot(p.x1.normal, a), -glm::dot(p.x2.normal, a), glm::dot(p.x1.normal, p.x1.wo),
-                    glm::dot(p.x2.normal, p.x2.wo), glm::dot(p.x1.normal, h1), glm::dot(p.x2.normal, h2));
-      }
     }
     std::printf("[ measured ] VSL approximation r/d = 0.125, %s x %s: total %+.2f %%, mean |error| %.2f %% of mean T\n",
                 e[0].metallic > 0.0f ? "metal" : e[0].specular > 0.0f ? "plastic" : "lambert",
                 e[1].metallic > 0.0f ? "metal" : e[1].specular > 0.0f ? "plastic" : "lambert",
                 100.0 * (sumApprox / sumExact - 1.0), 100.0 * sumAbsErr / sumExact);
-    EXPECT_NEAR(sumApprox / sumExact, 1.0, 0.1);
-    EXPECT_LT(sumAbsErr / sumExact, 0.3);
+    EXPECT_NEAR(sumApprox / sumExact, 1.0, c.maxBias);
+    EXPECT_LT(sumAbsErr / sumExact, c.maxMeanAbs);
   }
 }
 

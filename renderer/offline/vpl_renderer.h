@@ -15,14 +15,17 @@
 //     L_r(x2 -> x1) = estimateDirectLight(x2) + sum_i C_i(x2) V + K(x2)      (never Le(x2): T_r acts on L - Le)
 //   else K(x1) = 0 (x2 lies outside the bounded region: the recursion ends). Depth is capped at Settings::maxDepth.
 // Method::Vsl (Hasan et al. 2009, MANYLIGHTS 7), clampBound ignored, r_i = vslRadii() (Vpl::radius):
-//   C_i = Phi_i / (pi r^2) * I_i,   I_i = integral over Omega of f(x1; wo, w) f(x2; w_in, -w) cos1 cos2 dw
+//   C_i = Phi_i T_i,   T_i = 1 / (pi r^2) * integral over Omega of f(x1; wo, w) f(x2; w_in, -w) cos1 cos2 dw
 //   Omega: the cone from x1 subtended by the sphere (centre x2, radius r); the whole sphere of directions when
 //   |x2 - x1| <= r (so points inside the sphere stay finite). cos1 = max(0, n1.w), cos2 = max(0, n2.(-w)), and w
 //   must leave x1 on its front side and reach x2 on the VPL's front side (geometric normals), as for point VPLs.
-//   V is one shadow ray to the sphere's centre. I_i is estimated with nCone = ceil(S/2) uniform cone samples
-//   (pdf_c = 1 / (2 pi (1 - cos theta_max)), 1 - cos theta_max = (r^2/d^2) / (1 + sqrt(1 - r^2/d^2))) and
-//   nBrdf = floor(S/2) samples of f(x1) (pdf_b = brdfPdf), S = Settings::vslSamples, combined by the balance
-//   heuristic (Veach 1997): I_i ~ sum over all samples w_k in Omega of g(w_k) / (nCone pdf_c + nBrdf pdf_b(w_k)).
+//   V is one shadow ray to the sphere's centre. T_i is computed exactly, without bias:
+//   - a pure-Lambert pair whose cone no surface plane cuts: the closed form of vsl_integral.h (no samples);
+//   - a cone entirely behind either surface, or two surfaces facing the same way: 0;
+//   - otherwise S = Settings::vslSamples samples under one-sample MIS (balance heuristic, Veach 1997): each sample
+//     picks the cone (uniform, pdf 1 / Omega) or the BRDF sampling of a glossy end (f(x1) cos1 from x1, or f(x2)
+//     cos2 from the VPL toward -w), with probabilities 1/2 : 1/2 for one glossy end, 1/2 : 1/4 : 1/4 for two, the
+//     cone alone for two Lambert ends; T ~ 1/S sum g(w_k) / sum_j p_j pdf_j(w_k) over the samples inside Omega.
 //   r = 0 is the point VPL without clamp. As r -> 0, Omega -> pi r^2 / d^2 and C_i -> the point VPL; for d >> r it
 //   equals the point VPL.
 //

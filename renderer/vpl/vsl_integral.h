@@ -189,35 +189,58 @@ inline VslLobe vslMeanSpecular(const BrdfParams& p, const glm::vec3& n, const gl
   float cosH = glm::dot(n, h);
   if (cosH <= 0.0f) return lobe;
   float vDotH = std::max(1e-6f, glm::dot(wo, h));
-  float fw = schlickWeight(vDotH);
-  glm::vec3 weight = (1.0f - p.metallic) * p.specular * (0.04f + 0.96f * fw) +
-                     p.metallic * (p.baseColor + (1.0f - p.baseColor) * fw);
   float alpha = p.alpha();
   float cosH2 = cosH * cosH;
   float tan2 = std::max(0.0f, 1.0f - cosH2) / cosH2;
   // The cone's image in the slope plane is an ellipse, the circle of solid angle Omega through two linear maps: the
   // half-vector map scales by 1/2 in the plane of wo and w and by 1 / (2 wo.h) across it; the slope map by
   // 1 / cos^2 theta_h radially and 1 / cos theta_h tangentially, at an angle beta to the first pair of axes. Its area
-  // is pi A B = det Omega / pi ... written per solid angle: rho^2 = A B.
+  // is pi A B = det Omega. The lobe's centre lies radially from the ellipse's centre, at s = tan theta_h, so the
+  // disk that decides whether the ellipse reaches the lobe is the one of the ellipse's radial extent rho_r,
+  //   rho_r^2 = Omega / (4 pi cos^4 theta_h (cos^2 beta + (wo.h)^2 sin^2 beta)),
+  // with the area factor A B (rho_r^2 + alpha^2) / (rho_r^2 (A B + alpha^2)) that restores the small-cone limit (area
+  // times P22) and tends to 1 for a cone that holds the lobe.
   float det = 1.0f / (4.0f * vDotH * cosH2 * cosH);
-  float rho2PerSolidAngle = det / kPi;
   float a2 = alpha * alpha;
-  float mass = ggxDiskMassPerSolidAngle(a2, tan2, rho2PerSolidAngle, cone.solidAngle);
-  // The disk of equal area over-counts a narrow lobe when the ellipse is long and thin (grazing wo); the exact mass
-  // of P22 over a centred ellipse, 1 / sqrt((1 + alpha^2 / A^2)(1 + alpha^2 / B^2)), against the disk's
-  // 1 / (1 + alpha^2 / (A B)), scales it: (A B + alpha^2) / sqrt(A^2 B^2 + alpha^2 (A^2 + B^2) + alpha^4), with
-  // A^2 + B^2 = |L|_F^2 Omega / pi for the combined map L. 1 for a circle and in both limits (tiny or huge cones).
   float sinO = std::sqrt(std::max(0.0f, 1.0f - vDotH * vDotH)), sinH = std::sqrt(std::max(0.0f, 1.0f - cosH2));
   float cosBeta = sinO * sinH > 1e-6f ? std::clamp((cosO - vDotH * cosH) / (sinO * sinH), -1.0f, 1.0f) : 1.0f;
   float cb2 = cosBeta * cosBeta;
+  float radialPerSolidAngle = 1.0f / (4.0f * kPi * cosH2 * cosH2 * (cb2 + vDotH * vDotH * (1.0f - cb2)));
+  float ab = det * cone.solidAngle / kPi, radial2 = radialPerSolidAngle * cone.solidAngle;
+  float mass = ggxDiskMassPerSolidAngle(a2, tan2, radialPerSolidAngle, cone.solidAngle) *
+               (det / kPi / radialPerSolidAngle) * (radial2 + a2) / (ab + a2);
+  // A centred ellipse that is long and thin (grazing wo) holds less of a narrow lobe than the disk of equal area:
+  // the exact mass of P22 over it, 1 / sqrt((1 + alpha^2 / A^2)(1 + alpha^2 / B^2)), against the disk's
+  // 1 / (1 + alpha^2 / (A B)), scales it: (A B + alpha^2) / sqrt(A^2 B^2 + alpha^2 (A^2 + B^2) + alpha^4), with
+  // A^2 + B^2 = |L|_F^2 Omega / pi for the combined map L. 1 for a circle and in both limits (tiny or huge cones).
   float sr2 = 1.0f / (cosH2 * cosH2), st2 = 1.0f / cosH2;                  // slope map, squared
   float ti2 = 0.25f, tp2 = 0.25f / (vDotH * vDotH);                       // half-vector map, squared
   float frob2 = (sr2 * ti2 + st2 * tp2) * cb2 + (sr2 * tp2 + st2 * ti2) * (1.0f - cb2);
-  float ab = det * cone.solidAngle / kPi, sumSq = frob2 * cone.solidAngle / kPi;
+  float sumSq = frob2 * cone.solidAngle / kPi;
   mass *= (ab + a2) / std::sqrt(ab * ab + a2 * sumSq + a2 * a2);
-  lobe.mean = weight * (smithVisibility(cosO, cosI, alpha) * cosI * 4.0f * vDotH / cosH * mass);
+  // The slope-plane picture linearises the maps at the axis, which fails for wide cones (x1 close to the sphere).
+  // Directions are exact in w: a lobe whose mirror direction R lies outside the cone, by an angle delta beyond its
+  // rim, puts at most its P22 tail beyond delta into it, alpha_w^2 / (alpha_w^2 + delta^2) with the reflected lobe's
+  // angular width alpha_w = 2 alpha. That bound never binds for a small cone (whose mass is O(Omega)).
+  const glm::vec3 mirror = 2.0f * cosO * n - wo;
+  float cosMirror = glm::dot(mirror, axis);
+  if (!cone.inside && cosMirror < cone.cosThetaMax) {
+    float delta = std::acos(std::max(-1.0f, cosMirror)) - std::acos(cone.cosThetaMax);
+    float aw2 = 4.0f * a2;
+    mass = std::min(mass, aw2 / (aw2 + delta * delta) / cone.solidAngle);
+  }
   lobe.coverage = ab / (ab + a2);
-  lobe.peak = vslClosestInCone(cone, axis, 2.0f * cosO * n - wo);
+  lobe.peak = vslClosestInCone(cone, axis, mirror);
+  // The smooth factors V F cos_i 4 (wo.h) / cos(theta_h) where the lobe's mass is: at the axis for a cone small
+  // against the lobe, at its peak for a cone that holds it.
+  glm::vec3 we = glm::normalize(axis + lobe.coverage * (lobe.peak - axis));
+  glm::vec3 he = glm::normalize(wo + we);
+  float cosIe = std::max(0.0f, glm::dot(n, we)), cosHe = std::max(1e-6f, glm::dot(n, he));
+  float vDotHe = std::max(1e-6f, glm::dot(wo, he));
+  float fw = schlickWeight(vDotHe);
+  glm::vec3 weight = (1.0f - p.metallic) * p.specular * (0.04f + 0.96f * fw) +
+                     p.metallic * (p.baseColor + (1.0f - p.baseColor) * fw);
+  lobe.mean = weight * (smithVisibility(cosO, cosIe, alpha) * cosIe * 4.0f * vDotHe / cosHe * mass);
   return lobe;
 }
 

@@ -107,30 +107,46 @@ VslLobe vslMeanSpecular(BrdfParams p, vec3 n, vec3 wo, vec3 axis, VslCone cone) 
   bool lobe = cosO > 0.0 && cosI > 0.0 && hl > 0.0 && cosH > 0.0 && (p.metallic > 0.0 || p.specular > 0.0);
   cosH = max(cosH, 1e-6);
   float vDotH = max(1e-6, dot(wo, h));
-  float fw = brdfSchlickWeight(vDotH);
-  vec3 weight = (1.0 - p.metallic) * p.specular * (0.04 + 0.96 * fw) +
-                p.metallic * (p.baseColor + (1.0 - p.baseColor) * fw);
   float alpha = max(kMinGgxAlpha, p.roughness * p.roughness);
   float cosH2 = cosH * cosH;
   float tan2 = max(0.0, 1.0 - cosH2) / cosH2;
-  // The cone's image in the slope plane: an ellipse of area det * Omega (vsl_integral.h).
+  // The cone's image in the slope plane: an ellipse of area det * Omega; the disk of its radial extent decides
+  // whether it reaches the lobe, with the area factor of the small-cone limit (vsl_integral.h).
   float det = 1.0 / (4.0 * vDotH * cosH2 * cosH);
   float a2 = alpha * alpha;
-  float mass = ggxDiskMassPerSolidAngle(a2, tan2, det / kPi, cone.solidAngle);
-  // Centred-ellipse correction of the equal-area disk.
   float sinO = sqrt(max(0.0, 1.0 - vDotH * vDotH)), sinH = sqrt(max(0.0, 1.0 - cosH2));
   float cosBeta = sinO * sinH > 1e-6 ? clamp((cosO - vDotH * cosH) / max(sinO * sinH, 1e-6), -1.0, 1.0) : 1.0;
   float cb2 = cosBeta * cosBeta;
+  float radialPerSolidAngle = 1.0 / (4.0 * kPi * cosH2 * cosH2 * (cb2 + vDotH * vDotH * (1.0 - cb2)));
+  float ab = det * cone.solidAngle / kPi, radial2 = radialPerSolidAngle * cone.solidAngle;
+  float mass = ggxDiskMassPerSolidAngle(a2, tan2, radialPerSolidAngle, cone.solidAngle) *
+               (det / kPi / radialPerSolidAngle) * (radial2 + a2) / (ab + a2);
+  // Centred-ellipse correction.
   float sr2 = 1.0 / (cosH2 * cosH2), st2 = 1.0 / cosH2;
   float ti2 = 0.25, tp2 = 0.25 / (vDotH * vDotH);
   float frob2 = (sr2 * ti2 + st2 * tp2) * cb2 + (sr2 * tp2 + st2 * ti2) * (1.0 - cb2);
-  float ab = det * cone.solidAngle / kPi, sumSq = frob2 * cone.solidAngle / kPi;
+  float sumSq = frob2 * cone.solidAngle / kPi;
   mass *= (ab + a2) / sqrt(ab * ab + a2 * sumSq + a2 * a2);
-  vec3 s = weight * (brdfSmithVisibility(cosO, max(cosI, 0.0), alpha) * max(cosI, 0.0) * 4.0 * vDotH / cosH * mass);
+  // Bound for a mirror direction outside a wide cone: the lobe's tail beyond the rim.
+  vec3 mirror = 2.0 * cosO * n - wo;
+  float cosMirror = dot(mirror, axis);
+  float delta = acos(max(-1.0, cosMirror)) - acos(cone.cosThetaMax);
+  float aw2 = 4.0 * a2;
+  float tail = aw2 / (aw2 + delta * delta) / cone.solidAngle;
+  mass = !cone.inside && cosMirror < cone.cosThetaMax ? min(mass, tail) : mass;
   VslLobe result;
-  result.mean = lobe ? s : vec3(0.0);
   result.coverage = lobe ? ab / (ab + a2) : 0.0;
-  result.peak = vslClosestInCone(cone, axis, 2.0 * cosO * n - wo);
+  result.peak = vslClosestInCone(cone, axis, mirror);
+  // The smooth factors where the lobe's mass is: between the axis and the peak, by coverage.
+  vec3 we = normalize(axis + result.coverage * (result.peak - axis));
+  vec3 he = normalize(wo + we);
+  float cosIe = max(0.0, dot(n, we)), cosHe = max(1e-6, dot(n, he));
+  float vDotHe = max(1e-6, dot(wo, he));
+  float fw = brdfSchlickWeight(vDotHe);
+  vec3 weight = (1.0 - p.metallic) * p.specular * (0.04 + 0.96 * fw) +
+                p.metallic * (p.baseColor + (1.0 - p.baseColor) * fw);
+  vec3 s = weight * (brdfSmithVisibility(cosO, cosIe, alpha) * cosIe * 4.0 * vDotHe / cosHe * mass);
+  result.mean = lobe ? s : vec3(0.0);
   return result;
 }
 
