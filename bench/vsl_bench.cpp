@@ -29,6 +29,8 @@
 #include "renderer/image/metrics.h"
 #include "renderer/offline/embree_scene.h"
 #include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
+#include "renderer/offline/progressive.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
@@ -48,30 +50,24 @@ double seconds(std::chrono::steady_clock::time_point since) {
   return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
 }
 
-struct Loaded {
-  Scene scene;
-  std::unique_ptr<EmbreeScene> embree;
-  std::unique_ptr<LightSampler> lights;
-};
-
 struct PairError {
   double bias = 0.0, meanAbs = 0.0;
   std::size_t pairs = 0;
 };
 
-PairError pairError(const Loaded& l, const VplSet& vpls, int grid) {
+PairError pairError(const OfflineScene& l, const VplSet& vpls, int grid) {
   std::vector<VslEnd> ends;
   for (const Vpl& v : vpls.vpls)
-    ends.push_back({v.position, v.normal, v.geometricNormal, v.incoming, brdfParamsAt(l.scene, v.material, v.uv)});
+    ends.push_back({v.position, v.normal, v.geometricNormal, v.incoming, brdfParamsAt(l.scene(), v.material, v.uv)});
   double sumExact = 0.0, sumDiff = 0.0, sumAbs = 0.0;
   PairError e;
   for (int y = 0; y < grid; ++y)
     for (int x = 0; x < grid; ++x) {
-      glm::vec3 dir = cameraRayDirection(l.scene.camera, x + 0.5f, y + 0.5f, grid, grid);
-      std::optional<SurfaceHit> hit = l.embree->intersect(l.scene.camera.position, dir);
+      glm::vec3 dir = cameraRayDirection(l.scene().camera, x + 0.5f, y + 0.5f, grid, grid);
+      std::optional<SurfaceHit> hit = l.embree().intersect(l.scene().camera.position, dir);
       if (!hit || glm::dot(hit->geometricNormal, -dir) <= 0.0f) continue;
       VslEnd x1{hit->position, hit->shadingNormal, hit->geometricNormal, -dir,
-                brdfParamsAt(l.scene, hit->material, hit->uv)};
+                brdfParamsAt(l.scene(), hit->material, hit->uv)};
       for (std::size_t i = 0; i < ends.size(); i += 4) {
         float r = vpls.vpls[i].radius;
         double exact = luminance(vpls.vpls[i].flux * vslTransferNumerical(x1, ends[i], r, 96));
@@ -93,21 +89,21 @@ Image average(const Image& a, const Image& b) {
   return out;
 }
 
-double gatherMs(PreviewRenderer& renderer, const Loaded& l, const VplSet& vpls, const Settings& s, int frames) {
-  renderer.render(l.scene, vpls, s, l.scene.camera);  // compiles, renders the shadow maps
+double gatherMs(PreviewRenderer& renderer, const OfflineScene& l, const VplSet& vpls, const Settings& s, int frames) {
+  renderer.render(l.scene(), vpls, s, l.scene().camera);  // compiles, renders the shadow maps
   renderer.invalidateFrame();
-  renderer.render(l.scene, vpls, s, l.scene.camera);
+  renderer.render(l.scene(), vpls, s, l.scene().camera);
   std::vector<double> ms;
   for (int f = 0; f < frames; ++f) {
     renderer.invalidateFrame();
-    ms.push_back(renderer.render(l.scene, vpls, s, l.scene.camera).gatherMs);
+    ms.push_back(renderer.render(l.scene(), vpls, s, l.scene().camera).gatherMs);
   }
   return median(ms);
 }
 
-double cpuSeconds(const Loaded& l, const VplSet& vpls, Method method, const Settings& s) {
+double cpuSeconds(const OfflineScene& l, const VplSet& vpls, Method method, const Settings& s) {
   auto start = std::chrono::steady_clock::now();
-  renderVpl(l.scene, *l.embree, *l.lights, vpls, method, s);
+  renderVpl(l, vpls, method, s);
   return seconds(start);
 }
 
@@ -161,16 +157,13 @@ int main(int argc, char** argv) {
               "cpu noise");
   std::vector<std::string> speedLines;
   for (const std::string& name : scenes) {
-    Loaded l;
-    l.scene = loadScene(std::string(VPLAB_ASSET_DIR) + "/scenes/" + name + ".gltf");
-    l.embree = std::make_unique<EmbreeScene>(l.scene);
-    l.lights = std::make_unique<LightSampler>(l.scene);
+    OfflineScene l(loadScene(std::string(VPLAB_ASSET_DIR) + "/scenes/" + name + ".gltf"));
     Settings s;
     s.vplCount = vplCount;
     s.threads = 0;
     s.components = Components::Indirect;
     s.vslRadius = radius;
-    VplSet vsls = generateVpls(l.scene, *l.embree, *l.lights, s);
+    VplSet vsls = generateVpls(l, s);
     VplSet points = withRadius(vsls, 0.0f);
 
     // 1. Approximation error per pair.
@@ -179,12 +172,12 @@ int main(int argc, char** argv) {
     // 2. Images at 128^2.
     s.width = s.height = 128;
     PreviewRenderer renderer;
-    renderer.render(l.scene, vsls, s, l.scene.camera);
+    renderer.render(l.scene(), vsls, s, l.scene().camera);
     Image gl = renderer.readLinear(PreviewOutput::Indirect);
     s.samplesPerPixel = quick ? 2 : 8;
-    Image cpuA = renderVpl(l.scene, *l.embree, *l.lights, vsls, Method::Vsl, s).image;
+    Image cpuA = renderVpl(l, vsls, Method::Vsl, s).image;
     s.seed = 2;
-    Image cpuB = renderVpl(l.scene, *l.embree, *l.lights, vsls, Method::Vsl, s).image;
+    Image cpuB = renderVpl(l, vsls, Method::Vsl, s).image;
     s.seed = 1;
     ImageMetrics m = compareImages(gl, average(cpuA, cpuB));
     double noise = compareImages(cpuA, cpuB).relMse;
