@@ -4,6 +4,7 @@
 #include "app/commands.h"
 #include "renderer/core/sampling.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/staging.h"
 
 #include <cmath>
 #include <cstdio>
@@ -21,16 +22,22 @@ std::string vec(const glm::vec3& v) {
 }  // namespace
 
 int cmdInfo(const Args& args) {
-  cli::CommandLine cl("vplab info <scene.gltf|scene.glb>", {});
+  cli::CommandLine cl("vplab info <scene.gltf|scene.glb> [--stage auto|none|studio]",
+                      {{"stage", "auto|none|studio", "staging as the rendering commands apply it (default auto)"}});
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     std::printf("Prints counts, bounds, lights, materials, camera and load warnings of a glTF scene.\n");
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
+  Stage stage = Stage::Auto;
+  if (auto st = cl.value("stage"); st && !parseStage(*st, stage))
+    throw cli::CliError("option --stage: '" + *st + "' is not auto, none or studio");
   Scene scene = loadScene(cl.positional()[0]);
+  stageScene(scene, stage);
 
   std::printf("scene      %s\n", scene.sourcePath.c_str());
+  std::printf("staging    %s\n", scene.staging.empty() ? "none" : scene.staging.c_str());
   std::printf("vertices   %zu\n", scene.positions.size());
   std::printf("triangles  %zu\n", scene.triangles.size());
   std::printf("materials  %zu\n", scene.materials.size());
@@ -82,7 +89,7 @@ int cmdInfo(const Args& args) {
 
   const Camera& c = scene.camera;
   std::printf("camera     %s: position %s, forward %s, up %s, yfov %.2f deg\n",
-              c.fromFile ? "from file" : "automatic (framing the bounds)", vec(c.position).c_str(),
+              c.fromFile ? "from file" : "automatic (framing the geometry)", vec(c.position).c_str(),
               vec(c.forward).c_str(), vec(c.up).c_str(), c.yfov * 180.0f / kPi);
   for (const auto& [key, value] : scene.assetExtras) std::printf("extras     %s = %.6g\n", key.c_str(), value);
   std::printf("warnings   %zu\n", scene.warnings.size());

@@ -3,6 +3,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/scene_input.h"
 #include "app/settings_options.h"
 #include "app/sweep_options.h"
 #include "renderer/gl/context.h"
@@ -48,11 +49,8 @@ int cmdPreview(const Args& args) {
   Settings settings;
   cli::applySettingsOptions(cl, settings);
 
-  Scene scene = loadScene(cl.positional()[0]);
-  for (const std::string& w : scene.warnings) std::fprintf(stderr, "vplab preview: warning: %s\n", w.c_str());
+  Scene scene = cli::loadSceneForCommand("preview", cl.positional()[0], settings.stage);
   OfflineScene offline(scene);
-  if (offline.lights().empty())
-    std::fprintf(stderr, "vplab preview: %s has no lights: the image is black\n", scene.sourcePath.c_str());
   VplSet vpls = generateVpls(offline, settings);
 
   // The context comes before the renderer (it loads the GL function table) and outlives it.

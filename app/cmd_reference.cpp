@@ -2,6 +2,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/scene_input.h"
 #include "app/settings_options.h"
 #include "renderer/image/image_io.h"
 #include "renderer/offline/offline_scene.h"
@@ -33,14 +34,10 @@ int cmdReference(const Args& args) {
   Settings settings;
   cli::applySettingsOptions(cl, settings);
 
-  Scene scene = loadScene(cl.positional()[0]);
-  for (const std::string& w : scene.warnings) std::fprintf(stderr, "vplab reference: warning: %s\n", w.c_str());
+  Scene scene = cli::loadSceneForCommand("reference", cl.positional()[0], settings.stage);
   auto buildStart = std::chrono::steady_clock::now();
   OfflineScene offline(scene);
   double buildSeconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - buildStart).count();
-  if (offline.lights().empty())
-    std::fprintf(stderr, "vplab reference: %s has no lights (no emissive triangle with a non-zero area and no "
-                         "punctual light): the image is black\n", scene.sourcePath.c_str());
 
   RenderControl control;
   cli::ProgressReporter progress("reference");

@@ -2,6 +2,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/scene_input.h"
 #include "app/settings_options.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -56,11 +57,8 @@ int cmdRender(const Args& args) {
                         std::to_string(reference.height) + ", the render is " + std::to_string(settings.width) + "x" +
                         std::to_string(settings.height));
 
-  Scene scene = loadScene(cl.positional()[0]);
-  for (const std::string& w : scene.warnings) std::fprintf(stderr, "vplab render: warning: %s\n", w.c_str());
+  Scene scene = cli::loadSceneForCommand("render", cl.positional()[0], settings.stage);
   OfflineScene offline(scene);
-  if (offline.lights().empty())
-    std::fprintf(stderr, "vplab render: %s has no lights: the image is black\n", scene.sourcePath.c_str());
 
   RenderControl genControl;
   cli::ProgressReporter genProgress("vpls");

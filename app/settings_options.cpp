@@ -12,6 +12,8 @@ std::vector<OptionSpec> imageOptions() {
       {"seed", "S", "seed of all random sequences (default 1)"},
       {"threads", "T", "worker threads, 0 = all cores (default 0)"},
       {"exposure", "EV", "PNG exposure in stops (default 0)"},
+      {"stage", "auto|none|studio", "studio around the model: ground, backdrop, area light (default auto: only for a "
+                                    "scene without lights)"},
   };
 }
 
@@ -61,6 +63,8 @@ void applySettingsOptions(const CommandLine& cl, Settings& s) {
   }
   s.threads = cl.getInt("threads", s.threads);
   s.exposure = cl.getFloat("exposure", s.exposure);
+  if (auto st = cl.value("stage"); st && !parseStage(*st, s.stage))
+    throw CliError("option --stage: '" + *st + "' is not auto, none or studio");
   s.samplesPerPixel = cl.getInt("spp", s.samplesPerPixel);
   s.maxDepth = cl.getInt("max-depth", s.maxDepth);
   if (auto c = cl.value("components"); c && !parseComponents(*c, s.components))

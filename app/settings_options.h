@@ -6,7 +6,7 @@
 
 namespace vplab::cli {
 
-/// Image, seed and thread options (--settings, --size, --seed, --threads, --exposure).
+/// Image, seed, thread and staging options (--settings, --size, --seed, --threads, --exposure, --stage).
 std::vector<OptionSpec> imageOptions();
 /// Reference options (--spp, --max-depth, --components).
 std::vector<OptionSpec> referenceOptions();

@@ -76,6 +76,15 @@ const char* toString(Components components) {
   return "?";
 }
 
+const char* toString(Stage stage) {
+  switch (stage) {
+    case Stage::Auto: return "auto";
+    case Stage::None: return "none";
+    case Stage::Studio: return "studio";
+  }
+  return "?";
+}
+
 bool parseMethod(const std::string& text, Method& out) {
   for (Method m : {Method::Reference, Method::Vpl, Method::VplKK, Method::Vsl})
     if (text == toString(m)) {
@@ -89,6 +98,15 @@ bool parseComponents(const std::string& text, Components& out) {
   for (Components c : {Components::All, Components::Direct, Components::Indirect})
     if (text == toString(c)) {
       out = c;
+      return true;
+    }
+  return false;
+}
+
+bool parseStage(const std::string& text, Stage& out) {
+  for (Stage s : {Stage::Auto, Stage::None, Stage::Studio})
+    if (text == toString(s)) {
+      out = s;
       return true;
     }
   return false;

@@ -20,6 +20,13 @@ enum class Method {
 /// Which part of the radiance an image holds. VPL methods approximate only the indirect part.
 enum class Components { All, Direct, Indirect };
 
+/// What is added around a loaded scene before rendering (renderer/scene/staging.h).
+enum class Stage {
+  Auto,    ///< the studio for a scene without lights, nothing otherwise
+  None,    ///< the scene as loaded (one without lights renders black, with a warning)
+  Studio,  ///< the studio always: ground, backdrop, an area light sized from the bounds, camera framed on the model
+};
+
 inline constexpr float kInfinity = std::numeric_limits<float>::infinity();
 
 struct Settings {
@@ -34,6 +41,10 @@ struct Settings {
   int threads = 0;
   /// Display exposure in stops (PNG and preview tonemapping only, never the linear images). [-20, 20]. Default 0.
   float exposure = 0.0f;
+
+  /// Staging of the loaded scene: Auto, None or Studio (see Stage). Both passes and the editor apply it the same
+  /// way. Default Auto.
+  Stage stage = Stage::Auto;
 
   // --- path-traced reference ---------------------------------------------------------------------------------
   /// Samples per pixel of the reference and of the stochastic VPL variants [1, 1<<20]. Default 64.
@@ -105,9 +116,12 @@ void requireValidSettings(const Settings& settings);
 
 const char* toString(Method method);
 const char* toString(Components components);
+const char* toString(Stage stage);
 /// Parses "reference", "vpl", "vpl-kk", "vsl"; returns false on anything else.
 bool parseMethod(const std::string& text, Method& out);
 /// Parses "all", "direct", "indirect"; returns false on anything else.
 bool parseComponents(const std::string& text, Components& out);
+/// Parses "auto", "none", "studio"; returns false on anything else.
+bool parseStage(const std::string& text, Stage& out);
 
 }  // namespace vplab

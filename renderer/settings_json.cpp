@@ -17,7 +17,7 @@ using Json = nlohmann::json;
 // One row per Settings member: the JSON key and where the value lives. The table is the single list both directions
 // walk, so a member added to Settings and here is saved, loaded and scriptable at once.
 using MemberPtr = std::variant<int Settings::*, uint32_t Settings::*, float Settings::*, bool Settings::*,
-                               Components Settings::*>;
+                               Components Settings::*, Stage Settings::*>;
 struct Field {
   const char* key;
   MemberPtr member;
@@ -30,6 +30,7 @@ const std::vector<Field>& fields() {
       {"seed", &Settings::seed},
       {"threads", &Settings::threads},
       {"exposure", &Settings::exposure},
+      {"stage", &Settings::stage},
       {"samplesPerPixel", &Settings::samplesPerPixel},
       {"maxDepth", &Settings::maxDepth},
       {"components", &Settings::components},
@@ -66,7 +67,7 @@ Json toJson(const Settings& s, const Field& f) {
   return std::visit(
       [&](auto member) -> Json {
         using T = std::decay_t<decltype(s.*member)>;
-        if constexpr (std::is_same_v<T, Components>) {
+        if constexpr (std::is_same_v<T, Components> || std::is_same_v<T, Stage>) {
           return toString(s.*member);
         } else if constexpr (std::is_same_v<T, float>) {
           float v = s.*member;
@@ -93,6 +94,11 @@ void fromJson(Settings& s, const Field& f, const Json& value, const std::string&
           if (!value.is_string() || !parseComponents(value.get<std::string>(), c))
             throw SettingsJsonError(where + ": expected \"all\", \"direct\" or \"indirect\", got " + value.dump());
           s.*member = c;
+        } else if constexpr (std::is_same_v<T, Stage>) {
+          Stage st;
+          if (!value.is_string() || !parseStage(value.get<std::string>(), st))
+            throw SettingsJsonError(where + ": expected \"auto\", \"none\" or \"studio\", got " + value.dump());
+          s.*member = st;
         } else if constexpr (std::is_same_v<T, float>) {
           if (value.is_string()) {
             const std::string text = value.get<std::string>();

@@ -32,6 +32,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.samplesPerPixel = 17;
   s.maxDepth = 5;
   s.components = Components::Indirect;
+  s.stage = Stage::Studio;
   s.vplCount = 1234;
   s.vplMaxBounces = 7;
   s.rejection = true;
@@ -55,10 +56,11 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_EQ(settingsToJson(back), settingsToJson(s));
   EXPECT_EQ(back.seed, 4000000000u);
   EXPECT_EQ(back.components, Components::Indirect);
+  EXPECT_EQ(back.stage, Stage::Studio);
   EXPECT_FLOAT_EQ(back.clampBound, 3.75f);
   EXPECT_TRUE(back.vslRadiusFromDensity);
   // Every key the writer emits must be one the reader knows, and none may be missing.
-  EXPECT_EQ(settingsJsonKeys().size(), 25u);
+  EXPECT_EQ(settingsJsonKeys().size(), 26u);
 }
 
 TEST(SettingsJson, InfiniteClampIsWrittenAsStringAndReadBack) {
@@ -95,6 +97,7 @@ TEST(SettingsJson, WrongTypesNameTheKey) {
   expectErrorNaming(R"({"vplCount": "many"})", "vplCount");
   expectErrorNaming(R"({"rejection": 1})", "rejection");
   expectErrorNaming(R"({"components": "some"})", "components");
+  expectErrorNaming(R"({"stage": "garden"})", "stage");
   expectErrorNaming(R"({"seed": -1})", "seed");
   expectErrorNaming(R"({"clampBound": "big"})", "clampBound");
   expectErrorNaming(R"({"width": 1e12})", "width");

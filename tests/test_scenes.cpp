@@ -46,25 +46,29 @@ void addQuad(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const glm::
   scene.triangleMaterials.push_back(material);
 }
 
-Scene makeFurnaceBox(float albedo) {
-  Scene s;
-  s.sourcePath = "furnace-in-code";
-  uint32_t m = addLambertMaterial(s, glm::vec3(albedo), glm::vec3(1.0f));
-  // Six faces of [-1,1]^3, each facing the centre.
+void addCube(Scene& scene, const glm::vec3& center, float half, uint32_t material, bool inward) {
   for (int axis = 0; axis < 3; ++axis)
     for (float side : {-1.0f, 1.0f}) {
       int a = (axis + 1) % 3, b = (axis + 2) % 3;
       glm::vec3 corner[4];
       const float us[4] = {-1, 1, 1, -1}, vs[4] = {-1, -1, 1, 1};
       for (int i = 0; i < 4; ++i) {
-        corner[i][axis] = side;
-        corner[i][a] = us[i];
-        corner[i][b] = vs[i];
+        corner[i][axis] = side * half;
+        corner[i][a] = us[i] * half;
+        corner[i][b] = vs[i] * half;
+        corner[i] += center;
       }
-      glm::vec3 inward(0.0f);
-      inward[axis] = -side;
-      addQuad(s, corner[0], corner[1], corner[2], corner[3], m, inward);
+      glm::vec3 facing(0.0f);
+      facing[axis] = inward ? -side : side;
+      addQuad(scene, corner[0], corner[1], corner[2], corner[3], material, facing);
     }
+}
+
+Scene makeFurnaceBox(float albedo) {
+  Scene s;
+  s.sourcePath = "furnace-in-code";
+  uint32_t m = addLambertMaterial(s, glm::vec3(albedo), glm::vec3(1.0f));
+  addCube(s, glm::vec3(0.0f), 1.0f, m, true);
   s.camera.position = glm::vec3(0.0f);
   s.camera.forward = glm::normalize(glm::vec3(0.3f, -0.2f, 1.0f));
   s.camera.up = glm::normalize(glm::cross(glm::cross(s.camera.forward, glm::vec3(0, 1, 0)), s.camera.forward));

@@ -24,6 +24,9 @@ uint32_t addLambertMaterial(Scene& scene, const glm::vec3& albedo, const glm::ve
 void addQuad(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const glm::vec3& p2, const glm::vec3& p3,
              uint32_t material, const glm::vec3& facing);
 
+/// The six faces of the cube center +- half, facing inward or outward.
+void addCube(Scene& scene, const glm::vec3& center, float half, uint32_t material, bool inward);
+
 /// The furnace: a closed cube [-1,1]^3 facing inward, every wall Lambertian with albedo a and emission 1, camera at
 /// the centre. Exact radiance everywhere: 1 / (1 - a).
 Scene makeFurnaceBox(float albedo);

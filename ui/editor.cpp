@@ -10,6 +10,7 @@
 #include "renderer/offline/light_sampler.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/staging.h"
 #include "renderer/settings_json.h"
 #include "renderer/vpl/vpl_contribution.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -239,6 +240,7 @@ Editor::Editor(const EditorOptions& options) : options_(options), settings_(opti
   requireValidSettings(settings_);
   // The scene first: a bad file fails before a window is opened.
   scene_ = loadScene(options.scenePath);
+  stageScene(scene_, settings_.stage);
   sceneCamera_ = scene_.camera;
 
   glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
@@ -319,6 +321,7 @@ bool Editor::openScene(const std::string& path, bool /*keepSettingsSize*/) {
   Scene loaded;
   try {
     loaded = loadScene(path);
+    stageScene(loaded, settings_.stage);
   } catch (const std::exception& e) {
     // A bad file leaves the current scene in place.
     sceneError_ = e.what();

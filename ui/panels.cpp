@@ -181,6 +181,7 @@ void drawSceneInfo(const Scene& scene) {
   ImGui::Text("%zu emissive triangles, %zu punctual lights", scene.emissiveTriangles.size(),
               scene.punctualLights.size());
   ImGui::Text("camera %s", scene.camera.fromFile ? "from the file" : "framed by vplab");
+  if (!scene.staging.empty()) ImGui::TextWrapped("staged %s", scene.staging.c_str());
   if (scene.degenerateTrianglesDropped)
     ImGui::Text("%zu degenerate triangles dropped", scene.degenerateTrianglesDropped);
   for (const std::string& w : scene.warnings) ImGui::TextColored(ImVec4(1.0f, 0.8f, 0.3f, 1.0f), "%s", w.c_str());

@@ -342,7 +342,7 @@ void Loader::run() {
   if (scene_.triangles.empty()) fail("meshes", "no triangles to render");
   scene_.finalize();
   if (!haveCamera_) frameBounds();
-  if (!scene_.hasLights()) scene_.warnings.push_back("no lights: the image will be black");
+  if (!scene_.hasLights()) scene_.warnings.push_back(kNoLightsWarning);
 }
 
 void Loader::visitNode(int nodeIndex, const glm::mat4& world) {

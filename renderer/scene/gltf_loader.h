@@ -15,6 +15,9 @@ struct SceneError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
 
+/// The warning a scene without lights carries; staging removes it when it adds a light.
+inline constexpr const char* kNoLightsWarning = "no lights: the image will be black (--stage studio adds a light)";
+
 /// Loads a glTF 2.0 file (.gltf with external or embedded buffers, or .glb). Every reference and accessor range is
 /// validated here; malformed input throws SceneError, never crashes. Non-fatal problems (skipped non-triangle
 /// primitives, unloadable textures, no lights) end up in Scene::warnings. The returned scene is finalized.

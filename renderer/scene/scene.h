@@ -112,6 +112,8 @@ struct Scene {
   Bounds geometryBounds;
 
   std::vector<std::string> warnings;      ///< non-fatal problems found while loading
+  /// What staging added (renderer/scene/staging.h), one line; empty when the scene is as the file describes it.
+  std::string staging;
   /// Numeric members of the file's asset.extras: facts a generated scene records for its tests (e.g. the furnace's
   /// "albedo" and "expectedRadiance").
   std::map<std::string, double> assetExtras;
