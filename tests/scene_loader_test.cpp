@@ -8,6 +8,8 @@
 
 #include <cmath>
 #include <filesystem>
+#include <fstream>
+#include <iterator>
 
 namespace vplab {
 namespace {
@@ -33,6 +35,11 @@ void expectConsistentNormals(const Scene& s) {
     ASSERT_GT(glm::dot(s.geometricNormal(t), summed), 0.0f) << "triangle " << t;
     ASSERT_NEAR(glm::length(s.normals[tri.x]), 1.0f, 1e-5f);
   }
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
 }
 
 std::string loadError(const std::string& path) {
@@ -551,6 +558,91 @@ TEST(SceneLoaderErrors, BrokenReferences) {
   EXPECT_NE(
       loadError(d.writeGltf("bad-material.gltf")).find("meshes[0].primitives[0].material: material 3 out of range"),
       std::string::npos);
+}
+
+// --- extensions and numbers -----------------------------------------------------------------------------------
+
+TEST(SceneLoaderExtensions, UnsupportedUsedExtensionsAreNamedOnce) {
+  GltfBuilder b = triangleScene();
+  b.doc["extensionsUsed"] = {"KHR_texture_transform", "KHR_materials_clearcoat", "KHR_materials_emissive_strength"};
+  Scene s = loadScene(b.writeGltf("used-extensions.gltf"));
+  int named = 0;
+  for (const std::string& w : s.warnings) named += w.find("KHR_texture_transform") != std::string::npos ? 1 : 0;
+  EXPECT_EQ(named, 1);
+  EXPECT_TRUE(hasWarning(s, "'KHR_materials_clearcoat' is not supported"));
+  EXPECT_FALSE(hasWarning(s, "KHR_materials_emissive_strength"));  // implemented
+}
+
+TEST(SceneLoaderExtensions, UnsupportedRequiredExtensionIsAnErrorSayingWhatToDo) {
+  GltfBuilder b = triangleScene();
+  b.doc["extensionsUsed"] = {"KHR_draco_mesh_compression"};
+  b.doc["extensionsRequired"] = {"KHR_draco_mesh_compression"};
+  std::string draco = loadError(b.writeGltf("draco.gltf"));
+  EXPECT_NE(draco.find("extensionsRequired[0]: 'KHR_draco_mesh_compression' is not supported; decompress"),
+            std::string::npos)
+      << draco;
+  EXPECT_NE(draco.find("gltf-transform"), std::string::npos) << draco;
+
+  GltfBuilder c = triangleScene();
+  c.doc["extensionsRequired"] = {"KHR_technique_webgl"};
+  EXPECT_NE(loadError(c.writeGltf("webgl.gltf")).find("'KHR_technique_webgl' is not supported"), std::string::npos);
+}
+
+TEST(SceneLoaderErrors, CoordinatesBeyondTheBound) {
+  GltfBuilder b = triangleScene();
+  b.node({{"translation", {2e18, 0, 0}}, {"mesh", 0}});
+  std::string e = loadError(b.writeGltf("far-node.gltf"));
+  EXPECT_NE(e.find("attributes.POSITION: element 0 lies beyond +-1e+09 m"), std::string::npos) << e;
+
+  GltfBuilder c = triangleScene();
+  c.doc["cameras"] = {{{"type", "perspective"}, {"perspective", {{"yfov", 0.5}, {"znear", 0.1}}}}};
+  c.node({{"camera", 0}, {"translation", {0, 0, 1.9e18}}});
+  e = loadError(c.writeGltf("far-camera.gltf"));
+  EXPECT_NE(e.find("camera beyond"), std::string::npos) << e;
+}
+
+TEST(SceneLoaderErrors, EmissionAndIntensityThatOverflowFloat) {
+  GltfBuilder b;
+  int material = b.push("materials", {{"emissiveFactor", {1e300, 1.0, 1.0}}});
+  b.meshNode(b.mesh({GltfBuilder::primitive(b.vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), -1, -1, material)}));
+  std::string e = loadError(b.writeGltf("huge-emission.gltf"));
+  EXPECT_NE(e.find("materials[0].emissiveFactor: emitted radiance"), std::string::npos) << e;
+
+  GltfBuilder c;
+  int strong = c.push("materials", {{"emissiveFactor", {1.0, 1.0, 1.0}},
+                                    {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", 1e39}}}}}});
+  c.meshNode(c.mesh({GltfBuilder::primitive(c.vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}}), -1, -1, strong)}));
+  e = loadError(c.writeGltf("huge-strength.gltf"));
+  EXPECT_NE(e.find("emissiveStrength: is not a number in [0, 1e+15]"), std::string::npos) << e;
+
+  GltfBuilder d = triangleScene();
+  d.doc["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", 3e38}}};
+  d.node({{"extensions", {{"KHR_lights_punctual", {{"light", 0}}}}}});
+  e = loadError(d.writeGltf("huge-intensity.gltf"));
+  EXPECT_NE(e.find("KHR_lights_punctual.lights[0]: intensity x color must lie in"), std::string::npos) << e;
+}
+
+TEST(SceneLoaderErrors, DeeplyNestedJsonIsRejectedBeforeParsing) {
+  GltfBuilder b = triangleScene();
+  std::string text = readText(b.writeGltf("shallow.gltf"));
+  std::size_t asset = text.find("\"asset\":{");
+  ASSERT_NE(asset, std::string::npos);
+  std::string deep = "\"extras\":" + std::string(20000, '[') + std::string(20000, ']') + ",";
+  text.insert(asset + 9, deep);
+  std::string path = test::tmpPath("deep.gltf");
+  test::writeText(path, text);
+  EXPECT_NE(loadError(path).find("JSON nested deeper than 256 levels"), std::string::npos);
+}
+
+TEST(SceneLoaderErrors, UriThatIsADirectory) {
+  GltfBuilder b = triangleScene();
+  std::string path = b.writeGltf("dir-uri.gltf");
+  std::string text = readText(path);
+  nlohmann::json doc = nlohmann::json::parse(text);
+  doc["buffers"][0]["uri"] = ".";
+  test::writeText(path, doc.dump());
+  std::string e = loadError(path);
+  EXPECT_NE(e.find("buffers[0].uri: '.' is a directory"), std::string::npos) << e;
 }
 
 }  // namespace

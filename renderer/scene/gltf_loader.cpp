@@ -13,7 +13,9 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
@@ -49,6 +51,62 @@ bool endsWith(const std::string& s, const std::string& suffix) {
 
 bool finite(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+/// Largest world-space coordinate accepted (metres). Far inside what Embree accepts (about 1.8e18) and small enough
+/// that squared distances and areas stay finite in float.
+constexpr float kMaxCoordinate = 1e9f;
+/// Largest emitted radiance (cd/m^2), intensity (cd) or irradiance (lx) accepted: the sun's disk is about 1.6e9
+/// cd/m^2. With kMaxCoordinate it keeps every light's power finite in float.
+constexpr double kMaxEmission = 1e15;
+/// Deepest nesting of JSON arrays and objects accepted; glTF itself needs fewer than 10 levels, and the JSON parsers
+/// recurse once per level.
+constexpr int kMaxJsonDepth = 256;
+
+bool withinCoordinateBound(const glm::vec3& v) {
+  return finite(v) && std::abs(v.x) <= kMaxCoordinate && std::abs(v.y) <= kMaxCoordinate &&
+         std::abs(v.z) <= kMaxCoordinate;
+}
+
+std::string boundText(double bound) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", bound);
+  return buf;
+}
+
+/// Extensions the loader implements, and what it does with some it does not (used in the warning).
+bool isSupportedExtension(const std::string& name) {
+  return name == "KHR_lights_punctual" || name == "KHR_materials_emissive_strength" ||
+         name == "KHR_materials_specular";
+}
+
+std::string unsupportedExtensionEffect(const std::string& name) {
+  if (name == "KHR_texture_transform") return "texture coordinates are used untransformed";
+  if (name == "KHR_materials_pbrSpecularGlossiness") return "the metallic-roughness fallback (if any) is used";
+  if (name == "KHR_materials_clearcoat") return "the clear-coat layer is left out";
+  if (name == "KHR_materials_transmission" || name == "KHR_materials_volume") return "surfaces are opaque";
+  return "ignored";
+}
+
+/// Depth of JSON nesting, scanning brackets outside strings; stops counting at kMaxJsonDepth + 1.
+int jsonDepth(const char* json, std::size_t size) {
+  int depth = 0, deepest = 0;
+  bool inString = false;
+  for (std::size_t i = 0; i < size; ++i) {
+    char c = json[i];
+    if (inString) {
+      if (c == '\\') ++i;
+      else if (c == '"') inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '[' || c == '{') {
+      deepest = std::max(deepest, ++depth);
+      if (deepest > kMaxJsonDepth) return deepest;
+    } else if (c == ']' || c == '}') {
+      --depth;
+    }
+  }
+  return deepest;
 }
 
 /// Image bytes captured by the custom image loader. Decoding is deferred until the loader has validated the
@@ -294,6 +352,10 @@ void Loader::run() {
   materialMap_.assign(model_.materials.size(), -1);
   imageTextures_.assign(model_.images.size(), -2);
   readAssetExtras();
+  // Required extensions were checked before parsing (checkReferences); the others are named once each.
+  for (const std::string& name : model_.extensionsUsed)
+    if (!isSupportedExtension(name))
+      warn("extensionsUsed", "'" + name + "' is not supported; " + unsupportedExtensionEffect(name));
 
   // Roots: the default scene's nodes; without scenes, every node that is nobody's child.
   std::vector<int> roots;
@@ -440,8 +502,9 @@ void Loader::addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& wo
   std::vector<glm::vec3> worldPos(vertexCount);
   for (std::size_t i = 0; i < vertexCount; ++i) {
     worldPos[i] = glm::vec3(world * glm::vec4(positions[i], 1.0f));
-    if (!finite(worldPos[i]))
-      fail(at + ".attributes.POSITION", "element " + std::to_string(i) + " is not finite in world space");
+    if (!withinCoordinateBound(worldPos[i]))
+      fail(at + ".attributes.POSITION", "element " + std::to_string(i) + " lies beyond +-" +
+                                            boundText(kMaxCoordinate) + " m (or is not finite) in world space");
   }
   bool haveNormals = !normals.empty();
   std::vector<glm::vec3> worldNormal(haveNormals ? vertexCount : 0);
@@ -549,11 +612,17 @@ uint32_t Loader::materialIndex(int gltfMaterial, const std::string& where) {
     auto it = g.extensions.find(ext);
     if (it == g.extensions.end() || !it->second.IsObject() || !it->second.Has(key)) return fallback;
     const tinygltf::Value& v = it->second.Get(key);
-    if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || v.GetNumberAsDouble() < 0.0)
-      fail(at + ".extensions." + ext + "." + key, "is not a finite non-negative number");
+    if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || v.GetNumberAsDouble() < 0.0 ||
+        v.GetNumberAsDouble() > kMaxEmission)
+      fail(at + ".extensions." + ext + "." + key, "is not a number in [0, " + boundText(kMaxEmission) + "]");
     return static_cast<float>(v.GetNumberAsDouble());
   };
   strength = extNumber("KHR_materials_emissive_strength", "emissiveStrength", 1.0f);
+  // The product in double: factor and strength may each fit a float while their product does not.
+  for (int c = 0; c < 3; ++c)
+    if (std::max(g.emissiveFactor[static_cast<std::size_t>(c)], 0.0) * static_cast<double>(strength) > kMaxEmission)
+      fail(at + ".emissiveFactor", "emitted radiance (times emissiveStrength) exceeds " + boundText(kMaxEmission) +
+                                       " cd/m^2");
   m.emission = glm::max(emissive, glm::vec3(0.0f)) * strength;
   m.specular = std::clamp(extNumber("KHR_materials_specular", "specularFactor", 1.0f), 0.0f, 1.0f);
 
@@ -657,18 +726,23 @@ void Loader::addLight(int nodeIndex, const glm::mat4& world) {
   }
   glm::vec3 color(1.0f);
   if (!g.color.empty()) {
-    if (g.color.size() != 3) fail(lightAt + ".color", "needs 3 numbers");
+    if (g.color.size() != 3 || !std::all_of(g.color.begin(), g.color.end(), [](double c) { return std::isfinite(c) && std::abs(c) <= kMaxEmission; }))
+      fail(lightAt + ".color", "needs 3 finite numbers");
     color = glm::vec3(g.color[0], g.color[1], g.color[2]);
   }
+  for (int c = 0; c < 3; ++c) {
+    double v = static_cast<double>(color[c]) * g.intensity;
+    if (!std::isfinite(v) || v < 0.0 || v > kMaxEmission)
+      fail(lightAt, "intensity x color must lie in [0, " + boundText(kMaxEmission) + "]");
+  }
   l.intensity = color * static_cast<float>(g.intensity);
-  if (!finite(l.intensity) || l.intensity.r < 0.0f || l.intensity.g < 0.0f || l.intensity.b < 0.0f)
-    fail(lightAt, "intensity or color is negative or not finite");
   // Punctual lights sit at their node's origin and shine down its local -Z (KHR_lights_punctual); a directional
   // light keeps only the direction (its node's translation does not matter).
   l.position = l.isDirectional() ? glm::vec3(0.0f) : glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
   glm::vec3 dir = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);
-  if (!finite(l.position) || !finite(dir) || !(glm::length(dir) > 0.0f))
-    fail("nodes[" + std::to_string(nodeIndex) + "]", "degenerate transform for a light");
+  if (!withinCoordinateBound(l.position) || !finite(dir) || !(glm::length(dir) > 0.0f))
+    fail("nodes[" + std::to_string(nodeIndex) + "]", "degenerate transform for a light (or beyond +-" +
+                                                         boundText(kMaxCoordinate) + " m)");
   l.direction = glm::normalize(dir);
   scene_.punctualLights.push_back(l);
 }
@@ -690,12 +764,18 @@ void Loader::addCamera(int nodeIndex, const glm::mat4& world) {
     fail("nodes[" + std::to_string(nodeIndex) + "]", "degenerate transform for a camera");
   Camera c;
   c.position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
+  if (!withinCoordinateBound(c.position) || !finite(forward) || !finite(up))
+    fail("nodes[" + std::to_string(nodeIndex) + "]",
+         "camera beyond +-" + boundText(kMaxCoordinate) + " m or with a non-finite transform");
   c.forward = glm::normalize(forward);
   c.up = glm::normalize(up - glm::dot(up, c.forward) * c.forward);
   c.yfov = static_cast<float>(g.perspective.yfov);
   if (!(c.yfov > 0.0f && c.yfov < kPi)) fail(at + ".perspective.yfov", "must lie in (0, pi)");
-  if (g.perspective.znear > 0.0) c.znear = static_cast<float>(g.perspective.znear);
-  if (g.perspective.zfar > g.perspective.znear) c.zfar = static_cast<float>(g.perspective.zfar);
+  // Clip planes that do not fit the coordinate bound are left at their defaults.
+  if (g.perspective.znear > 0.0 && g.perspective.znear < kMaxCoordinate)
+    c.znear = static_cast<float>(g.perspective.znear);
+  if (g.perspective.zfar > g.perspective.znear && g.perspective.zfar < 2.0 * kMaxCoordinate)
+    c.zfar = static_cast<float>(g.perspective.zfar);
   c.fromFile = true;
   scene_.camera = c;
   haveCamera_ = true;
@@ -726,6 +806,8 @@ void Loader::readAssetExtras() {
 /// tinygltf rejects some broken references itself, with messages that do not say where ("primitive indices accessor
 /// out of bounds"). Checking the references first gives the glTF path instead. Unparsable JSON is left to tinygltf.
 void checkReferences(const std::string& file, const std::string& baseDir, const char* json, std::size_t size) {
+  if (jsonDepth(json, size) > kMaxJsonDepth)
+    throw SceneError(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
   nlohmann::json doc = nlohmann::json::parse(json, json + size, nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) return;
   auto count = [&](const char* key) {
@@ -739,6 +821,34 @@ void checkReferences(const std::string& file, const std::string& baseDir, const 
       throw SceneError(file + ": " + where + ": " + what + " " + std::to_string(i) + " out of range (" +
                        std::to_string(n) + " " + what + "s)");
   };
+  if (auto it = doc.find("extensionsRequired"); it != doc.end() && it->is_array())
+    for (std::size_t i = 0; i < it->size(); ++i) {
+      if (!(*it)[i].is_string()) continue;
+      std::string name = (*it)[i].get<std::string>();
+      if (isSupportedExtension(name)) continue;
+      bool compressed = name == "KHR_draco_mesh_compression" || name == "EXT_meshopt_compression";
+      throw SceneError(file + ": extensionsRequired[" + std::to_string(i) + "]: '" + name + "' is not supported" +
+                       (compressed ? "; decompress the file first (e.g. with gltf-transform or gltfpack)"
+                                   : "; the file cannot be shown correctly without it"));
+    }
+  // A URI naming a directory or something unreadable: say so, instead of what reading it would throw.
+  for (const char* kind : {"buffers", "images"}) {
+    auto list = doc.find(kind);
+    if (list == doc.end() || !list->is_array()) continue;
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const nlohmann::json& entry = (*list)[i];
+      if (!entry.is_object() || !entry.contains("uri") || !entry["uri"].is_string()) continue;
+      std::string uri = entry["uri"].get<std::string>();
+      if (uri.rfind("data:", 0) == 0 || uri.find('%') != std::string::npos || uri.find(':') != std::string::npos)
+        continue;
+      std::error_code ec;
+      std::filesystem::path target = std::filesystem::path(baseDir) / uri;
+      std::string at = file + ": " + kind + "[" + std::to_string(i) + "].uri";
+      if (std::filesystem::is_directory(target, ec)) throw SceneError(at + ": '" + uri + "' is a directory");
+      if (std::filesystem::exists(target, ec) && !std::filesystem::is_regular_file(target, ec))
+        throw SceneError(at + ": '" + uri + "' is not a regular file");
+    }
+  }
   const std::size_t accessors = count("accessors"), views = count("bufferViews"), buffers = count("buffers");
   if (doc.contains("meshes") && doc["meshes"].is_array())
     for (std::size_t m = 0; m < doc["meshes"].size(); ++m) {
@@ -826,10 +936,16 @@ Scene loadScene(const std::string& path) {
   tinygltf::Model model;
   std::string err, warn;
   std::string baseDir = directoryOf(path);
-  bool ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(),
-                                               static_cast<unsigned int>(bytes.size()), baseDir)
-                   : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
-                                              static_cast<unsigned int>(bytes.size()), baseDir);
+  bool ok = false;
+  try {
+    ok = binary ? gltf.LoadBinaryFromMemory(&model, &err, &warn, bytes.data(), static_cast<unsigned int>(bytes.size()),
+                                            baseDir)
+                : gltf.LoadASCIIFromString(&model, &err, &warn, reinterpret_cast<const char*>(bytes.data()),
+                                           static_cast<unsigned int>(bytes.size()), baseDir);
+  } catch (const std::exception& e) {
+    // tinygltf reads referenced files whole; whatever it throws still names this file.
+    throw SceneError(path + ": not a valid glTF file: " + firstLine(e.what()));
+  }
   if (!ok) throw SceneError(path + ": not a valid glTF file: " + firstLine(err));
 
   Scene scene;
