@@ -10,10 +10,12 @@
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/settings_json.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "tests/test_scenes.h"
 
 #ifdef VPLAB_HAVE_EDITOR
 #include "ui/camera_controller.h"
 #include "ui/chart.h"
+#include "ui/panels.h"
 #include "ui/presets.h"
 #include "ui/script.h"
 #endif
@@ -95,6 +97,41 @@ TEST(EditorChart, ParetoFrontKeepsOnlyUndominatedPoints) {
   for (int i = 0; i < 5; ++i) points[i].frameMs = data[i][0], points[i].relMse = data[i][1];
   EXPECT_EQ(ui::paretoFront(points), (std::vector<std::size_t>{4, 0, 1}));
   EXPECT_TRUE(ui::paretoFront({}).empty());
+}
+
+TEST(EditorLights, AddedLightsLightTheModelCentreWithIrradiancePi) {
+  // A white plane at y = 0 under its own point light; every added light gives the plane's centre E = pi.
+  Scene scene = test::makePlaneUnderPointLight(1.0f, glm::vec3(0.0f, 1.0f, 0.0f), 1.0f);
+  scene.punctualLights.clear();
+  ui::addLight(scene, ui::NewLight::Point);
+  ui::addLight(scene, ui::NewLight::Directional);
+  ui::addLight(scene, ui::NewLight::Area);
+  std::vector<ui::LightHandle> lights = ui::editableLights(scene);
+  ASSERT_EQ(lights.size(), 3u);
+  EXPECT_EQ(lights[0].name.rfind("point", 0), 0u) << lights[0].name;
+  EXPECT_EQ(lights[1].name.rfind("directional", 0), 0u) << lights[1].name;
+  EXPECT_EQ(lights[2].kind, ui::LightHandle::Kind::AreaMaterial);
+  const PunctualLight& point = scene.punctualLights[0];
+  glm::vec3 d = point.position - glm::vec3(0.0f);  // the plane's centre (the added area light moved the bounds)
+  EXPECT_NEAR(point.intensity.g / glm::dot(d, d), kPi, 1e-4);
+  const PunctualLight& sun = scene.punctualLights[1];
+  EXPECT_NEAR(sun.intensity.g, kPi, 1e-6);
+  EXPECT_LT(sun.direction.y, 0.0f);  // from above
+
+  // Moving a directional light does nothing; aiming it does.
+  ui::moveLight(scene, lights[1], glm::vec3(1.0f));
+  EXPECT_EQ(scene.punctualLights[1].position, glm::vec3(0.0f));
+  ui::aimLight(scene, lights[1], glm::vec3(0.0f, -2.0f, 0.0f));
+  EXPECT_EQ(scene.punctualLights[1].direction, glm::vec3(0.0f, -1.0f, 0.0f));
+
+  // Deleting takes exactly that light.
+  const std::size_t triangles = scene.triangles.size();
+  ui::deleteLight(scene, lights[2]);
+  EXPECT_EQ(scene.triangles.size(), triangles - 2);
+  EXPECT_TRUE(scene.emissiveTriangles.empty());
+  ui::deleteLight(scene, lights[0]);
+  ASSERT_EQ(scene.punctualLights.size(), 1u);
+  EXPECT_TRUE(scene.punctualLights[0].isDirectional());
 }
 
 TEST(EditorPresets, EveryPresetIsValidAndItsSceneExists) {

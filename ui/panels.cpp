@@ -1,5 +1,8 @@
 #include "ui/panels.h"
 
+#include "renderer/core/sampling.h"
+#include "renderer/scene/staging.h"
+
 #include <imgui.h>
 
 #include <algorithm>
@@ -116,10 +119,11 @@ bool drawOfflineSettingsPanel(Settings& s) {
 
 std::vector<LightHandle> editableLights(const Scene& scene) {
   std::vector<LightHandle> lights;
-  for (uint32_t i = 0; i < scene.punctualLights.size(); ++i)
-    lights.push_back(
-        {LightHandle::Kind::Punctual, i,
-         scene.punctualLights[i].name.empty() ? "point " + std::to_string(i) : scene.punctualLights[i].name});
+  for (uint32_t i = 0; i < scene.punctualLights.size(); ++i) {
+    const PunctualLight& l = scene.punctualLights[i];
+    const char* kind = l.isDirectional() ? "directional" : l.type == PunctualLight::Type::Spot ? "spot" : "point";
+    lights.push_back({LightHandle::Kind::Punctual, i, std::string(kind) + ": " + (l.name.empty() ? std::to_string(i) : l.name)});
+  }
   std::set<uint32_t> emissive;
   for (uint32_t t : scene.emissiveTriangles) emissive.insert(scene.triangleMaterials[t]);
   for (uint32_t m : emissive)
@@ -129,7 +133,8 @@ std::vector<LightHandle> editableLights(const Scene& scene) {
 
 void moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset) {
   if (light.kind == LightHandle::Kind::Punctual) {
-    scene.punctualLights.at(light.index).position += offset;
+    PunctualLight& l = scene.punctualLights.at(light.index);
+    if (!l.isDirectional()) l.position += offset;
     return;
   }
   // Each vertex moves once even when several emissive triangles share it.
@@ -148,6 +153,54 @@ void scaleLight(Scene& scene, const LightHandle& light, float scale) {
     scene.materials.at(light.index).emission *= scale;
 }
 
+void aimLight(Scene& scene, const LightHandle& light, const glm::vec3& direction) {
+  if (light.kind != LightHandle::Kind::Punctual || !(glm::length(direction) > 0.0f)) return;
+  scene.punctualLights.at(light.index).direction = glm::normalize(direction);
+}
+
+void addLight(Scene& scene, NewLight kind) {
+  const Bounds& b = scene.geometryBounds;
+  const glm::vec3 center = b.valid() ? b.center() : glm::vec3(0.0f);
+  const float radius = std::max(0.5f * b.diagonal(), 1e-3f);
+  const glm::vec3 above = center + glm::vec3(0.0f, 2.0f * radius, 0.0f);
+  const std::string name = "added " + std::to_string(scene.punctualLights.size() + scene.materials.size());
+  if (kind == NewLight::Area) {
+    addSquareLight(scene, above, center, radius, kPi, name);
+  } else {
+    PunctualLight l;
+    l.name = name;
+    if (kind == NewLight::Point) {
+      l.type = PunctualLight::Type::Point;
+      l.position = above;
+      l.intensity = glm::vec3(kPi * 4.0f * radius * radius);  // E = I / d^2 at the centre, d = 2R
+    } else {
+      l.type = PunctualLight::Type::Directional;
+      l.direction = glm::normalize(glm::vec3(-0.3f, -1.0f, -0.5f));
+      l.intensity = glm::vec3(kPi);
+    }
+    scene.punctualLights.push_back(l);
+  }
+  scene.finalize();
+}
+
+void deleteLight(Scene& scene, const LightHandle& light) {
+  if (light.kind == LightHandle::Kind::Punctual) {
+    scene.punctualLights.erase(scene.punctualLights.begin() + light.index);
+    return;
+  }
+  // The triangles go; their vertices stay unreferenced (harmless, and no index has to be rewritten).
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+    if (scene.triangleMaterials[t] != light.index) {
+      scene.triangles[kept] = scene.triangles[t];
+      scene.triangleMaterials[kept] = scene.triangleMaterials[t];
+      ++kept;
+    }
+  scene.triangles.resize(kept);
+  scene.triangleMaterials.resize(kept);
+  scene.finalize();
+}
+
 bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<float>& scales) {
   std::vector<LightHandle> lights = editableLights(scene);
   offsets.resize(lights.size(), glm::vec3(0.0f));
@@ -158,11 +211,21 @@ bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<
   for (std::size_t i = 0; i < lights.size(); ++i) {
     ImGui::PushID(static_cast<int>(i));
     ImGui::TextUnformatted(lights[i].name.c_str());
+    const PunctualLight* punctual =
+        lights[i].kind == LightHandle::Kind::Punctual ? &scene.punctualLights[lights[i].index] : nullptr;
     glm::vec3 offset = offsets[i];
-    if (ImGui::DragFloat3("offset", &offset.x, step, -scene.bounds.diagonal(), scene.bounds.diagonal(), "%.3f")) {
+    if ((!punctual || !punctual->isDirectional()) &&
+        ImGui::DragFloat3("offset", &offset.x, step, -scene.bounds.diagonal(), scene.bounds.diagonal(), "%.3f")) {
       moveLight(scene, lights[i], offset - offsets[i]);
       offsets[i] = offset;
       changed = true;
+    }
+    if (punctual && punctual->type != PunctualLight::Type::Point) {
+      glm::vec3 direction = punctual->direction;
+      if (ImGui::DragFloat3("direction", &direction.x, 0.01f, -1.0f, 1.0f, "%.2f")) {
+        aimLight(scene, lights[i], direction);
+        changed = true;
+      }
     }
     float scale = scales[i];
     if (ImGui::SliderFloat("intensity x", &scale, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic) && scale > 0.0f) {
@@ -170,8 +233,30 @@ bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<
       scales[i] = scale;
       changed = true;
     }
+    bool deleted = ImGui::SmallButton("delete");
+    if (deleted) {
+      deleteLight(scene, lights[i]);
+      offsets.erase(offsets.begin() + static_cast<std::ptrdiff_t>(i));
+      scales.erase(scales.begin() + static_cast<std::ptrdiff_t>(i));
+      changed = true;
+    }
     ImGui::PopID();
+    if (deleted) break;  // the handles after it are stale; the next frame lists the lights again
   }
+  // New punctual lights are listed after the existing punctual ones, new area lights last.
+  const auto punctualCount = static_cast<std::ptrdiff_t>(scene.punctualLights.size());
+  auto add = [&](NewLight kind) {
+    addLight(scene, kind);
+    std::ptrdiff_t at = kind == NewLight::Area ? static_cast<std::ptrdiff_t>(offsets.size()) : punctualCount;
+    offsets.insert(offsets.begin() + at, glm::vec3(0.0f));
+    scales.insert(scales.begin() + at, 1.0f);
+    changed = true;
+  };
+  if (ImGui::Button("+ point")) add(NewLight::Point);
+  ImGui::SameLine();
+  if (ImGui::Button("+ area")) add(NewLight::Area);
+  ImGui::SameLine();
+  if (ImGui::Button("+ directional")) add(NewLight::Directional);
   return changed;
 }
 

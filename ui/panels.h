@@ -29,16 +29,29 @@ struct LightHandle {
 /// The lights the editor can move and scale: punctual lights first, then emissive materials.
 std::vector<LightHandle> editableLights(const Scene& scene);
 
-/// Moves a light by `offset` (an area light's triangles are translated). Call finalize-dependent rebuilds after.
+/// Moves a light by `offset` (an area light's triangles are translated; a directional light has no position and
+/// does not move). Call finalize-dependent rebuilds after.
 void moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset);
 /// Multiplies a light's intensity (or an emissive material's radiance) by `scale`.
 void scaleLight(Scene& scene, const LightHandle& light, float scale);
+/// Points a spot or directional light along `direction` (normalised here; a zero vector is ignored).
+void aimLight(Scene& scene, const LightHandle& light, const glm::vec3& direction);
 
-/// Position offset and intensity scale of every editable light; returns true when a light was moved or scaled,
-/// with the change already applied to the scene.
+/// The kinds of light the editor adds.
+enum class NewLight { Point, Area, Directional };
+/// Adds a light sized from the geometry's bounds that gives the model's centre an irradiance of pi (a white surface
+/// there reflects radiance 1): a point light or a square area light above the model, or a directional light from
+/// above and in front. The scene is finalized.
+void addLight(Scene& scene, NewLight kind);
+/// Removes a light: a punctual light from the list, an area light's triangles from the scene (finalized after).
+void deleteLight(Scene& scene, const LightHandle& light);
+
+/// Every editable light with its position offset, intensity scale, direction (spot, directional) and a delete
+/// button, and buttons that add a point, area or directional light. Returns true when the lights changed, with
+/// the change already applied to the scene; offsets and scales follow added and deleted lights.
 bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<float>& scales);
 
-/// Triangles, lights, materials, warnings.
+/// Triangles, lights, materials, staging, warnings.
 void drawSceneInfo(const Scene& scene);
 
 }  // namespace vplab::ui

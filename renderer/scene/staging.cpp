@@ -82,6 +82,22 @@ std::string vec(const glm::vec3& v) {
 
 }  // namespace
 
+uint32_t addSquareLight(Scene& scene, const glm::vec3& center, const glm::vec3& target, float side, float irradiance,
+                        const std::string& name) {
+  // A square of half side a seen face-on from distance d on its axis gives E = 4 L q atan(q) with
+  // q = a / sqrt(a^2 + d^2) (the rectangle's form factor), so L follows exactly from the wanted E.
+  const glm::vec3 toTarget = glm::normalize(target - center);
+  const float half = 0.5f * side;
+  Frame frame(toTarget);
+  glm::vec3 u = frame.s * half, v = frame.t * half;
+  if (glm::dot(glm::cross(u, v), toTarget) < 0.0f) std::swap(u, v);
+  const float distance2 = glm::dot(target - center, target - center);
+  const float q = half / std::sqrt(half * half + distance2);
+  uint32_t material = addMaterial(scene, name, 0.0f, glm::vec3(irradiance / (4.0f * q * std::atan(q))));
+  addQuad(scene, center, u, v, material);
+  return material;
+}
+
 void stageScene(Scene& scene, Stage stage) {
   scene.staging.clear();
   bool wanted = stage == Stage::Studio || (stage == Stage::Auto && !scene.hasLights());
@@ -110,21 +126,12 @@ void stageScene(Scene& scene, Stage stage) {
   addQuad(scene, base - front * behind + up * (0.5f * height), side * (kGroundHalfWidth * radius), up * (0.5f * height),
           studio);
 
-  // Key light: a one-sided square facing the model's centre, its radiance set so that the irradiance there is
-  // exactly kKeyIrradiance. A square of half side a seen face-on from distance d on its axis gives
-  // E = 4 L q atan(q) with q = a / sqrt(a^2 + d^2) (the rectangle's form factor); independent of R.
+  // Key light above, in front and to the side, giving the model's centre an irradiance of kKeyIrradiance.
   const glm::vec3 lightCenter = center + up * (kLightUp * radius) + front * (kLightFront * radius) +
                                 side * (kLightSideways * radius);
-  const glm::vec3 toModel = glm::normalize(center - lightCenter);
+  uint32_t light = addSquareLight(scene, lightCenter, center, kLightSide * radius, kKeyIrradiance, "studio light");
+  const float radiance = scene.materials[light].emission.g;
   const float half = 0.5f * kLightSide * radius;
-  Frame frame(toModel);
-  glm::vec3 u = frame.s * half, v = frame.t * half;
-  if (glm::dot(glm::cross(u, v), toModel) < 0.0f) std::swap(u, v);
-  const float distance2 = glm::dot(center - lightCenter, center - lightCenter);
-  const float q = half / std::sqrt(half * half + distance2);
-  const float radiance = kKeyIrradiance / (4.0f * q * std::atan(q));
-  uint32_t light = addMaterial(scene, "studio light", 0.0f, glm::vec3(radiance));
-  addQuad(scene, lightCenter, u, v, light);
   scene.finalize();
 
   scene.warnings.erase(std::remove(scene.warnings.begin(), scene.warnings.end(), std::string(kNoLightsWarning)),
