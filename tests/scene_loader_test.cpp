@@ -410,6 +410,31 @@ TEST(SceneLoaderValid, TextureIsDecodedFromSrgb) {
   EXPECT_EQ(s.uvs[s.triangles[2].y], glm::vec2(1, 0));
 }
 
+TEST(SceneLoaderValid, BaseColourTextureTransformIsAppliedToTheCoordinates) {
+  GltfBuilder b = triangleScene();
+  test::writeBytes(tmpPath("tex.bmp"), test::bmp(2, 1, {{255, 128, 0}, {0, 0, 255}}));
+  b.doc["extensionsUsed"] = {"KHR_texture_transform"};
+  b.doc["images"] = {{{"uri", "tex.bmp"}}};
+  b.doc["textures"] = {{{"source", 0}}};
+  nlohmann::json transform = {{"offset", {0.5, 0.25}}, {"rotation", kPi / 2.0}, {"scale", {2.0, 1.0}}};
+  int material = b.push(
+      "materials",
+      {{"pbrMetallicRoughness", {{"baseColorTexture", {{"index", 0}, {"extensions", {{"KHR_texture_transform", transform}}}}}}}});
+  int pos = b.vec3({{0, 0, 0}, {1, 0, 0}, {0, 1, 0}});
+  int uv = b.vec2({{0, 0}, {1, 0}, {0, 1}});
+  nlohmann::json prim = GltfBuilder::primitive(pos, -1, -1, material);
+  prim["attributes"]["TEXCOORD_0"] = uv;
+  b.meshNode(b.mesh({prim}));
+  Scene s = loadScene(b.writeGltf("texture-transform.gltf"));
+  EXPECT_FALSE(hasWarning(s, "KHR_texture_transform"));
+  // uv' = T(offset) R(rotation) S(scale) uv, R counter-clockwise in v-down space (u' = c u + s v, v' = -s u + c v):
+  // (0,0) -> (0.5,0.25), (1,0) -> (0.5,-1.75), (0,1) -> (1.5,0.25).
+  const glm::uvec3& t = s.triangles[2];
+  EXPECT_NEAR(glm::length(s.uvs[t.x] - glm::vec2(0.5f, 0.25f)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(s.uvs[t.y] - glm::vec2(0.5f, -1.75f)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(s.uvs[t.z] - glm::vec2(1.5f, 0.25f)), 0.0f, 1e-6f);
+}
+
 // --- problems that are warnings ----------------------------------------------------------------------------------
 
 TEST(SceneLoaderWarnings, MissingTextureImageFallsBackToTheFactor) {
@@ -564,13 +589,15 @@ TEST(SceneLoaderErrors, BrokenReferences) {
 
 TEST(SceneLoaderExtensions, UnsupportedUsedExtensionsAreNamedOnce) {
   GltfBuilder b = triangleScene();
-  b.doc["extensionsUsed"] = {"KHR_texture_transform", "KHR_materials_clearcoat", "KHR_materials_emissive_strength"};
+  b.doc["extensionsUsed"] = {"KHR_materials_pbrSpecularGlossiness", "KHR_materials_clearcoat",
+                             "KHR_materials_emissive_strength", "KHR_texture_transform"};
   Scene s = loadScene(b.writeGltf("used-extensions.gltf"));
   int named = 0;
-  for (const std::string& w : s.warnings) named += w.find("KHR_texture_transform") != std::string::npos ? 1 : 0;
+  for (const std::string& w : s.warnings) named += w.find("KHR_materials_pbrSpecularGlossiness") != std::string::npos;
   EXPECT_EQ(named, 1);
   EXPECT_TRUE(hasWarning(s, "'KHR_materials_clearcoat' is not supported"));
   EXPECT_FALSE(hasWarning(s, "KHR_materials_emissive_strength"));  // implemented
+  EXPECT_FALSE(hasWarning(s, "KHR_texture_transform"));            // implemented for the base colour
 }
 
 TEST(SceneLoaderExtensions, UnsupportedRequiredExtensionIsAnErrorSayingWhatToDo) {

@@ -77,11 +77,10 @@ std::string boundText(double bound) {
 /// Extensions the loader implements, and what it does with some it does not (used in the warning).
 bool isSupportedExtension(const std::string& name) {
   return name == "KHR_lights_punctual" || name == "KHR_materials_emissive_strength" ||
-         name == "KHR_materials_specular";
+         name == "KHR_materials_specular" || name == "KHR_texture_transform";
 }
 
 std::string unsupportedExtensionEffect(const std::string& name) {
-  if (name == "KHR_texture_transform") return "texture coordinates are used untransformed";
   if (name == "KHR_materials_pbrSpecularGlossiness") return "the metallic-roughness fallback (if any) is used";
   if (name == "KHR_materials_clearcoat") return "the clear-coat layer is left out";
   if (name == "KHR_materials_transmission" || name == "KHR_materials_volume") return "surfaces are opaque";
@@ -164,6 +163,7 @@ class Loader {
   void addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& world);
   uint32_t materialIndex(int gltfMaterial, const std::string& where);
   int textureIndex(int gltfTexture, const std::string& where);
+  glm::mat3 textureTransform(const tinygltf::ExtensionMap& extensions, const std::string& where);
   void addLight(int nodeIndex, const glm::mat4& world);
   void addCamera(int nodeIndex, const glm::mat4& world);
   void frameBounds();
@@ -174,6 +174,8 @@ class Loader {
   CapturedImages& images_;
   Scene& scene_;
   std::vector<int> materialMap_;  ///< glTF material -> Scene material, -1 until first use
+  /// glTF material -> KHR_texture_transform of its base colour texture (identity without one), set by materialIndex()
+  std::vector<glm::mat3> uvTransforms_;
   int defaultMaterial_ = -1;
   std::vector<int> imageTextures_;  ///< glTF image -> Scene texture, -1 unloadable, -2 not tried yet
   bool haveCamera_ = false;
@@ -350,6 +352,7 @@ glm::mat4 Loader::localTransform(int nodeIndex) const {
 
 void Loader::run() {
   materialMap_.assign(model_.materials.size(), -1);
+  uvTransforms_.assign(model_.materials.size(), glm::mat3(1.0f));
   imageTextures_.assign(model_.images.size(), -2);
   readAssetExtras();
   // Required extensions were checked before parsing (checkReferences); the others are named once each.
@@ -493,6 +496,10 @@ void Loader::addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& wo
   }
 
   uint32_t material = materialIndex(prim.material, at + ".material");
+  // TEXCOORD_0 feeds only the base colour texture, so its KHR_texture_transform is applied to the coordinates here
+  // (an affine map commutes with interpolation across the triangle).
+  if (prim.material >= 0 && uvTransforms_[static_cast<std::size_t>(prim.material)] != glm::mat3(1.0f))
+    for (glm::vec2& uv : uvs) uv = glm::vec2(uvTransforms_[static_cast<std::size_t>(prim.material)] * glm::vec3(uv, 1.0f));
 
   // Positions move with the world matrix, normals with its inverse transpose; a mirroring transform (negative
   // determinant) turns counter-clockwise faces clockwise, so winding is flipped back.
@@ -599,6 +606,7 @@ uint32_t Loader::materialIndex(int gltfMaterial, const std::string& where) {
     std::string texAt = at + ".pbrMetallicRoughness.baseColorTexture";
     if (pbr.baseColorTexture.texCoord != 0) warn(texAt, "texCoord other than 0 not supported; TEXCOORD_0 used");
     m.baseColorTexture = textureIndex(pbr.baseColorTexture.index, texAt);
+    uvTransforms_[static_cast<std::size_t>(gltfMaterial)] = textureTransform(pbr.baseColorTexture.extensions, texAt);
   }
   if (pbr.metallicRoughnessTexture.index >= 0)
     warn(at + ".pbrMetallicRoughness.metallicRoughnessTexture", "ignored; the factors are used");
@@ -629,6 +637,39 @@ uint32_t Loader::materialIndex(int gltfMaterial, const std::string& where) {
   mapped = static_cast<int>(scene_.materials.size());
   scene_.materials.push_back(m);
   return static_cast<uint32_t>(mapped);
+}
+
+glm::mat3 Loader::textureTransform(const tinygltf::ExtensionMap& extensions, const std::string& where) {
+  auto it = extensions.find("KHR_texture_transform");
+  if (it == extensions.end() || !it->second.IsObject()) return glm::mat3(1.0f);
+  const tinygltf::Value& ext = it->second;
+  std::string at = where + ".extensions.KHR_texture_transform";
+  auto number = [&](const tinygltf::Value& v, const std::string& field) {
+    if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || std::abs(v.GetNumberAsDouble()) > kMaxCoordinate)
+      fail(at + "." + field, "is not a finite number within +-" + boundText(kMaxCoordinate));
+    return static_cast<float>(v.GetNumberAsDouble());
+  };
+  auto pair = [&](const char* field, glm::vec2 fallback) {
+    if (!ext.Has(field)) return fallback;
+    const tinygltf::Value& v = ext.Get(field);
+    if (!v.IsArray() || v.ArrayLen() != 2) fail(at + "." + field, "needs 2 numbers");
+    return glm::vec2(number(v.Get(0), field), number(v.Get(1), field));
+  };
+  glm::vec2 offset = pair("offset", glm::vec2(0.0f)), scale = pair("scale", glm::vec2(1.0f));
+  float rotation = ext.Has("rotation") ? number(ext.Get("rotation"), "rotation") : 0.0f;
+  if (ext.Has("texCoord") && ext.Get("texCoord").IsNumber() && ext.Get("texCoord").GetNumberAsInt() != 0)
+    warn(at + ".texCoord", "texCoord other than 0 not supported; TEXCOORD_0 used");
+  // uv' = T(offset) R(rotation) S(scale) uv. R turns the UVs counter-clockwise in glTF's v-down texture space:
+  // columns (cos, -sin) and (sin, cos). The extension's GLSL listing has the transpose, a known error in it
+  // (KhronosGroup/glTF issue 1563); this is what its TextureTransformTest sample and the common viewers show.
+  float c = std::cos(rotation), sn = std::sin(rotation);
+  glm::mat3 translation(1.0f), rotate(1.0f), scaling(1.0f);
+  translation[2] = glm::vec3(offset, 1.0f);
+  rotate[0] = glm::vec3(c, -sn, 0.0f);
+  rotate[1] = glm::vec3(sn, c, 0.0f);
+  scaling[0][0] = scale.x;
+  scaling[1][1] = scale.y;
+  return translation * rotate * scaling;
 }
 
 int Loader::textureIndex(int gltfTexture, const std::string& where) {

@@ -9,7 +9,9 @@ namespace vplab {
 
 glm::vec3 Texture::sample(glm::vec2 uv) const {
   if (width <= 0 || height <= 0 || texels.empty()) return glm::vec3(1.0f);
-  // Texel centres sit at half-integers; wrap with repeat.
+  // Texel centres sit at half-integers; wrap with repeat (first into [0, 1), so that coordinates far outside it
+  // cannot overflow the integer texel index).
+  uv -= glm::floor(uv);
   float x = uv.x * static_cast<float>(width) - 0.5f;
   float y = uv.y * static_cast<float>(height) - 0.5f;
   float fx = std::floor(x), fy = std::floor(y);
