@@ -4,6 +4,7 @@
 #include "app/commands.h"
 #include "renderer/core/sampling.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/lights_json.h"
 #include "renderer/scene/staging.h"
 
 #include <cmath>
@@ -35,6 +36,7 @@ int cmdInfo(const Args& args) {
     throw cli::CliError("option --stage: '" + *st + "' is not auto, none or studio");
   Scene scene = loadScene(cl.positional()[0]);
   stageScene(scene, stage);
+  applyLightsSidecar(scene);
 
   std::printf("scene      %s\n", scene.sourcePath.c_str());
   std::printf("staging    %s\n", scene.staging.empty() ? "none" : scene.staging.c_str());

@@ -10,6 +10,7 @@
 #include "renderer/offline/light_sampler.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/lights_json.h"
 #include "renderer/scene/staging.h"
 #include "renderer/settings_json.h"
 #include "renderer/vpl/vpl_contribution.h"
@@ -241,6 +242,7 @@ Editor::Editor(const EditorOptions& options) : options_(options), settings_(opti
   // The scene first: a bad file fails before a window is opened.
   scene_ = loadScene(options.scenePath);
   stageScene(scene_, settings_.stage);
+  applyLightsSidecar(scene_);
   sceneCamera_ = scene_.camera;
 
   glfwSetErrorCallback([](int code, const char* text) { std::fprintf(stderr, "GLFW error %d: %s\n", code, text); });
@@ -322,6 +324,7 @@ bool Editor::openScene(const std::string& path, bool /*keepSettingsSize*/) {
   try {
     loaded = loadScene(path);
     stageScene(loaded, settings_.stage);
+    applyLightsSidecar(loaded);
   } catch (const std::exception& e) {
     // A bad file leaves the current scene in place.
     sceneError_ = e.what();
@@ -947,6 +950,15 @@ void Editor::drawRightPanel() {
         loadSettingsFile(settingsPath_, next);
         changeSettings(next);
         ioMessage_ = "loaded " + settingsPath_;
+      } catch (const std::exception& e) {
+        ioMessage_ = e.what();
+      }
+    }
+    if (ImGui::Button("Save lights")) {
+      // Next to the scene file; opening the scene again (editor or CLI) applies it.
+      try {
+        saveLightsFile(lightsSidecarPath(scene_.sourcePath), scene_);
+        ioMessage_ = "saved " + lightsSidecarPath(scene_.sourcePath);
       } catch (const std::exception& e) {
         ioMessage_ = e.what();
       }

@@ -53,12 +53,6 @@ bool finite(const glm::vec3& v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
 }
 
-/// Largest world-space coordinate accepted (metres). Far inside what Embree accepts (about 1.8e18) and small enough
-/// that squared distances and areas stay finite in float.
-constexpr float kMaxCoordinate = 1e9f;
-/// Largest emitted radiance (cd/m^2), intensity (cd) or irradiance (lx) accepted: the sun's disk is about 1.6e9
-/// cd/m^2. With kMaxCoordinate it keeps every light's power finite in float.
-constexpr double kMaxEmission = 1e15;
 /// Deepest nesting of JSON arrays and objects accepted; glTF itself needs fewer than 10 levels, and the JSON parsers
 /// recurse once per level.
 constexpr int kMaxJsonDepth = 256;

@@ -1,0 +1,222 @@
+#include "renderer/scene/lights_json.h"
+
+#include "renderer/scene/gltf_loader.h"
+
+#include <nlohmann/json.hpp>
+
+#include <cmath>
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <iterator>
+
+namespace vplab {
+namespace {
+
+using Json = nlohmann::json;
+
+const char* typeName(PunctualLight::Type t) {
+  switch (t) {
+    case PunctualLight::Type::Point: return "point";
+    case PunctualLight::Type::Spot: return "spot";
+    case PunctualLight::Type::Directional: return "directional";
+  }
+  return "?";
+}
+
+Json vec(const glm::vec3& v) { return Json::array({v.x, v.y, v.z}); }
+
+/// Reads the file's values with the loader's bounds, naming the key of anything wrong.
+class Reader {
+ public:
+  explicit Reader(std::string file) : file_(std::move(file)) {}
+  [[noreturn]] void fail(const std::string& where, const std::string& what) const {
+    throw LightsJsonError(file_ + ": " + where + ": " + what);
+  }
+  float number(const Json& j, const std::string& where, double bound) const {
+    if (!j.is_number() || !std::isfinite(j.get<double>()) || std::abs(j.get<double>()) > bound)
+      fail(where, "expected a finite number within +-" + std::to_string(bound));
+    return static_cast<float>(j.get<double>());
+  }
+  glm::vec3 vec3(const Json& j, const std::string& where, double bound) const {
+    if (!j.is_array() || j.size() != 3) fail(where, "expected 3 numbers");
+    return {number(j[0], where, bound), number(j[1], where, bound), number(j[2], where, bound)};
+  }
+  const Json& member(const Json& object, const char* key, const std::string& where) const {
+    if (!object.is_object() || !object.contains(key)) fail(where, std::string("missing '") + key + "'");
+    return object[key];
+  }
+
+ private:
+  std::string file_;
+};
+
+}  // namespace
+
+std::string lightsSidecarPath(const std::string& scenePath) { return scenePath + ".lights.json"; }
+
+std::string lightsToJson(const Scene& scene) {
+  Json punctual = Json::array();
+  for (const PunctualLight& l : scene.punctualLights) {
+    Json j = {{"name", l.name}, {"type", typeName(l.type)}, {"intensity", vec(l.intensity)}};
+    if (!l.isDirectional()) j["position"] = vec(l.position);
+    if (l.type != PunctualLight::Type::Point) j["direction"] = vec(l.direction);
+    if (l.type == PunctualLight::Type::Spot) {
+      j["innerConeAngle"] = l.innerConeAngle;
+      j["outerConeAngle"] = l.outerConeAngle;
+    }
+    punctual.push_back(j);
+  }
+  Json area = Json::array();
+  std::vector<int> entryOf(scene.materials.size(), -1);
+  for (uint32_t t : scene.emissiveTriangles) {
+    uint32_t m = scene.triangleMaterials[t];
+    if (entryOf[m] < 0) {
+      entryOf[m] = static_cast<int>(area.size());
+      area.push_back({{"material", scene.materials[m].name},
+                      {"emission", vec(scene.materials[m].emission)},
+                      {"triangles", Json::array()}});
+    }
+    const glm::uvec3& tri = scene.triangles[t];
+    area[static_cast<std::size_t>(entryOf[m])]["triangles"].push_back(
+        {vec(scene.positions[tri.x]), vec(scene.positions[tri.y]), vec(scene.positions[tri.z])});
+  }
+  return Json({{"punctualLights", punctual}, {"areaLights", area}}).dump(2) + "\n";
+}
+
+void saveLightsFile(const std::string& path, const Scene& scene) {
+  const std::string text = lightsToJson(scene);
+  const std::string tmp = path + ".tmp";
+  {
+    std::ofstream out(tmp, std::ios::binary);
+    if (!out) throw LightsJsonError(path + ": cannot open for writing");
+    out << text;
+    out.flush();
+    if (!out) {
+      std::remove(tmp.c_str());
+      throw LightsJsonError(path + ": write failed");
+    }
+  }
+  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
+    std::remove(tmp.c_str());
+    throw LightsJsonError(path + ": cannot replace the file");
+  }
+}
+
+void applyLightsFile(const std::string& path, Scene& scene) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) throw LightsJsonError(path + ": cannot open");
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  Json doc = Json::parse(text, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object()) throw LightsJsonError(path + ": not a JSON object");
+  Reader r(path);
+
+  // Everything is read into new values first: the scene changes only when the whole file is valid.
+  std::vector<PunctualLight> punctual;
+  const Json& list = r.member(doc, "punctualLights", "punctualLights");
+  if (!list.is_array()) r.fail("punctualLights", "expected an array");
+  for (std::size_t i = 0; i < list.size(); ++i) {
+    std::string at = "punctualLights[" + std::to_string(i) + "]";
+    const Json& j = list[i];
+    PunctualLight l;
+    const Json& type = r.member(j, "type", at);
+    std::string t = type.is_string() ? type.get<std::string>() : "";
+    if (t == "point") l.type = PunctualLight::Type::Point;
+    else if (t == "spot") l.type = PunctualLight::Type::Spot;
+    else if (t == "directional") l.type = PunctualLight::Type::Directional;
+    else r.fail(at + ".type", "expected \"point\", \"spot\" or \"directional\"");
+    if (j.contains("name") && j["name"].is_string()) l.name = j["name"].get<std::string>();
+    l.intensity = r.vec3(r.member(j, "intensity", at), at + ".intensity", kMaxEmission);
+    if (l.intensity.r < 0.0f || l.intensity.g < 0.0f || l.intensity.b < 0.0f) r.fail(at + ".intensity", "negative");
+    if (!l.isDirectional()) l.position = r.vec3(r.member(j, "position", at), at + ".position", kMaxCoordinate);
+    if (l.type != PunctualLight::Type::Point) {
+      glm::vec3 d = r.vec3(r.member(j, "direction", at), at + ".direction", 1e6);
+      if (!(glm::length(d) > 0.0f)) r.fail(at + ".direction", "zero vector");
+      l.direction = glm::normalize(d);
+    }
+    if (l.type == PunctualLight::Type::Spot) {
+      l.innerConeAngle = r.number(r.member(j, "innerConeAngle", at), at + ".innerConeAngle", 2.0);
+      l.outerConeAngle = r.number(r.member(j, "outerConeAngle", at), at + ".outerConeAngle", 2.0);
+      if (!(l.innerConeAngle >= 0.0f && l.innerConeAngle < l.outerConeAngle && l.outerConeAngle <= 1.5707964f))
+        r.fail(at, "needs 0 <= innerConeAngle < outerConeAngle <= pi/2");
+    }
+    punctual.push_back(l);
+  }
+
+  struct Area {
+    std::string material;
+    glm::vec3 emission;
+    std::vector<glm::vec3> corners;  ///< three per triangle
+  };
+  std::vector<Area> areas;
+  const Json& areaList = r.member(doc, "areaLights", "areaLights");
+  if (!areaList.is_array()) r.fail("areaLights", "expected an array");
+  for (std::size_t i = 0; i < areaList.size(); ++i) {
+    std::string at = "areaLights[" + std::to_string(i) + "]";
+    const Json& j = areaList[i];
+    Area a;
+    const Json& name = r.member(j, "material", at);
+    if (!name.is_string()) r.fail(at + ".material", "expected a string");
+    a.material = name.get<std::string>();
+    a.emission = r.vec3(r.member(j, "emission", at), at + ".emission", kMaxEmission);
+    if (a.emission.r < 0.0f || a.emission.g < 0.0f || a.emission.b < 0.0f) r.fail(at + ".emission", "negative");
+    const Json& tris = r.member(j, "triangles", at);
+    if (!tris.is_array()) r.fail(at + ".triangles", "expected an array");
+    for (std::size_t t = 0; t < tris.size(); ++t) {
+      std::string tAt = at + ".triangles[" + std::to_string(t) + "]";
+      if (!tris[t].is_array() || tris[t].size() != 3) r.fail(tAt, "expected 3 corners");
+      for (int k = 0; k < 3; ++k) a.corners.push_back(r.vec3(tris[t][static_cast<std::size_t>(k)], tAt, kMaxCoordinate));
+    }
+    areas.push_back(std::move(a));
+  }
+
+  // Apply: the scene's own area lights go, the file's come in.
+  scene.punctualLights = std::move(punctual);
+  std::size_t kept = 0;
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t)
+    if (!scene.materials[scene.triangleMaterials[t]].isEmissive()) {
+      scene.triangles[kept] = scene.triangles[t];
+      scene.triangleMaterials[kept] = scene.triangleMaterials[t];
+      ++kept;
+    }
+  scene.triangles.resize(kept);
+  scene.triangleMaterials.resize(kept);
+  for (Material& m : scene.materials) m.emission = glm::vec3(0.0f);
+  for (const Area& a : areas) {
+    uint32_t material = static_cast<uint32_t>(scene.materials.size());
+    for (uint32_t m = 0; m < scene.materials.size(); ++m)
+      if (scene.materials[m].name == a.material) material = m;
+    if (material == scene.materials.size()) {
+      Material m;
+      m.name = a.material;
+      m.baseColor = glm::vec3(0.0f);
+      m.specular = 0.0f;
+      scene.materials.push_back(m);
+    }
+    scene.materials[material].emission = a.emission;
+    for (std::size_t c = 0; c + 2 < a.corners.size(); c += 3) {
+      const glm::vec3 n = glm::cross(a.corners[c + 1] - a.corners[c], a.corners[c + 2] - a.corners[c]);
+      if (!(glm::length(n) > 0.0f)) continue;
+      auto base = static_cast<uint32_t>(scene.positions.size());
+      for (int k = 0; k < 3; ++k) {
+        scene.positions.push_back(a.corners[c + static_cast<std::size_t>(k)]);
+        scene.normals.push_back(glm::normalize(n));
+        scene.uvs.emplace_back(0.0f);
+      }
+      scene.triangles.emplace_back(base, base + 1, base + 2);
+      scene.triangleMaterials.push_back(material);
+    }
+  }
+  scene.finalize();
+}
+
+bool applyLightsSidecar(Scene& scene) {
+  const std::string path = lightsSidecarPath(scene.sourcePath);
+  std::error_code ec;
+  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  applyLightsFile(path, scene);
+  scene.staging += std::string(scene.staging.empty() ? "" : "; ") + "lights from " + path;
+  return true;
+}
+
+}  // namespace vplab
