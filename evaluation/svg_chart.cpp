@@ -14,25 +14,19 @@ namespace vplab {
 namespace {
 
 // Tableau 10: distinguishable in print and for the common colour-vision deficiencies; markers also differ by shape.
-constexpr const char* kPalette[] = {"#4e79a7", "#f28e2b", "#e15759", "#76b7b2", "#59a14f",
-                                    "#edc948", "#b07aa1", "#ff9da7", "#9c755f", "#bab0ac"};
-constexpr int kPaletteSize = 10;
+constexpr unsigned kPalette[] = {0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2, 0x59a14f,
+                                  0xedc948, 0xb07aa1, 0xff9da7, 0x9c755f, 0xbab0ac};
+constexpr std::size_t kPaletteSize = sizeof kPalette / sizeof kPalette[0];
+
+std::string svgColour(std::size_t index) {
+  char buf[8];
+  std::snprintf(buf, sizeof buf, "#%06x", chartColourRgb(index));
+  return buf;
+}
 
 std::string num(double v) {
   char buf[32];
   std::snprintf(buf, sizeof buf, "%.2f", v);
-  return buf;
-}
-
-std::string tickLabel(double v) {
-  char buf[32];
-  double a = std::fabs(v);
-  if (v == 0.0)
-    return "0";
-  else if (a >= 1e4 || a < 1e-3)
-    std::snprintf(buf, sizeof buf, "%.0e", v);
-  else
-    std::snprintf(buf, sizeof buf, "%g", v);
   return buf;
 }
 
@@ -81,7 +75,7 @@ Axis makeAxis(std::vector<double> values, bool logScale, double p0, double p1) {
 }
 
 // Marker shapes cycle with the colour index so series stay apart in greyscale too.
-std::string marker(int shape, double x, double y, const char* colour) {
+std::string marker(int shape, double x, double y, const std::string& colour) {
   std::ostringstream s;
   const double r = 4.0;
   switch (shape % 4) {
@@ -104,6 +98,20 @@ std::string marker(int shape, double x, double y, const char* colour) {
 }
 
 }  // namespace
+
+unsigned chartColourRgb(std::size_t index) { return kPalette[index % kPaletteSize]; }
+
+std::string axisTickLabel(double v) {
+  char buf[32];
+  double a = std::fabs(v);
+  if (v == 0.0)
+    return "0";
+  else if (a >= 1e4 || a < 1e-3)
+    std::snprintf(buf, sizeof buf, "%.0e", v);
+  else
+    std::snprintf(buf, sizeof buf, "%g", v);
+  return buf;
+}
 
 std::string xmlEscape(const std::string& text) {
   std::string out;
@@ -223,10 +231,10 @@ std::string renderSvgChart(const ChartSpec& spec) {
     << num(bottom - top) << "\" fill=\"none\" stroke=\"#333\"/>\n";
   for (double v : xt)
     o << "<text x=\"" << num(ax.toPixel(v)) << "\" y=\"" << num(bottom + 16) << "\" text-anchor=\"middle\">"
-      << xmlEscape(tickLabel(v)) << "</text>\n";
+      << xmlEscape(axisTickLabel(v)) << "</text>\n";
   for (double v : yt)
     o << "<text x=\"" << num(left - 6) << "\" y=\"" << num(ay.toPixel(v) + 4) << "\" text-anchor=\"end\">"
-      << xmlEscape(tickLabel(v)) << "</text>\n";
+      << xmlEscape(axisTickLabel(v)) << "</text>\n";
   o << "<text x=\"" << num((left + right) / 2) << "\" y=\"" << num(bottom + 36) << "\" text-anchor=\"middle\">"
     << xmlEscape(spec.xLabel + (spec.logX ? " (log)" : "")) << "</text>\n";
   o << "<text x=\"18\" y=\"" << num((top + bottom) / 2) << "\" text-anchor=\"middle\" transform=\"rotate(-90 18 "
@@ -250,8 +258,8 @@ std::string renderSvgChart(const ChartSpec& spec) {
 
   for (std::size_t si = 0; si < spec.series.size(); ++si) {
     const ChartSeries& s = spec.series[si];
-    const char* colour = kPalette[si % kPaletteSize];
-    int shape = static_cast<int>(si);
+    const std::string colour = svgColour(s.colour >= 0 ? static_cast<std::size_t>(s.colour) : si);
+    int shape = s.shape >= 0 ? s.shape : static_cast<int>(si);
     o << "<g class=\"series\" data-name=\"" << xmlEscape(s.name) << "\">\n";
     std::vector<glm::dvec2> pts;
     std::vector<std::string> labels;
@@ -279,8 +287,9 @@ std::string renderSvgChart(const ChartSpec& spec) {
   o << "<g class=\"legend\">\n";
   double lx = W - legendW, ly = top + 4;
   for (std::size_t si = 0; si < spec.series.size(); ++si) {
-    const char* colour = kPalette[si % kPaletteSize];
-    o << "<g class=\"legend-entry\">" << marker(static_cast<int>(si), lx + 8, ly + 18.0 * si, colour) << "<text x=\""
+    const ChartSeries& s = spec.series[si];
+    const std::string colour = svgColour(s.colour >= 0 ? static_cast<std::size_t>(s.colour) : si);
+    o << "<g class=\"legend-entry\">" << marker(s.shape >= 0 ? s.shape : static_cast<int>(si), lx + 8, ly + 18.0 * si, colour) << "<text x=\""
       << num(lx + 20) << "\" y=\"" << num(ly + 18.0 * si + 4) << "\">" << xmlEscape(spec.series[si].name)
       << "</text></g>\n";
   }

@@ -19,6 +19,8 @@ struct ChartSeries {
   std::vector<glm::dvec2> points;   ///< (x, y) in data units
   std::vector<std::string> labels;  ///< optional per-point labels (empty, or one per point; "" for none)
   bool connect = true;              ///< join the points in the given order with a polyline
+  int colour = -1;                  ///< index into the chart palette (chartColourRgb); -1: the series' position
+  int shape = -1;                   ///< marker shape 0..3 (circle, square, triangle, diamond); -1: the position
 };
 
 struct ChartSpec {
@@ -46,6 +48,13 @@ void writeSvgChart(const std::string& path, const ChartSpec& spec);
 
 /// Escapes &, <, >, " and ' for XML text and attribute values; other control characters become spaces.
 std::string xmlEscape(const std::string& text);
+
+/// The charts' palette (Tableau 10), as 0xRRGGBB; the index wraps. The editor's chart uses it too, so a method has
+/// the same colour on screen and in the bench's SVGs.
+unsigned chartColourRgb(std::size_t index);
+
+/// A tick value as printed under an axis: "%g", or "%.0e" outside [1e-3, 1e4).
+std::string axisTickLabel(double value);
 
 /// "Nice" tick values covering [lo, hi]: multiples of 1, 2 or 5 x 10^k on a linear axis (about `target` of them);
 /// decades on a log axis, with 2 and 5 x 10^k added when the range spans fewer than three decades.

@@ -96,8 +96,13 @@ void say(const BenchConfig& config, const std::string& line) {
   if (config.log) config.log(line);
 }
 
-std::string seriesName(const std::string& method, const std::string& backend) {
-  return method + " (" + backend + ")";
+// An empty series of one method on one backend: named, coloured by the method and shaped by the backend.
+ChartSeries methodSeries(const std::string& method, const std::string& backend) {
+  ChartSeries s;
+  s.name = method + " (" + backend + ")";
+  s.colour = benchMethodIndex(method);
+  s.shape = benchBackendShape(backend == "gl");
+  return s;
 }
 
 // Order of the series in every chart and table: the method list, CPU before GL.
@@ -369,8 +374,7 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
       onFront.insert(allRows[i]);
     }
     for (const auto& [k, g] : groups) {
-      ChartSeries s;
-      s.name = seriesName(k.method, k.backend);
+      ChartSeries s = methodSeries(k.method, k.backend);
       s.connect = false;
       for (const CsvRow* r : g) {
         s.points.push_back({toDouble(r->at("time_ms")), toDouble(r->at("relmse"))});
@@ -390,8 +394,7 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
     energy.yLabel = "energy ratio mean(I)/mean(R)";
     energy.logX = true;
     for (const auto& [k, g] : groups) {
-      ChartSeries s;
-      s.name = seriesName(k.method, k.backend);
+      ChartSeries s = methodSeries(k.method, k.backend);
       std::vector<std::pair<double, double>> pts;
       for (const CsvRow* r : g) {
         double b = toDouble(r->at("clamp_b"));
@@ -420,8 +423,7 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
     err.logY = true;
     for (const auto& [k, g] : groups) {
       if (k.method != "reject") continue;
-      ChartSeries a, e;
-      a.name = e.name = seriesName(k.method, k.backend);
+      ChartSeries a = methodSeries(k.method, k.backend), e = a;
       std::vector<const CsvRow*> sorted = g;
       std::sort(sorted.begin(), sorted.end(), [](const CsvRow* x, const CsvRow* y) {
         return toDouble(x->at("epsilon")) < toDouble(y->at("epsilon"));

@@ -21,6 +21,17 @@ inline const std::vector<std::string>& benchMethodNames() {
   return names;
 }
 
+/// Position of a method in benchMethodNames() (its colour in every chart, the editor's included); -1 if unknown.
+inline int benchMethodIndex(const std::string& method) {
+  const auto& names = benchMethodNames();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (names[i] == method) return static_cast<int>(i);
+  return -1;
+}
+
+/// Marker shape of a backend in every chart: circles for the CPU renders, squares for the GL preview.
+inline int benchBackendShape(bool gl) { return gl ? 1 : 0; }
+
 struct BenchConfig {
   std::string outDir = "bench-out";
   int width = 128;

@@ -5,6 +5,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <set>
@@ -90,6 +91,27 @@ TEST(BenchSvg, ChartIsWellFormedWithOneGroupPerSeries) {
   EXPECT_NE(notes[0]->text.find("2 point"), std::string::npos);
   // One marker per drawable point: the clamp series keeps only (2, 0.05).
   EXPECT_EQ(svg.findAll("g", "class", "series")[1]->children.size(), 1u);
+}
+
+TEST(BenchSvg, SeriesKeepTheirMethodsColourAndBackendsShape) {
+  // A method's colour does not depend on which other series a chart happens to have.
+  ChartSpec spec;
+  spec.logX = spec.logY = true;
+  ChartSeries vsl{"vsl (gl)", {{2, 0.05}}, {}, false};
+  vsl.colour = benchMethodIndex("vsl");
+  vsl.shape = benchBackendShape(true);
+  spec.series.push_back(vsl);
+  XmlElement svg = parseXml(renderSvgChart(spec));
+  const XmlElement* series = svg.findAll("g", "class", "series").at(0);
+  ASSERT_EQ(series->children.size(), 1u);
+  EXPECT_EQ(series->children[0].name, "rect");  // the GL marker: a square
+  char colour[8];
+  std::snprintf(colour, sizeof colour, "#%06x", chartColourRgb(static_cast<std::size_t>(benchMethodIndex("vsl"))));
+  EXPECT_EQ(series->children[0].attributes.at("fill"), colour);
+  EXPECT_NE(chartColourRgb(0), chartColourRgb(3));
+  EXPECT_EQ(benchMethodIndex("no such method"), -1);
+  EXPECT_EQ(axisTickLabel(0.002), "0.002");
+  EXPECT_EQ(axisTickLabel(1e-4), "1e-04");
 }
 
 TEST(BenchSvg, StrictParserRejectsMalformedXml) {

@@ -1,6 +1,8 @@
 // The editor: its pure logic (scripts, camera, chart, presets) and a scripted run of `vplab edit` under Xvfb whose
 // view is compared with the headless preview of the same settings and camera.
 
+#include "evaluation/svg_chart.h"
+#include "evaluation/sweep.h"
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
@@ -97,6 +99,86 @@ TEST(EditorChart, ParetoFrontKeepsOnlyUndominatedPoints) {
   for (int i = 0; i < 5; ++i) points[i].frameMs = data[i][0], points[i].relMse = data[i][1];
   EXPECT_EQ(ui::paretoFront(points), (std::vector<std::size_t>{4, 0, 1}));
   EXPECT_TRUE(ui::paretoFront({}).empty());
+}
+
+TEST(EditorChart, PointsAreFiledUnderTheBenchMethods) {
+  Settings s;
+  s.clampBound = kInfinity;
+  EXPECT_EQ(ui::chartMethod(s), "vpl");
+  s.rejection = true;
+  EXPECT_EQ(ui::chartMethod(s), "reject");
+  s.clampBound = 20.0f;
+  EXPECT_EQ(ui::chartMethod(s), "clamp");
+  s.ssbcSteps = 2;
+  EXPECT_EQ(ui::chartMethod(s), "ssbc");
+  s.vslRadius = 0.05f;
+  EXPECT_EQ(ui::chartMethod(s), "vsl");
+  s = Settings{};
+  s.clampBound = kInfinity;
+  s.ssbcSteps = 2;  // SSBC without a clamp compensates nothing
+  EXPECT_EQ(ui::chartMethod(s), "vpl");
+}
+
+TEST(EditorChart, LegendHasOneEntryPerMethodInTheBenchsOrderAndColours) {
+  std::vector<ui::ChartPoint> points(4);
+  points[0].settings.clampBound = 10.0f;
+  points[1].settings.clampBound = kInfinity;
+  points[2].settings.clampBound = 30.0f;
+  points[3].settings.vslRadius = 0.1f;
+  std::vector<ui::ChartLegendEntry> legend = ui::chartLegend(points);
+  ASSERT_EQ(legend.size(), 3u);
+  EXPECT_EQ(legend[0].method, "vpl");
+  EXPECT_EQ(legend[1].method, "clamp");
+  EXPECT_EQ(legend[2].method, "vsl");
+  for (const ui::ChartLegendEntry& e : legend)
+    EXPECT_EQ(e.rgb, chartColourRgb(static_cast<std::size_t>(benchMethodIndex(e.method)))) << e.method;
+  EXPECT_NE(legend[0].rgb, legend[1].rgb);
+  EXPECT_NE(legend[1].rgb, legend[2].rgb);
+  EXPECT_TRUE(ui::chartLegend({}).empty());
+}
+
+TEST(EditorChart, LogAxisMapsDecadesLinearlyAndAlwaysHasLabelledTicks) {
+  // x: left to right; y: bottom (pixel 200) to top (pixel 0).
+  ui::LogAxis x = ui::fitLogAxis({1.0, 100.0}, 0.0f, 300.0f);
+  EXPECT_LT(x.lo, 0.0);
+  EXPECT_GT(x.hi, 2.0);
+  EXPECT_GT(x.toPixel(1.0), 0.0f);  // padded: no marker on the frame
+  EXPECT_LT(x.toPixel(100.0), 300.0f);
+  EXPECT_NEAR(x.toPixel(10.0), 0.5f * (x.toPixel(1.0) + x.toPixel(100.0)), 1e-3f);
+  EXPECT_NEAR(x.fromPixel(x.toPixel(7.0)), 7.0, 1e-4);
+  EXPECT_EQ(x.ticks(), (std::vector<double>{1.0, 10.0, 100.0}));  // padded past three decades: decades only
+  ui::LogAxis y = ui::fitLogAxis({1e-4, 0.01}, 200.0f, 0.0f);
+  EXPECT_GT(y.toPixel(1e-4), y.toPixel(0.01));
+  EXPECT_EQ(y.toPixel(0.0), 200.0f);  // an exact match pins to the bottom, never NaN
+  EXPECT_EQ(y.toPixel(-1.0), 200.0f);
+  // A range narrower than any tick spacing is widened until two ticks are inside.
+  const std::vector<std::vector<double>> ranges = {{1.3, 1.35}, {3.0}, {}, {0.0, NAN}, {7.1e-5, 7.3e-5}};
+  for (const std::vector<double>& values : ranges) {
+    ui::LogAxis a = ui::fitLogAxis(values, 0.0f, 100.0f);
+    std::vector<double> ticks = a.ticks();
+    EXPECT_GE(ticks.size(), 2u) << values.size();
+    for (double t : ticks) {
+      EXPECT_GE(a.toPixel(t), 0.0f);
+      EXPECT_LE(a.toPixel(t), 100.0f);
+      EXPECT_FALSE(axisTickLabel(t).empty());
+    }
+    for (double v : values) {
+      if (!(v > 0.0)) continue;
+      EXPECT_TRUE(std::pow(10.0, a.lo) < v && v < std::pow(10.0, a.hi)) << v;
+    }
+  }
+}
+
+TEST(EditorChart, CurrentConfigurationIsFoundByItsSettings) {
+  std::vector<ui::ChartPoint> points(3);
+  points[0].settings.vplCount = 64;
+  points[1].settings.vplCount = 128;
+  points[2].settings.vplCount = 256;
+  Settings current;
+  current.vplCount = 128;
+  EXPECT_EQ(ui::findChartPoint(points, current), 1);
+  current.vplCount = 100;
+  EXPECT_EQ(ui::findChartPoint(points, current), -1);
 }
 
 TEST(EditorLights, AddedLightsLightTheModelCentreWithIrradiancePi) {

@@ -200,6 +200,7 @@ class Editor {
 
   std::vector<ChartPoint> chart_;
   bool chartPending_ = false;
+  bool chartWindowOpen_ = false;  ///< the chart is shown enlarged in its own window
 
   std::vector<std::string> recent_;
   std::string pathInput_;
@@ -906,9 +907,25 @@ void Editor::drawRightPanel() {
       ImGui::Text("preview vs offline: relMSE %.4g, energy %.3f", m.relMse, m.energyRatioOverall);
     }
   }
+  const int currentPoint = findChartPoint(chart_, settings_);
+  int clicked = -1;
+  if (chartWindowOpen_) {
+    // A resizable window of its own, shown whether or not the panel's section is open; the chart fills it, leaving
+    // room for the legend.
+    ImGui::SetNextWindowSize(ImVec2(720.0f, 480.0f), ImGuiCond_FirstUseEver);
+    if (ImGui::Begin("Speed vs accuracy chart", &chartWindowOpen_)) {
+      ImVec2 room = ImGui::GetContentRegionAvail();
+      clicked = drawSpeedAccuracyChart(chart_, currentPoint, room.x, room.y - 3.0f * ImGui::GetFrameHeightWithSpacing());
+    }
+    ImGui::End();
+  }
   if (ImGui::CollapsingHeader("Speed vs accuracy", ImGuiTreeNodeFlags_DefaultOpen)) {
-    int clicked = drawSpeedAccuracyChart(chart_, -1, kRightPanelWidth - 24.0f, 150.0f);
-    if (clicked >= 0) changeSettings(chart_[static_cast<std::size_t>(clicked)].settings);
+    if (chartWindowOpen_)
+      ImGui::TextDisabled("The chart is in its own window.");
+    else
+      clicked = drawSpeedAccuracyChart(chart_, currentPoint, kRightPanelWidth - 24.0f, 240.0f);
+    if (ImGui::SmallButton(chartWindowOpen_ ? "dock chart" : "enlarge chart")) chartWindowOpen_ = !chartWindowOpen_;
+    ImGui::SameLine();
     if (ImGui::SmallButton("clear chart")) chart_.clear();
     std::vector<PassTiming> passes = {
         {"G-buffer", timings_.gbufferMs}, {"light shadows", timings_.directShadowMs},
@@ -917,6 +934,8 @@ void Editor::drawRightPanel() {
         {"tonemap", timings_.tonemapMs},  {"VPL generation", vpls_.stats.generationSeconds * 1e3}};
     drawPassTimings(passes);
   }
+  if (clicked >= 0 && clicked < static_cast<int>(chart_.size()))
+    changeSettings(chart_[static_cast<std::size_t>(clicked)].settings);
   if (ImGui::CollapsingHeader("Teaching presets")) {
     for (const TeachingPreset& p : teachingPresets())
       if (ImGui::Button(p.name.c_str(), ImVec2(kRightPanelWidth - 30.0f, 0.0f))) {
