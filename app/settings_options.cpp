@@ -44,6 +44,9 @@ std::vector<OptionSpec> manyLightOptions() {
       {"shadow-map-size", "S", "VPL shadow-map resolution (GL preview; default 256)"},
       {"shadow-bias", "B", "VPL shadow depth bias, fraction of the scene diagonal (default 0.002)"},
       {"direct-samples", "K", "shadow-mapped area-light samples (GL preview; default 64)"},
+      {"visibility", "cube|ism", "VPL visibility: cube shadow maps or imperfect shadow maps (GL preview; default cube)"},
+      {"ism-tile-size", "T", "imperfect shadow map tile, texels per side, power of two (GL preview; default 64)"},
+      {"ism-points", "P", "imperfect shadow maps' surface point budget (GL preview; default 2097152)"},
   };
 }
 
@@ -86,6 +89,10 @@ void applySettingsOptions(const CommandLine& cl, Settings& s) {
   s.shadowMapSize = cl.getInt("shadow-map-size", s.shadowMapSize);
   s.shadowBias = cl.getFloat("shadow-bias", s.shadowBias);
   s.directLightSamples = cl.getInt("direct-samples", s.directLightSamples);
+  if (auto v = cl.value("visibility"); v && !parseVisibilityMethod(*v, s.visibility))
+    throw CliError("option --visibility: '" + *v + "' is not cube or ism");
+  s.ismTileSize = cl.getInt("ism-tile-size", s.ismTileSize);
+  s.ismPointBudget = cl.getInt("ism-points", s.ismPointBudget);
   std::vector<std::string> problems = validateSettings(s);
   if (!problems.empty()) throw CliError(problems.front());
 }

@@ -46,6 +46,10 @@ std::vector<std::string> validateSettings(const Settings& s) {
   checkRange(p, "interleave", s.interleave, 1, 8);
   checkRange(p, "shadowMapSize", s.shadowMapSize, 16, 2048);
   checkRange(p, "shadowBias", s.shadowBias, 0.0f, 0.1f);
+  checkRange(p, "ismTileSize", s.ismTileSize, 16, 512);
+  if (s.ismTileSize > 0 && (s.ismTileSize & (s.ismTileSize - 1)) != 0)
+    p.push_back("ismTileSize = " + std::to_string(s.ismTileSize) + " is not a power of two");
+  checkRange(p, "ismPointBudget", s.ismPointBudget, 1024, 1 << 25);
   return p;
 }
 
@@ -83,6 +87,23 @@ const char* toString(Stage stage) {
     case Stage::Studio: return "studio";
   }
   return "?";
+}
+
+const char* toString(VisibilityMethod visibility) {
+  switch (visibility) {
+    case VisibilityMethod::Cube: return "cube";
+    case VisibilityMethod::Ism: return "ism";
+  }
+  return "?";
+}
+
+bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out) {
+  for (VisibilityMethod v : {VisibilityMethod::Cube, VisibilityMethod::Ism})
+    if (text == toString(v)) {
+      out = v;
+      return true;
+    }
+  return false;
 }
 
 bool parseMethod(const std::string& text, Method& out) {

@@ -17,6 +17,13 @@ enum class Method {
   Vsl,        ///< virtual spherical lights of radius vslRadius
 };
 
+/// How the GL preview answers the visibility between a VPL and a shading point (docs/methods.md "VPL visibility").
+enum class VisibilityMethod {
+  Cube,  ///< one rasterised cube shadow map per VPL: sharp, the reference for the others; costs VPLs x triangles
+  Ism,   ///< imperfect shadow maps (Ritschel et al. 2008): a point-splatted paraboloid tile per VPL, cost independent
+         ///< of the triangle count; leaks light through thin occluders and near the VPL
+};
+
 /// Which part of the radiance an image holds. VPL methods approximate only the indirect part.
 enum class Components { All, Direct, Indirect };
 
@@ -105,6 +112,14 @@ struct Settings {
   int shadowMapSize = 256;
   /// Depth bias of VPL shadow lookups, as a fraction of the scene diagonal [0, 0.1]. Default 0.002.
   float shadowBias = 0.002f;
+  /// VPL visibility technique of the preview. Default Cube.
+  VisibilityMethod visibility = VisibilityMethod::Cube;
+  /// Imperfect shadow maps: texels per side of each VPL's paraboloid tile, a power of two [16, 512]. Default 64
+  /// (docs/benchmarks.md "Imperfect shadow maps": 128 costs 4x the tile work for little accuracy at 256 VPLs).
+  int ismTileSize = 64;
+  /// Imperfect shadow maps: surface points sampled once per scene and shared among the VPLs (each splats about
+  /// ismPointBudget / N of them) [1024, 1<<25]. Default 1<<21 (docs/benchmarks.md "Imperfect shadow maps").
+  int ismPointBudget = 1 << 21;
 };
 
 /// Checks every field against its documented range. Returns one message per problem (field name, value, range);
@@ -117,6 +132,9 @@ void requireValidSettings(const Settings& settings);
 const char* toString(Method method);
 const char* toString(Components components);
 const char* toString(Stage stage);
+const char* toString(VisibilityMethod visibility);
+/// Parses "cube", "ism"; returns false on anything else.
+bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out);
 /// Parses "reference", "vpl", "vpl-kk", "vsl"; returns false on anything else.
 bool parseMethod(const std::string& text, Method& out);
 /// Parses "all", "direct", "indirect"; returns false on anything else.

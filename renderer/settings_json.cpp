@@ -17,7 +17,7 @@ using Json = nlohmann::json;
 // One row per Settings member: the JSON key and where the value lives. The table is the single list both directions
 // walk, so a member added to Settings and here is saved, loaded and scriptable at once.
 using MemberPtr = std::variant<int Settings::*, uint32_t Settings::*, float Settings::*, bool Settings::*,
-                               Components Settings::*, Stage Settings::*>;
+                               Components Settings::*, Stage Settings::*, VisibilityMethod Settings::*>;
 struct Field {
   const char* key;
   MemberPtr member;
@@ -51,6 +51,9 @@ const std::vector<Field>& fields() {
       {"interleave", &Settings::interleave},
       {"shadowMapSize", &Settings::shadowMapSize},
       {"shadowBias", &Settings::shadowBias},
+      {"visibility", &Settings::visibility},
+      {"ismTileSize", &Settings::ismTileSize},
+      {"ismPointBudget", &Settings::ismPointBudget},
   };
   return table;
 }
@@ -67,7 +70,8 @@ Json toJson(const Settings& s, const Field& f) {
   return std::visit(
       [&](auto member) -> Json {
         using T = std::decay_t<decltype(s.*member)>;
-        if constexpr (std::is_same_v<T, Components> || std::is_same_v<T, Stage>) {
+        if constexpr (std::is_same_v<T, Components> || std::is_same_v<T, Stage> ||
+                      std::is_same_v<T, VisibilityMethod>) {
           return toString(s.*member);
         } else if constexpr (std::is_same_v<T, float>) {
           float v = s.*member;
@@ -99,6 +103,11 @@ void fromJson(Settings& s, const Field& f, const Json& value, const std::string&
           if (!value.is_string() || !parseStage(value.get<std::string>(), st))
             throw SettingsJsonError(where + ": expected \"auto\", \"none\" or \"studio\", got " + value.dump());
           s.*member = st;
+        } else if constexpr (std::is_same_v<T, VisibilityMethod>) {
+          VisibilityMethod v;
+          if (!value.is_string() || !parseVisibilityMethod(value.get<std::string>(), v))
+            throw SettingsJsonError(where + ": expected \"cube\" or \"ism\", got " + value.dump());
+          s.*member = v;
         } else if constexpr (std::is_same_v<T, float>) {
           if (value.is_string()) {
             const std::string text = value.get<std::string>();

@@ -12,6 +12,57 @@ std::unique_ptr<OfflineScene> loadAssetScene(const std::string& name) {
   return std::make_unique<OfflineScene>(loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/" + name + ".gltf"));
 }
 
+void addBumpySphere(Scene& scene, const glm::vec3& centre, float radius, int triangles, uint32_t material) {
+  const int rings = std::max(4, static_cast<int>(std::lround(std::sqrt(triangles / 4.0))));
+  const int segments = std::max(8, static_cast<int>(std::lround(triangles / (2.0 * rings))));
+  auto surface = [&](float theta, float phi) {
+    float bump = 1.0f + 0.06f * std::sin(9.0f * theta) * std::sin(7.0f * phi) + 0.03f * std::sin(23.0f * phi + 3.0f * theta);
+    glm::vec3 dir(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
+    return centre + radius * bump * dir;
+  };
+  const auto base = static_cast<uint32_t>(scene.positions.size());
+  const float pi = 3.14159265f, eps = 1e-3f;
+  for (int r = 0; r <= rings; ++r)
+    for (int s = 0; s <= segments; ++s) {
+      float theta = pi * r / rings, phi = 2.0f * pi * s / segments;
+      glm::vec3 p = surface(theta, phi);
+      glm::vec3 dt = surface(std::min(theta + eps, pi - 1e-4f), phi) - surface(std::max(theta - eps, 1e-4f), phi);
+      glm::vec3 dp = surface(theta, phi + eps) - surface(theta, phi - eps);
+      glm::vec3 n = glm::cross(dp, dt);
+      n = glm::length(n) > 1e-12f ? glm::normalize(n) : glm::normalize(p - centre);
+      if (glm::dot(n, p - centre) < 0.0f) n = -n;
+      scene.positions.push_back(p);
+      scene.normals.push_back(n);
+      scene.uvs.emplace_back(0.0f);
+    }
+  const uint32_t row = static_cast<uint32_t>(segments + 1);
+  for (int r = 0; r < rings; ++r)
+    for (int s = 0; s < segments; ++s) {
+      uint32_t a = base + static_cast<uint32_t>(r) * row + static_cast<uint32_t>(s), b = a + 1, c = a + row, d = b + row;
+      // Counter-clockwise seen from outside; the poles' degenerate triangles are left out.
+      if (r != 0) {
+        scene.triangles.emplace_back(a, b, c);
+        scene.triangleMaterials.push_back(material);
+      }
+      if (r != rings - 1) {
+        scene.triangles.emplace_back(b, d, c);
+        scene.triangleMaterials.push_back(material);
+      }
+    }
+}
+
+Scene denseCornellScene(int triangles) {
+  Scene scene = loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf");
+  uint32_t white = addLambertMaterial(scene, glm::vec3(0.738f, 0.736f, 0.737f));
+  addBumpySphere(scene, glm::vec3(0.37f, 0.47f, 0.35f), 0.14f, triangles, white);
+  scene.finalize();
+  return scene;
+}
+
+std::unique_ptr<OfflineScene> loadDenseCornell(int triangles) {
+  return std::make_unique<OfflineScene>(denseCornellScene(triangles));
+}
+
 uint32_t addLambertMaterial(Scene& scene, const glm::vec3& albedo, const glm::vec3& emission) {
   Material m;
   m.name = "material" + std::to_string(scene.materials.size());

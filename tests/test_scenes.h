@@ -27,6 +27,15 @@ void addQuad(Scene& scene, const glm::vec3& p0, const glm::vec3& p1, const glm::
 /// The six faces of the cube center +- half, facing inward or outward.
 void addCube(Scene& scene, const glm::vec3& center, float half, uint32_t material, bool inward);
 
+/// Appends a bumpy sphere (radius modulated by a few sines, smooth normals) of about `triangles` triangles: a finely
+/// tessellated object that shadows itself, like scripts/make_dense_scene.py writes for the benchmarks.
+void addBumpySphere(Scene& scene, const glm::vec3& centre, float radius, int triangles, uint32_t material);
+
+/// assets/scenes/cornell-box.gltf with a bumpy sphere of about `triangles` triangles resting on the tall block.
+Scene denseCornellScene(int triangles);
+/// The same with its BVH and light sampler.
+std::unique_ptr<OfflineScene> loadDenseCornell(int triangles);
+
 /// The furnace: a closed cube [-1,1]^3 facing inward, every wall Lambertian with albedo a and emission 1, camera at
 /// the centre. Exact radiance everywhere: 1 / (1 - a).
 Scene makeFurnaceBox(float albedo);

@@ -1,5 +1,7 @@
 #include "renderer/gl/gl_scene.h"
 
+#include <glad/gl.h>
+
 #include <algorithm>
 #include <cassert>
 
@@ -32,6 +34,8 @@ GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_ca
   uvs_.assign(scene.uvs.data(), scene.uvs.size() * sizeof(glm::vec2));
   triangles_.assign(t.data(), t.size() * sizeof(glm::uvec4));
   materials_.assign(m.data(), m.size() * sizeof(MaterialGpu));
+  indices_.assign(scene.triangles.data(), scene.triangles.size() * sizeof(glm::uvec3));
+  indexedVertices_.setPositionsAndIndices(positions_, indices_);
 
   int layers = std::max<int>(1, static_cast<int>(scene.textures.size()));
   textures_ = GlTexture(size, size, TextureFormat::Rgba32F, 1, layers, true);
@@ -46,6 +50,11 @@ GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_ca
             1.0f);
     textures_.uploadLayerRgba(static_cast<int>(layer), texels);
   }
+}
+
+void GlScene::drawIndexed() const {
+  indexedVertices_.bind();
+  glDrawElements(GL_TRIANGLES, 3 * triangleCount_, GL_UNSIGNED_INT, nullptr);
 }
 
 void GlScene::bind(int textureUnit) const {

@@ -17,12 +17,15 @@ class GlScene {
   /// Binds the SSBOs to 0-4 and the texture array to `textureUnit`.
   void bind(int textureUnit) const;
   int triangleCount() const { return triangleCount_; }
+  /// Draws every triangle as an indexed draw with positions in attribute 0 (depth-only passes: shadow maps).
+  void drawIndexed() const;
   const Scene* source() const { return source_; }
 
  private:
   const Scene* source_;
   int triangleCount_ = 0;
-  GlBuffer positions_, normals_, uvs_, triangles_, materials_;
+  GlBuffer positions_, normals_, uvs_, triangles_, materials_, indices_;
+  GlVertexArray indexedVertices_;
   GlTexture textures_;
 };
 

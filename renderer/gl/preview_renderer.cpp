@@ -9,8 +9,10 @@
 #include <numeric>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 
 #include "renderer/core/sampling.h"
+#include "renderer/gl/texture_units.h"
 
 namespace vplab {
 
@@ -28,8 +30,12 @@ struct Target {
 
 // std140 layouts of the light tables of shaders/preview/direct.frag.glsl and common/gather.glsl.
 struct DirectLightGpu {
-  glm::vec4 position, axis, weight;
+  glm::vec4 position, axis, weight, shadow, centre;
 };
+
+// Texels per side of a light's cube-map face: a few lights, not one map per sample, so they can be sharp (a texel spans
+// 0.1 degrees: no stair-steps at contact shadows).
+constexpr int kLightShadowFaceSize = 1024;
 struct VplGpu {
   glm::vec4 position, normal, incoming, flux, baseColor, geoNormal, lambertPower;
 };
@@ -68,13 +74,23 @@ void forEachUniformRange(const UniformTableLayout& layout, int first, int last, 
   }
 }
 
-// Draws per interleaving subset of a light table: one per uniform-block range of each shadow-map chunk.
-int lightTableDraws(const CubeShadowMaps& shadows, const UniformTableLayout& layout) {
+// Draws per interleaving subset of a light table: one per uniform-block range of each shadow-map chunk (Chunks:
+// CubeShadowMaps or VplVisibility).
+template <class Chunks>
+int lightTableDraws(const Chunks& shadows, const UniformTableLayout& layout) {
   int draws = 0;
   for (int c = 0; c < shadows.chunkCount(); ++c)
     forEachUniformRange(layout, shadows.chunkBegin(c), shadows.chunkEnd(c), [&](int, int, int) { ++draws; });
   return draws;
 }
+
+// A light table drawn in one chunk (the direct lights: their maps are layers of one texture).
+struct SingleChunk {
+  int count;
+  int chunkCount() const { return count > 0 ? 1 : 0; }
+  int chunkBegin(int) const { return 0; }
+  int chunkEnd(int) const { return count; }
+};
 
 // Interleaved sampling: subset s of a k x k pattern takes the lights i = s, s + k^2, ...; this is how far the first of
 // them lies after `rangeBegin`, the first light of a draw's range (common/interleaved.glsl).
@@ -224,8 +240,6 @@ PreviewRenderer::PreviewRenderer()
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}),
       direct_("preview/direct.frag.glsl", {uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
-      gather_("preview/gather.frag.glsl", {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
-      gatherVsl_("preview/gather_vsl.frag.glsl", {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu))}),
       ssbc_("preview/ssbc.frag.glsl"),
       ssbcTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
       ssbcRadiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}),
@@ -238,6 +252,17 @@ PreviewRenderer::PreviewRenderer()
       ssbcUpsample_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_UPSAMPLE_PASS 1"}) {
   vplTable_ = uniformTableLayout(sizeof(VplGpu));
   directTable_ = uniformTableLayout(sizeof(DirectLightGpu));
+  useVisibility(VisibilityMethod::Cube);
+}
+
+void PreviewRenderer::useVisibility(VisibilityMethod method) {
+  if (vplVisibility_ && method == visibilityMethod_) return;
+  vplVisibility_ = makeVplVisibility(method);
+  visibilityMethod_ = method;
+  const std::vector<std::string> defines = {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu)),
+                                            vplVisibility_->shaderDefine()};
+  gather_ = std::make_unique<BrdfVariants>("preview/gather.frag.glsl", defines);
+  gatherVsl_ = std::make_unique<BrdfVariants>("preview/gather_vsl.frag.glsl", defines);
 }
 
 PreviewRenderer::~PreviewRenderer() = default;
@@ -271,9 +296,17 @@ void PreviewRenderer::uploadDirectLights(const Scene& scene, const Settings& set
       throw GlError("the GL preview does not render directional lights yet ('" + l.name +
                     "'); the Embree passes (reference, render) do");
   std::vector<DirectLightGpu> lights;
-  directPositions_.clear();
+  lightCasters_.clear();
+  // One shadow map per area emitter (light_shadows.h) and per punctual light.
+  std::vector<AreaLightGroup> groups = groupAreaLights(scene);
+  std::unordered_map<uint32_t, int> groupOf;
+  for (std::size_t g = 0; g < groups.size(); ++g) {
+    for (uint32_t t : groups[g].triangles) groupOf[t] = static_cast<int>(g);
+    lightCasters_.push_back({groups[g].centre, groups[g].radius});
+  }
   // Area lights: K points y_k chosen with p(triangle) proportional to its power (luminance(Le) x area) and uniform
-  // on the triangle, so p_A(y) = p_t / A_t; each carries Le / (K p_A), making the sum an unbiased estimate of T Le.
+  // on the triangle, so p_A(y) = p_t / A_t; each carries Le / (K p_A), making the sum an unbiased estimate of the
+  // unshadowed T Le; the visibility comes from the sample's emitter map.
   std::vector<float> cdf;
   float total = 0.0f;
   for (uint32_t t : scene.emissiveTriangles) {
@@ -295,16 +328,24 @@ void PreviewRenderer::uploadDirectLights(const Scene& scene, const Settings& set
       glm::vec3 y = b.x * scene.positions[v.x] + b.y * scene.positions[v.y] + (1.0f - b.x - b.y) * scene.positions[v.z];
       float pdfA = pTri / scene.triangleArea(tri);
       glm::vec3 weight = scene.materialOf(tri).emission / (static_cast<float>(k) * pdfA);
-      lights.push_back({glm::vec4(y, 0.0f), glm::vec4(scene.geometricNormal(tri), 0.0f), glm::vec4(weight, 0.0f)});
-      directPositions_.push_back(y);
+      const int g = groupOf.at(tri);
+      const LightShadowCaster& caster = lightCasters_[static_cast<std::size_t>(g)];
+      lights.push_back({glm::vec4(y, 0.0f), glm::vec4(scene.geometricNormal(tri), 0.0f), glm::vec4(weight, 0.0f),
+                        glm::vec4(static_cast<float>(g), caster.radius, 0.0f, 0.0f), glm::vec4(caster.position, 0.0f)});
     }
+    // Samples of one emitter next to each other: the shader filters its map once per run of them.
+    std::stable_sort(lights.begin(), lights.end(),
+                     [](const DirectLightGpu& a, const DirectLightGpu& b) { return a.shadow.x < b.shadow.x; });
   }
   for (const PunctualLight& l : scene.punctualLights) {
     bool spot = l.type == PunctualLight::Type::Spot;
+    const float cube = static_cast<float>(lightCasters_.size());
+    lightCasters_.push_back({l.position, 0.0f});
     lights.push_back({glm::vec4(l.position, spot ? 2.0f : 1.0f), glm::vec4(l.direction, std::cos(l.outerConeAngle)),
-                      glm::vec4(l.intensity, std::cos(l.innerConeAngle))});
-    directPositions_.push_back(l.position);
+                      glm::vec4(l.intensity, std::cos(l.innerConeAngle)), glm::vec4(cube, 0.0f, 0.0f, 0.0f),
+                      glm::vec4(l.position, 0.0f)});
   }
+  directLightCount_ = static_cast<int>(lights.size());
   directLights_.assign(lights.data(), lights.size() * sizeof(DirectLightGpu));
 }
 
@@ -354,18 +395,20 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // Invalidation (header comment): decide which passes the changes since the last frame affect.
   bool cameraChanged = !haveFrame_ || !sameCamera(camera, lastCamera_);
-  bool shadowLayout = !shadowsValid_ || settings.shadowMapSize != last.shadowMapSize;
+  // The lights' maps depend on the scene and the light samples (K, seed) only.
   bool directMapsChanged =
-      shadowLayout || settings.directLightSamples != last.directLightSamples || settings.seed != last.seed;
-  // VPL shadow maps depend on the caster positions only: flux, radius or material edits just re-upload the VPLs.
-  bool vplDataChanged = vplsDirty_;
-  std::vector<glm::vec3> vplPositions;
-  bool vplMapsChanged = shadowLayout;
-  if (vplDataChanged || shadowLayout) {
-    vplPositions.resize(vpls.vpls.size());
-    for (std::size_t i = 0; i < vplPositions.size(); ++i) vplPositions[i] = vpls.vpls[i].position;
-    vplMapsChanged = vplMapsChanged || vplPositions != vplShadowPositions_;
+      !shadowsValid_ || settings.directLightSamples != last.directLightSamples || settings.seed != last.seed;
+  if (settings.visibility != visibilityMethod_) {
+    useVisibility(settings.visibility);
+    vplsDirty_ = true;
   }
+  if (!shadowsValid_) vplVisibility_->resetScene();
+  // The VPL maps depend on the casters (position, and orientation for paraboloid tiles) only: flux, radius or material
+  // edits just re-upload the VPLs.
+  bool vplDataChanged = vplsDirty_;
+  std::vector<IsmCaster> casters(vpls.vpls.size());
+  for (std::size_t i = 0; i < casters.size(); ++i) casters[i] = {vpls.vpls[i].position, vpls.vpls[i].geometricNormal};
+  bool vplMapsChanged = vplVisibility_->stale(casters, settings);
   bool directChanged = cameraChanged || directMapsChanged || settings.shadowBias != last.shadowBias ||
                        settings.interleave != last.interleave;
   bool gatherChanged = cameraChanged || vplDataChanged || vplMapsChanged || settings.clampBound != last.clampBound ||
@@ -378,7 +421,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
   float far = 2.0f * diagonal;
   float bias = settings.shadowBias * diagonal;
-  int faceSize = std::max(8, settings.shadowMapSize / 2);
   glm::mat4 view = glm::lookAt(camera.position, camera.position + camera.forward, camera.up);
   float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
   glm::mat4 proj = glm::perspective(camera.yfov, aspect, camera.znear, camera.zfar);
@@ -412,7 +454,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (directMapsChanged) {
     t.directShadowMs = timed(timer_, t.directShadowWallMs, [&] {
       uploadDirectLights(scene, settings);
-      directShadows_.render(*glScene_, directPositions_, faceSize, far);
+      lightShadows_.render(*glScene_, lightCasters_, kLightShadowFaceSize, far);
     });
     ++counters_.directShadowMaps;
   }
@@ -421,9 +463,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   vplsDirty_ = false;
   // Pass 3: one cube shadow map per VPL, only when a VPL position (or the map size, or the scene) changes.
   if (vplMapsChanged) {
-    t.vplShadowMs =
-        timed(timer_, t.vplShadowWallMs, [&] { vplShadows_.render(*glScene_, vplPositions, faceSize, far); });
-    vplShadowPositions_ = std::move(vplPositions);
+    t.vplShadowMs = timed(timer_, t.vplShadowWallMs,
+                          [&] { vplVisibility_->update(*glScene_, scene, casters, settings, far); });
     ++counters_.vplShadowMaps;
   }
   shadowsValid_ = true;
@@ -457,10 +498,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // One interleaved subset of a light table (direct-light samples or VPLs, common/interleaved.glsl): a draw per range
   // of each shadow-map chunk whose entries fit one uniform block.
-  auto drawLightTable = [&](ShaderProgram& program, const CubeShadowMaps& shadows, const UniformTableLayout& layout,
-                            const GlBuffer& table, int binding, int subset) {
+  auto drawLightTable = [&](ShaderProgram& program, const auto& shadows, auto&& bindChunk,
+                            const UniformTableLayout& layout, const GlBuffer& table, int binding, int subset) {
     for (int c = 0; c < shadows.chunkCount(); ++c) {
-      shadows.chunkTexture(c).bind(6);
+      bindChunk(c);
       program.set("uFirstLight", shadows.chunkBegin(c));
       forEachUniformRange(layout, shadows.chunkBegin(c), shadows.chunkEnd(c), [&](int base, int begin, int end) {
         table.bindUniformRange(binding, static_cast<std::size_t>(base) * layout.elementBytes,
@@ -480,10 +521,13 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     t.directMs = timed(timer_, t.directWallMs, [&] {
       ShaderProgram& direct = direct_[lambertOnly_];
       direct.set("uCameraPosition", camera.position);
-      direct.set("uShadowFar", far);
-      direct.set("uShadowBias", bias);
-      interleaved(direct, *tg.directRaw, lightTableDraws(directShadows_, directTable_),
-                  [&](int subset) { drawLightTable(direct, directShadows_, directTable_, directLights_, 7, subset); });
+      direct.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
+      lightShadows_.bind(unit(TextureUnit::LightShadows));
+      // The whole light table is one chunk: every light's map is a layer of one cube-map array.
+      const SingleChunk lights{directLightCount_};
+      interleaved(direct, *tg.directRaw, lightTableDraws(lights, directTable_), [&](int subset) {
+        drawLightTable(direct, lights, [](int) {}, directTable_, directLights_, 7, subset);
+      });
     });
     ++counters_.direct;
   }
@@ -492,13 +536,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (gatherChanged) {
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
       // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
-      ShaderProgram& gather = (vplsHaveRadius_ ? gatherVsl_ : gather_)[lambertOnly_];
+      ShaderProgram& gather = (vplsHaveRadius_ ? *gatherVsl_ : *gather_)[lambertOnly_];
       gather.set("uCameraPosition", camera.position);
       gather.set("uClampBound", settings.clampBound);
       gather.set("uShadowFar", far);
       gather.set("uShadowBias", bias);
-      interleaved(gather, *tg.indirectRaw, lightTableDraws(vplShadows_, vplTable_),
-                  [&](int subset) { drawLightTable(gather, vplShadows_, vplTable_, vplBuffer_, 8, subset); });
+      const VplVisibility& visibility = *vplVisibility_;
+      interleaved(gather, *tg.indirectRaw, lightTableDraws(visibility, vplTable_), [&](int subset) {
+        drawLightTable(
+            gather, visibility, [&](int c) { visibility.bindChunk(c, gather); }, vplTable_, vplBuffer_, 8, subset);
+      });
     });
     ++counters_.gather;
   }

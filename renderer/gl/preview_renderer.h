@@ -17,7 +17,9 @@
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/resources.h"
 #include "renderer/gl/shader.h"
+#include "renderer/gl/light_shadows.h"
 #include "renderer/gl/shadow_maps.h"
+#include "renderer/gl/vpl_visibility.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 #include "renderer/vpl/vpl.h"
@@ -103,6 +105,8 @@ class PreviewRenderer {
   void mergeInterleaved(glm::vec2 weights, GlFramebuffer& out);
   void uploadDirectLights(const Scene& scene, const Settings& settings);
   void uploadVpls(const Scene& scene, const VplSet& vpls);
+  /// Creates the visibility technique and compiles the gather for it when Settings::visibility changed.
+  void useVisibility(VisibilityMethod method);
 
   std::unique_ptr<Targets> targets_;
   std::unique_ptr<GlScene> glScene_;
@@ -110,19 +114,23 @@ class PreviewRenderer {
   const VplSet* vplSet_ = nullptr;
   bool vplsDirty_ = true;
   bool sceneDirty_ = true;
-  /// Caster positions the VPL shadow maps were rendered from (compared to decide whether they are still valid).
-  std::vector<glm::vec3> vplShadowPositions_;
   /// False until shadow maps exist for the current scene.
   bool shadowsValid_ = false;
 
-  CubeShadowMaps directShadows_, vplShadows_;
+  LightShadowMaps lightShadows_;
+  std::vector<LightShadowCaster> lightCasters_;
+  int directLightCount_ = 0;
+  /// The VPL visibility technique of Settings::visibility, and the gather compiled for it (with and without VSLs).
+  std::unique_ptr<VplVisibility> vplVisibility_;
+  VisibilityMethod visibilityMethod_ = VisibilityMethod::Cube;
+  std::unique_ptr<BrdfVariants> gather_;
+  std::unique_ptr<BrdfVariants> gatherVsl_;
   GlBuffer directLights_, vplBuffer_;
-  std::vector<glm::vec3> directPositions_;
   /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
   bool vplsHaveRadius_ = false;
   ShaderProgram gbuffer_, deinterleaveRows_, deinterleaveColumns_, compose_, tonemap_;
   // Indexed by lambertOnly_: true when every material of the scene is Lambert.
-  BrdfVariants direct_, gather_, gatherVsl_, ssbc_;
+  BrdfVariants direct_, ssbc_;
   ShaderProgram ssbcTaps_, ssbcRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
   // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are

@@ -65,6 +65,9 @@ class GlTexture {
   void uploadRgb(const std::vector<glm::vec3>& texels);
   /// Uploads RGBA float texels (row 0 first) into one layer of level 0 of a texture array.
   void uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels);
+  /// Uploads 16-bit depth texels (0..65535 = 0..1, layer by layer, row 0 first) into level 0 of every layer of a
+  /// Depth16 texture array.
+  void uploadDepth16(const std::vector<uint16_t>& texels);
   void generateMipmaps();
   /// Sets depth-comparison sampling (sampler2DShadow / sampler2DArrayShadow).
   void setDepthCompare(bool on);
@@ -118,11 +121,14 @@ class GlBuffer {
   std::size_t size_ = 0;
 };
 
-/// An empty vertex array: every vplab pass fetches its vertices from SSBOs or gl_VertexID.
+/// A vertex array: empty for the passes that fetch their vertices from SSBOs by gl_VertexID, or positions + indices.
 class GlVertexArray {
  public:
   GlVertexArray();
   void bind() const;
+  /// Attribute 0 = vec4 positions from `positions`, element indices (uint32) from `indices`: for indexed draws, which
+  /// let the driver reuse a shared vertex instead of shading it once per triangle.
+  void setPositionsAndIndices(const GlBuffer& positions, const GlBuffer& indices);
 
  private:
   GlObject object_;

@@ -20,7 +20,7 @@
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/interleaved.glsl"
-#include "common/shadow.glsl"
+#include "common/visibility.glsl"
 #if GATHER_VSL
 #include "common/vsl.glsl"
 #endif
@@ -37,11 +37,8 @@ struct GlVpl {
   vec4 lambertPower;
 };
 layout(std140, binding = 8) uniform Vpls { GlVpl vpls[GATHER_UBO_VPLS]; };
-layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
 
 uniform float uClampBound; // b (a large finite value stands for infinity); point-VPL sets only
-uniform float uShadowFar;
-uniform float uShadowBias;
 
 layout(location = 0) out vec4 outColor;
 
@@ -67,7 +64,7 @@ void main() {
   for (int i = first; i < uLightEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];
     vec3 x2 = vpl.position.xyz;
-    float v = shadowVisibility(uShadowMaps, i - uFirstLight, x2, x1, ng, uShadowFar, uShadowBias);
+    float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, length(x2 - x1), ng);
 #ifdef BRDF_LAMBERT_ONLY
     sum += vslLambertCosineTransfer(x1, n1, ng, x2, vpl.normal.xyz, vpl.geoNormal.xyz, vpl.position.w) * v *
            vpl.lambertPower.rgb;
@@ -96,7 +93,7 @@ void main() {
     float cos1 = dot(n1, w), cos2 = -dot(n2, w);
     // One-sided surfaces at both ends, clamped cosines, G bounded by b (MANYLIGHTS 4).
     bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 && cos2 > 0.0;
-    float v = shadowVisibilityAt(uShadowMaps, i - uFirstLight, x2, x1, dist2 * invDist, ng, uShadowFar, uShadowBias);
+    float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, dist2 * invDist, ng);
     float gv = contributes ? min(cos1 * cos2 * invDist * invDist, uClampBound) * v : 0.0;
     sum += gv * vpl.lambertPower.rgb;
   }
@@ -116,7 +113,7 @@ void main() {
     float cos1 = dot(n1, w), cos2 = -dot(n2, w);
     if (cos1 <= 0.0 || cos2 <= 0.0) continue;
     float g = min(cos1 * cos2 / dist2, uClampBound);
-    float v = shadowVisibility(uShadowMaps, i - uFirstLight, x2, x1, ng, uShadowFar, uShadowBias);
+    float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, length(x2 - x1), ng);
     if (v <= 0.0) continue;
     // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
     sum += evaluateBrdf(p1, n1, wo, w) * g * v * evaluateBrdf(p2, n2, vpl.incoming.xyz, -w) * vpl.flux.rgb;

@@ -1,5 +1,6 @@
 #version 450 core
-// Pass 2, direct light T Le (MANYLIGHTS 1): each light is a shadow-mapped point emitter.
+// Pass 2, direct light T Le (docs/methods.md "Direct light in the preview"): K samples on the area lights give the
+// unshadowed light, one shadow map per emitter or punctual light its visibility (common/light_shadow.glsl).
 //  - area-light sample y_k (one-sided):  f(x1) cos1 max(0, n_y.(-w)) / d^2 * Le / (K p_A(y_k)) * V   (weight = Le/(K p_A))
 //  - punctual light:                      f(x1) cos1 I(-w) / d^2 * V   (KHR_lights_punctual spot falloff)
 // The area estimator is unbiased per sample, so the image converges to the exact direct light as K grows.
@@ -8,20 +9,19 @@
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/interleaved.glsl"
-#include "common/shadow.glsl"
+#include "common/units.glsl"
+#include "common/light_shadow.glsl"
 
 struct DirectLight {
   vec4 position;  // xyz, w: 0 area sample, 1 point, 2 spot
   vec4 axis;      // emitter normal (area) or spot axis; w: cos(outer cone)
   vec4 weight;    // rgb: Le / (K p_A) (area) or intensity in candela; w: cos(inner cone)
+  vec4 shadow;    // x: the light's cube shadow map, y: radius of its emitter (0: punctual)
+  vec4 centre;    // xyz: where that shadow map was rendered from (the emitter's centre, or the punctual light)
 };
 // A uniform block of at most DIRECT_UBO_LIGHTS lights (set by the renderer), bound from light uUboBase on: llvmpipe
 // reads a UBO faster than a storage buffer; a longer list is drawn in ranges.
 layout(std140, binding = 7) uniform DirectLights { DirectLight lights[DIRECT_UBO_LIGHTS]; };
-layout(binding = 6) uniform sampler2DArrayShadow uShadowMaps;
-
-uniform float uShadowFar;
-uniform float uShadowBias;
 
 layout(location = 0) out vec4 outColor;
 
@@ -35,6 +35,11 @@ void main() {
   BrdfParams p = s.brdf;
   vec3 sum = vec3(0.0);
   int k2 = uInterleave * uInterleave;
+  // The samples of one emitter share its shadow map: the visibility is filtered once per emitter and pixel.
+  int cachedCube = -1;
+  float cachedVisibility = 0.0;
+  // Filter rotation per pixel (interleaved gradient noise, Jimenez 2014): deterministic, and the de-interleave blurs it.
+  float rotation = 6.2831853 * fract(52.9829189 * fract(dot(vec2(s.px), vec2(0.06711056, 0.00583715))));
   // This subset's lights inside the range [uLightBegin, uLightEnd).
   for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
     DirectLight l = lights[i - uUboBase];
@@ -59,7 +64,12 @@ void main() {
       float t = clamp((cd - l.axis.w) / max(0.001, l.weight.w - l.axis.w), 0.0, 1.0);
       radiantTerm = l.weight.rgb * (t * t);
     }
-    float v = shadowVisibility(uShadowMaps, i - uFirstLight, l.position.xyz, x1, ng, uShadowFar, uShadowBias);
+    int cube = int(l.shadow.x);
+    if (cube != cachedCube) {
+      cachedVisibility = lightVisibility(cube, l.centre.xyz, l.shadow.y, x1, ng, rotation);
+      cachedCube = cube;
+    }
+    float v = cachedVisibility;
     if (v <= 0.0) continue;
     sum += evaluateBrdf(p, n1, wo, w) * cos1 / dist2 * radiantTerm * v;
   }

@@ -1,0 +1,85 @@
+#pragma once
+// Imperfect shadow maps (Ritschel et al. 2008; docs/methods.md "VPL visibility"): the CPU half. A fixed set of surface
+// points stands in for the triangles; every VPL splats its own subset of them into a small paraboloid depth tile, and
+// a pull-push pass fills the holes between splats. The cost is the point budget plus N x tile texels, whatever the
+// triangle count. Nothing here needs GL: the tiles are uploaded by IsmVisibility (vpl_visibility.h) and tested
+// against exact visibility on the CPU.
+//
+// Why the splatting runs on the CPU: measured on llvmpipe (docs/benchmarks.md "Imperfect shadow maps"), C++ splats
+// several times faster than GL_POINTS or a compute shader with imageAtomicMin, is deterministic (each tile is written
+// by one thread, no atomics) and gives the same tiles on every GL driver; on a GPU the upload of N 64^2 16-bit tiles
+// costs less than a millisecond.
+
+#include <cstdint>
+#include <glm/glm.hpp>
+#include <vector>
+
+#include "renderer/core/sampling.h"
+#include "renderer/scene/scene.h"
+
+namespace vplab {
+
+/// Surface points sampled with probability proportional to area, stratified along the triangles' area CDF: point j
+/// lies in the stratum [j, j + 1) / count of the total area, so every triangle gets its share up to one point. This
+/// holds each point's triangle; where inside it the point lies is decided per caster subset (arrangeIsmSubsets), so
+/// that every subset is well spread on its own. The same scene and count give the same points.
+struct IsmPoints {
+  std::vector<uint32_t> triangles;
+  /// Total surface area of the scene, m^2.
+  double totalArea = 0.0;
+  std::size_t size() const { return triangles.size(); }
+};
+
+IsmPoints sampleIsmPoints(const Scene& scene, int count);
+
+/// The points of each of N casters: caster i takes the points j with j mod N = i (still stratified along the area
+/// CDF, and the same for as long as N does not change), stored contiguously from begin[i] on so that splatting reads
+/// memory in order. Inside its triangle the m-th point of subset i sits at the m-th point of the 2D R2 sequence
+/// (Roberts 2018), shifted per subset: one low-discrepancy sequence per subset, where subsampling a single sequence
+/// every N-th point would line the points up in stripes.
+struct IsmSubsets {
+  std::vector<glm::vec3> positions;
+  /// Geometric normal of each point's triangle (its splat is sized by the projected area).
+  std::vector<glm::vec3> normals;
+  std::vector<std::size_t> begin;  // N + 1 offsets
+  double totalArea = 0.0;
+  int casterCount() const { return static_cast<int>(begin.size()) - 1; }
+};
+IsmSubsets arrangeIsmSubsets(const Scene& scene, const IsmPoints& points, int casters);
+
+/// Paraboloid parameterisation of the hemisphere around a VPL's normal n: a unit direction w with n.w >= 0 maps to
+/// uv = (s.w, t.w) / (1 + n.w) in the unit disc, (s, t, n) the orthonormal Frame of renderer/core/sampling.h (the
+/// shader builds the same frame). A texel of a tile of T x T texels covers the solid angle 4 / (1 + |uv|^2)^2 (2/T)^2.
+
+/// Layout and parameters of one set of tiles: tile i covers texels [tx, tx + tileSize) x [ty, ty + tileSize) of layer
+/// i / tilesPerLayer, with (tx, ty) = tileSize x (c % tilesPerRow, c / tilesPerRow), c = i % tilesPerLayer.
+struct IsmLayout {
+  int tileSize = 64;
+  int tilesPerRow = 1;
+  int tilesPerLayer = 1;
+  int layers = 1;
+  int atlasSize() const { return tileSize * tilesPerRow; }
+};
+
+/// Chooses the smallest square atlas (a power-of-two number of tiles per row, at most maxTextureSize texels wide)
+/// that holds `tiles` tiles, in as many layers as needed.
+IsmLayout ismLayout(int tiles, int tileSize, int maxTextureSize);
+
+struct IsmCaster {
+  glm::vec3 position, normal;
+};
+
+/// Splats each caster's subset into its 16-bit depth tile (depth = distance / far, 65535 = nothing there), each point
+/// as a disc of the solid angle its share of the surface area subtends, then fills holes by pull-push over at most `fillLevels` levels of the tile's pyramid (holes up to about
+/// 2^fillLevels texels wide: larger empty regions are directions where no surface lies and stay empty).
+/// Returns layers x atlasSize^2 texels, row 0 first (GL's texture row 0), tile by tile in parallel on `threads`.
+std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters,
+                                    const IsmLayout& layout, float far, int fillLevels, int threads);
+
+/// Visibility of x (geometric normal geoNormal) from caster i through its tile: the lookup of
+/// shaders/common/visibility_ism.glsl without its 2x2 filter, the same normal offset and texel-footprint bias on top of
+/// `bias`. For tests against exact visibility.
+float ismVisibility(const std::vector<uint16_t>& tiles, const IsmLayout& layout, int caster, const IsmCaster& c,
+                    glm::vec3 x, glm::vec3 geoNormal, float far, float bias);
+
+}  // namespace vplab

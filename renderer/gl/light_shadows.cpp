@@ -1,0 +1,132 @@
+#include "renderer/gl/light_shadows.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <glm/gtc/matrix_transform.hpp>
+#include <numeric>
+
+#include "renderer/core/sampling.h"
+#include "renderer/gl/gl_scene.h"
+
+namespace vplab {
+
+namespace {
+
+int findRoot(std::vector<int>& parent, int i) {
+  while (parent[static_cast<std::size_t>(i)] != i) {
+    parent[static_cast<std::size_t>(i)] = parent[static_cast<std::size_t>(parent[static_cast<std::size_t>(i)])];
+    i = parent[static_cast<std::size_t>(i)];
+  }
+  return i;
+}
+
+}  // namespace
+
+std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
+  const std::vector<uint32_t>& emissive = scene.emissiveTriangles;
+  // Connected components over shared vertex indices, and over coincident vertex positions (quads written with their
+  // own vertices per face still form one emitter).
+  std::vector<int> parent(emissive.size());
+  std::iota(parent.begin(), parent.end(), 0);
+  std::vector<std::pair<glm::vec3, int>> corners;
+  for (std::size_t e = 0; e < emissive.size(); ++e) {
+    const glm::uvec3& v = scene.triangles[emissive[e]];
+    for (int c = 0; c < 3; ++c) corners.push_back({scene.positions[v[c]], static_cast<int>(e)});
+  }
+  auto less = [](const auto& a, const auto& b) {
+    return a.first.x != b.first.x ? a.first.x < b.first.x : a.first.y != b.first.y ? a.first.y < b.first.y : a.first.z < b.first.z;
+  };
+  std::sort(corners.begin(), corners.end(), less);
+  for (std::size_t i = 1; i < corners.size(); ++i)
+    if (corners[i].first == corners[i - 1].first)
+      parent[static_cast<std::size_t>(findRoot(parent, corners[i].second))] = findRoot(parent, corners[i - 1].second);
+
+  std::vector<AreaLightGroup> groups;
+  std::vector<int> groupOf(emissive.size(), -1), rootGroup(emissive.size(), -1);
+  for (std::size_t e = 0; e < emissive.size(); ++e) {
+    int root = findRoot(parent, static_cast<int>(e));
+    if (rootGroup[static_cast<std::size_t>(root)] < 0) {
+      rootGroup[static_cast<std::size_t>(root)] = static_cast<int>(groups.size());
+      groups.emplace_back();
+    }
+    groups[static_cast<std::size_t>(rootGroup[static_cast<std::size_t>(root)])].triangles.push_back(emissive[e]);
+  }
+  auto measure = [&](AreaLightGroup& g) {
+    glm::dvec3 weighted(0.0);
+    double power = 0.0;
+    for (uint32_t t : g.triangles) {
+      const glm::uvec3& v = scene.triangles[t];
+      double p = luminance(scene.materialOf(t).emission) * scene.triangleArea(t);
+      weighted += p * glm::dvec3(scene.positions[v.x] + scene.positions[v.y] + scene.positions[v.z]) / 3.0;
+      power += p;
+    }
+    g.power = static_cast<float>(power);
+    if (power > 0.0) g.centre = glm::vec3(weighted / power);
+    g.radius = 0.0f;
+    for (uint32_t t : g.triangles)
+      for (int c = 0; c < 3; ++c) g.radius = std::max(g.radius, glm::length(scene.positions[scene.triangles[t][c]] - g.centre));
+  };
+  for (AreaLightGroup& g : groups) measure(g);
+  std::sort(groups.begin(), groups.end(), [](const AreaLightGroup& a, const AreaLightGroup& b) { return a.power > b.power; });
+  if (groups.size() > static_cast<std::size_t>(kMaxAreaGroups)) {
+    // Too many emitters for a map each: the weaker ones join the nearest of the strongest, whose centre and radius
+    // then cover them.
+    for (std::size_t i = kMaxAreaGroups; i < groups.size(); ++i) {
+      std::size_t best = 0;
+      for (std::size_t j = 1; j < static_cast<std::size_t>(kMaxAreaGroups); ++j)
+        if (glm::length(groups[j].centre - groups[i].centre) < glm::length(groups[best].centre - groups[i].centre))
+          best = j;
+      groups[best].triangles.insert(groups[best].triangles.end(), groups[i].triangles.begin(), groups[i].triangles.end());
+    }
+    groups.resize(kMaxAreaGroups);
+    for (AreaLightGroup& g : groups) measure(g);
+  }
+  return groups;
+}
+
+void LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize,
+                             float far) {
+  if (!program_.valid())
+    program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
+  count_ = static_cast<int>(casters.size());
+  if (count_ == 0) return;
+  if (!cubes_ || cubes_.layers() != 6 * count_ || faceSize_ != faceSize) {
+    cubes_ = GlTexture::cubeArray(faceSize, count_, TextureFormat::R32F);
+    cubes_.setLinearFiltering(false);
+    depth_ = GlTexture(faceSize, faceSize, TextureFormat::Depth32F);
+    faceSize_ = faceSize;
+  }
+  // Cube face orientations of the GL specification (table 8.19), so that a samplerCubeArray lookup with the offset
+  // from the light finds the texel rendered for it.
+  static const glm::vec3 kTargets[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+  const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far);
+  // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
+  program_.set("uMaxSlopeBias", 4.0f * 2.0f / static_cast<float>(faceSize));
+  program_.use();
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  for (int c = 0; c < count_; ++c)
+    for (int f = 0; f < 6; ++f) {
+      framebuffer_.attachColor(0, cubes_, 0, 6 * c + f);
+      framebuffer_.attachDepth(depth_);
+      framebuffer_.finalize(1);
+      framebuffer_.bind(faceSize, faceSize);
+      framebuffer_.clearColor(0, glm::vec4(3.0e38f));
+      framebuffer_.clearDepth(1.0f);
+      const glm::vec3& origin = casters[static_cast<std::size_t>(c)].position;
+      program_.set("uViewProjection", projection * glm::lookAt(origin, origin + kTargets[f], kUps[f]));
+      program_.set("uLightPosition", origin);
+      scene.drawIndexed();
+    }
+  glDisable(GL_DEPTH_TEST);
+}
+
+void LightShadowMaps::bind(int textureUnit) const {
+  if (cubes_) cubes_.bind(textureUnit);
+}
+
+}  // namespace vplab

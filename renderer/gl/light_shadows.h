@@ -1,0 +1,61 @@
+#pragma once
+// Shadows of the preview's direct light (docs/methods.md "Direct light in the preview"): one cube shadow map per
+// light, not per light sample, so that the cost is lights x triangles, not K x triangles.
+//  - A punctual light: its cube map, filtered over about a texel (no stair-steps at shadow edges).
+//  - An area light: the emissive triangles are grouped into at most kMaxAreaGroups emitters; each has one cube map
+//    from its power-weighted centre and soft shadows by percentage-closer soft shadows (Fernando 2005): the blocker
+//    search finds the mean occluder distance z_b, the penumbra's angular radius seen from the centre is
+//    R (d - z_b) / (z_b d) for an emitter of radius R and a receiver at distance d, and a filter of that size gives the
+//    fraction of the emitter that is visible. The K area samples still give the unshadowed light (unbiased); only the
+//    visibility is the filtered approximation.
+// Maps store the radial distance to the light in a colour cube map, rendered with an ordinary depth test (so early
+// depth rejection works) by indexed draws without a geometry shader; the triangles are drawn with a slope-scaled
+// polygon offset and the receiver is offset along its normal by a texel's footprint, which together remove acne on
+// grazing surfaces without a large constant bias.
+
+#include <vector>
+
+#include "renderer/gl/resources.h"
+#include "renderer/gl/shader.h"
+#include "renderer/scene/scene.h"
+
+namespace vplab {
+
+class GlScene;
+
+/// A point the light's cube map is rendered from, and the radius of the emitter around it (0: a punctual light).
+struct LightShadowCaster {
+  glm::vec3 position;
+  float radius = 0.0f;
+};
+
+/// An emitter made of emissive triangles: a connected group (triangles sharing vertices), merged into the nearest of the
+/// kMaxAreaGroups most powerful groups when there are more.
+struct AreaLightGroup {
+  std::vector<uint32_t> triangles;
+  /// Power-weighted centre (luminance(Le) x area) and the largest distance from it to a vertex of the group.
+  glm::vec3 centre{0.0f};
+  float radius = 0.0f;
+  float power = 0.0f;
+};
+
+inline constexpr int kMaxAreaGroups = 8;
+std::vector<AreaLightGroup> groupAreaLights(const Scene& scene);
+
+class LightShadowMaps {
+ public:
+  /// Renders one cube of faceSize^2 texels per caster (radial distance, up to `far`).
+  void render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize, float far);
+  /// Binds the cube-map array to `textureUnit`.
+  void bind(int textureUnit) const;
+  int count() const { return count_; }
+  int faceSize() const { return faceSize_; }
+
+ private:
+  GlTexture cubes_, depth_;
+  GlFramebuffer framebuffer_;
+  ShaderProgram program_;
+  int count_ = 0, faceSize_ = 0;
+};
+
+}  // namespace vplab

@@ -1,0 +1,159 @@
+#include "renderer/gl/vpl_visibility.h"
+
+#include <glad/gl.h>
+
+#include <chrono>
+#include <sstream>
+
+#include "renderer/gl/gl_scene.h"
+#include "renderer/gl/texture_units.h"
+
+namespace vplab {
+
+namespace {
+
+double msSince(std::chrono::steady_clock::time_point start) {
+  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+}
+
+int glInteger(GLenum name) {
+  GLint value = 0;
+  glGetIntegerv(name, &value);
+  return value;
+}
+
+// Pull-push fills holes up to an eighth of the tile wide (8 texels of a 64^2 tile): the gaps between splats of one
+// surface; a wider empty region is a direction in which no surface lies, and filling it would invent an occluder.
+int ismFillLevels(int tileSize) {
+  int levels = 0;
+  while ((8 << levels) < tileSize) ++levels;
+  return std::max(1, levels);
+}
+
+}  // namespace
+
+std::unique_ptr<VplVisibility> makeVplVisibility(VisibilityMethod method) {
+  switch (method) {
+    case VisibilityMethod::Ism: return std::make_unique<IsmVisibility>();
+    case VisibilityMethod::Cube: break;
+  }
+  return std::make_unique<CubeVisibility>();
+}
+
+std::string visibilityFitProblem(VisibilityMethod method, int casters, const Settings& settings) {
+  const int maxSize = glInteger(GL_MAX_TEXTURE_SIZE), maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
+  // What the driver can allocate is not queryable in core GL; a budget of texels keeps allocations far from what a
+  // software or GPU driver refuses (GL_OUT_OF_MEMORY leaves the context unusable on some drivers).
+  const double maxBytes = 2.0 * 1024 * 1024 * 1024;
+  std::ostringstream why;
+  if (method == VisibilityMethod::Ism) {
+    if (settings.ismTileSize > maxSize) {
+      why << "ismTileSize " << settings.ismTileSize << " exceeds this GL context's texture size " << maxSize;
+      return why.str();
+    }
+    IsmLayout layout = ismLayout(casters, settings.ismTileSize, maxSize);
+    double bytes = 2.0 * layout.atlasSize() * layout.atlasSize() * layout.layers;
+    if (layout.layers > maxLayers || bytes > maxBytes)
+      why << casters << " VPLs with ISM tiles of " << settings.ismTileSize << "^2 need " << bytes / (1 << 20)
+          << " MiB of shadow tiles in " << layout.layers << " layers (this context allows " << maxLayers
+          << " layers, vplab at most " << maxBytes / (1 << 20) << " MiB): lower --vpls or --ism-tile-size";
+    return why.str();
+  }
+  const int face = std::max(8, settings.shadowMapSize / 2);
+  if (face > maxSize) {
+    why << "shadowMapSize " << settings.shadowMapSize << " exceeds this GL context's texture size";
+    return why.str();
+  }
+  double bytes = 2.0 * 6.0 * face * face * static_cast<double>(casters);
+  if (bytes > maxBytes)
+    why << casters << " VPLs with cube shadow maps of " << settings.shadowMapSize << " texels need " << bytes / (1 << 20)
+        << " MiB of shadow maps (vplab allows at most " << maxBytes / (1 << 20)
+        << " MiB): lower --vpls or --shadow-map-size, or use --visibility ism";
+  return why.str();
+}
+
+// --- cube shadow maps -------------------------------------------------------------------------------------------
+
+bool CubeVisibility::stale(const std::vector<IsmCaster>& casters, const Settings& settings) const {
+  if (!valid_ || settings.shadowMapSize != mapSize_ || casters.size() != positions_.size()) return true;
+  // A cube map depends on its caster's position only: flux, normal or material edits keep it.
+  for (std::size_t i = 0; i < casters.size(); ++i)
+    if (casters[i].position != positions_[i]) return true;
+  return false;
+}
+
+void CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vector<IsmCaster>& casters,
+                            const Settings& settings, float far) {
+  positions_.resize(casters.size());
+  for (std::size_t i = 0; i < casters.size(); ++i) positions_[i] = casters[i].position;
+  maps_.render(glScene, positions_, std::max(8, settings.shadowMapSize / 2), far);
+  mapSize_ = settings.shadowMapSize;
+  valid_ = true;
+}
+
+void CubeVisibility::bindChunk(int chunk, ShaderProgram&) const {
+  maps_.chunkTexture(chunk).bind(unit(TextureUnit::Visibility));
+}
+
+// --- imperfect shadow maps --------------------------------------------------------------------------------------
+
+void IsmVisibility::resetScene() {
+  valid_ = false;
+  scene_ = nullptr;
+  points_ = {};
+  subsets_ = {};
+}
+
+bool IsmVisibility::stale(const std::vector<IsmCaster>& casters, const Settings& settings) const {
+  if (!valid_ || settings.ismTileSize != tileSize_ || settings.ismPointBudget != pointBudget_ ||
+      casters.size() != casters_.size())
+    return true;
+  // A tile depends on its caster's position and orientation.
+  for (std::size_t i = 0; i < casters.size(); ++i)
+    if (casters[i].position != casters_[i].position || casters[i].normal != casters_[i].normal) return true;
+  return false;
+}
+
+void IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector<IsmCaster>& casters,
+                           const Settings& settings, float far) {
+  sampleMs = splatMs = uploadMs = 0.0;
+  auto start = std::chrono::steady_clock::now();
+  // The point set depends on the geometry and the budget only: the same points every frame.
+  if (scene_ != &scene || pointBudget_ != settings.ismPointBudget || points_.size() == 0) {
+    points_ = sampleIsmPoints(scene, settings.ismPointBudget);
+    subsets_ = {};
+    scene_ = &scene;
+    pointBudget_ = settings.ismPointBudget;
+  }
+  if (subsets_.casterCount() != static_cast<int>(casters.size()))
+    subsets_ = arrangeIsmSubsets(scene, points_, static_cast<int>(casters.size()));
+  sampleMs = msSince(start);
+
+  start = std::chrono::steady_clock::now();
+  layout_ = ismLayout(static_cast<int>(casters.size()), settings.ismTileSize, glInteger(GL_MAX_TEXTURE_SIZE));
+  std::vector<uint16_t> tiles =
+      splatIsmTiles(subsets_, casters, layout_, far, ismFillLevels(settings.ismTileSize), settings.threads);
+  splatMs = msSince(start);
+
+  start = std::chrono::steady_clock::now();
+  if (!atlas_ || atlas_.width() != layout_.atlasSize() || atlas_.layers() != layout_.layers) {
+    atlas_ = GlTexture(layout_.atlasSize(), layout_.atlasSize(), TextureFormat::Depth16, 1, layout_.layers, true);
+    atlas_.setDepthCompare(true);
+  }
+  atlas_.uploadDepth16(tiles);
+  uploadMs = msSince(start);
+
+  casters_ = casters;
+  tileSize_ = settings.ismTileSize;
+  count_ = static_cast<int>(casters.size());
+  valid_ = true;
+}
+
+void IsmVisibility::bindChunk(int, ShaderProgram& program) const {
+  atlas_.bind(unit(TextureUnit::Visibility));
+  program.set("uIsmTileSize", layout_.tileSize);
+  program.set("uIsmTilesPerRow", layout_.tilesPerRow);
+  program.set("uIsmTilesPerLayer", layout_.tilesPerLayer);
+}
+
+}  // namespace vplab

@@ -1,0 +1,102 @@
+#pragma once
+// The seam between the VPL gather and the technique that answers V(x1, x2) for each VPL (docs/methods.md "VPL
+// visibility"). A technique is one class here and one GLSL file, shaders/common/visibility_<name>.glsl, which defines
+//   float vplVisibility(int caster, vec3 casterPos, vec3 casterNormal, vec3 x, float distance, vec3 geoNormal)
+// over the sampler bound to TextureUnit::VplVisibility; the gather is compiled once per technique with the define
+// the class names. Adding a technique: a class deriving from VplVisibility, its shader, and an entry in
+// makeVplVisibility() and in the VisibilityMethod enum (renderer/settings.h).
+//
+//   cube  one cube shadow map per VPL (shadow_maps.h): exact up to the map resolution; costs VPLs x triangles.
+//   ism   imperfect shadow maps (ism.h): a paraboloid tile per VPL from a fixed point set; costs the point budget plus
+//         VPLs x tile texels, independent of the triangle count, at the price of light leaks and over-darkening.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/gl/ism.h"
+#include "renderer/gl/resources.h"
+#include "renderer/gl/shader.h"
+#include "renderer/gl/shadow_maps.h"
+#include "renderer/settings.h"
+
+namespace vplab {
+
+class GlScene;
+
+class VplVisibility {
+ public:
+  virtual ~VplVisibility() = default;
+  /// The define the gather is compiled with to include this technique's shader.
+  virtual std::string shaderDefine() const = 0;
+  /// Whether the maps built for `casters` under `settings` must be rebuilt for these (also true before the first
+  /// update and after a new scene).
+  virtual bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const = 0;
+  /// Rebuilds the maps. far: the largest distance stored (the same value the lookup divides by).
+  virtual void update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+                      const Settings& settings, float far) = 0;
+  /// The scene's geometry changed: everything derived from it is dropped.
+  virtual void resetScene() = 0;
+
+  /// Casters are drawn in chunks, each bound as one texture (a chunk is what one texture can hold).
+  virtual int chunkCount() const = 0;
+  virtual int chunkBegin(int chunk) const = 0;
+  virtual int chunkEnd(int chunk) const = 0;
+  /// Binds a chunk's texture to TextureUnit::VplVisibility and sets the technique's uniforms on `program`.
+  virtual void bindChunk(int chunk, ShaderProgram& program) const = 0;
+};
+
+/// The technique a VisibilityMethod names.
+std::unique_ptr<VplVisibility> makeVplVisibility(VisibilityMethod method);
+
+/// Shadow-map size, GL limits and memory a visibility technique would need for `casters` VPLs under `settings`:
+/// an empty string when they fit what the current context reports, else one sentence saying which limit is exceeded
+/// and what to change. Checked before any rendering.
+std::string visibilityFitProblem(VisibilityMethod method, int casters, const Settings& settings);
+
+class CubeVisibility final : public VplVisibility {
+ public:
+  std::string shaderDefine() const override { return "VISIBILITY_CUBE 1"; }
+  bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const override;
+  void update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+              const Settings& settings, float far) override;
+  void resetScene() override { valid_ = false; }
+  int chunkCount() const override { return maps_.chunkCount(); }
+  int chunkBegin(int chunk) const override { return maps_.chunkBegin(chunk); }
+  int chunkEnd(int chunk) const override { return maps_.chunkEnd(chunk); }
+  void bindChunk(int chunk, ShaderProgram& program) const override;
+
+ private:
+  CubeShadowMaps maps_;
+  std::vector<glm::vec3> positions_;
+  int mapSize_ = 0;
+  bool valid_ = false;
+};
+
+class IsmVisibility final : public VplVisibility {
+ public:
+  std::string shaderDefine() const override { return "VISIBILITY_ISM 1"; }
+  bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const override;
+  void update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+              const Settings& settings, float far) override;
+  void resetScene() override;
+  int chunkCount() const override { return count_ > 0 ? 1 : 0; }
+  int chunkBegin(int) const override { return 0; }
+  int chunkEnd(int) const override { return count_; }
+  void bindChunk(int chunk, ShaderProgram& program) const override;
+
+  /// CPU time of the last update's parts, milliseconds (the point set is sampled once per scene and budget).
+  double sampleMs = 0, splatMs = 0, uploadMs = 0;
+
+ private:
+  const Scene* scene_ = nullptr;
+  IsmPoints points_;
+  IsmSubsets subsets_;
+  IsmLayout layout_;
+  GlTexture atlas_;
+  std::vector<IsmCaster> casters_;
+  int pointBudget_ = 0, tileSize_ = 0, count_ = 0;
+  bool valid_ = false;
+};
+
+}  // namespace vplab

@@ -1,0 +1,66 @@
+// Visibility of a light from a shading point through its cube shadow map of radial distances
+// (renderer/gl/light_shadows.h; docs/methods.md "Direct light in the preview").
+//  - emitterRadius = 0 (punctual light): percentage-closer filtering over a disc of about one texel.
+//  - emitterRadius R > 0 (area emitter around the map's centre): percentage-closer soft shadows (Fernando 2005). The
+//    blocker search averages the distances of occluders within the cone the emitter subtends; with their mean z_b the
+//    penumbra seen from the centre has the angular radius R (d - z_b) / (z_b d); the filter's fraction of lit taps is
+//    the visible fraction of the emitter.
+// Every tap compares against the distance to the receiver's own plane along the tap's direction (receiver-plane depth
+// bias), so a wide filter on a tilted receiver does not shadow the receiver by itself.
+layout(binding = UNIT_LIGHT_SHADOWS) uniform samplerCubeArray uLightShadows;
+uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / faceSize
+
+const int kLightShadowTaps = 16;
+
+// Tap i of a Vogel spiral over the unit disc, rotated by `rotation`.
+vec2 vogelTap(int i, float rotation) {
+  float r = sqrt((float(i) + 0.5) / float(kLightShadowTaps));
+  float a = float(i) * 2.39996323 + rotation;
+  return r * vec2(cos(a), sin(a));
+}
+
+// The receiver's distance along tap direction u: to its own plane (planeOffset = (x - light).n, wn = w.n for the
+// central direction w), clamped where the plane turns away from the light.
+float tapReference(vec3 u, vec3 ng, float planeOffset, float wn, float dist) {
+  float un = dot(u, ng);
+  return abs(un) > 0.05 * abs(wn) && un * wn > 0.0 ? clamp(planeOffset / un, 0.5 * dist, 2.0 * dist) : dist;
+}
+
+float lightVisibility(int cube, vec3 lightPos, float emitterRadius, vec3 x, vec3 ng, float rotation) {
+  vec3 d0 = x - lightPos;
+  float dist0 = length(d0);
+  // Normal offset by about 1.5 texels' footprint at this distance (acne on grazing receivers).
+  vec3 d = d0 + ng * (1.5 * uLightShadowTexel * dist0);
+  float dist = length(d);
+  vec3 w = d / dist;
+  vec3 s = normalize(abs(w.x) > 0.5 ? cross(w, vec3(0.0, 1.0, 0.0)) : cross(w, vec3(1.0, 0.0, 0.0)));
+  vec3 t = cross(w, s);
+  float planeOffset = dot(d, ng);
+  float wn = dot(w, ng);
+
+  float filterAngle = 1.0 * uLightShadowTexel;
+  if (emitterRadius > 0.0) {
+    float searchAngle = clamp(emitterRadius / dist, uLightShadowTexel, 0.7);
+    float blockerSum = 0.0;
+    int blockers = 0;
+    for (int i = 0; i < kLightShadowTaps; ++i) {
+      vec2 o = vogelTap(i, rotation) * searchAngle;
+      vec3 u = normalize(w + o.x * s + o.y * t);
+      float stored = texture(uLightShadows, vec4(u, float(cube))).r;
+      if (stored < tapReference(u, ng, planeOffset, wn, dist)) {
+        blockerSum += stored;
+        ++blockers;
+      }
+    }
+    if (blockers == 0) return 1.0;
+    float zb = blockerSum / float(blockers);
+    filterAngle = clamp(emitterRadius * (dist - zb) / (zb * dist), uLightShadowTexel, 0.7);
+  }
+  float lit = 0.0;
+  for (int i = 0; i < kLightShadowTaps; ++i) {
+    vec2 o = vogelTap(i, rotation) * filterAngle;
+    vec3 u = normalize(w + o.x * s + o.y * t);
+    lit += texture(uLightShadows, vec4(u, float(cube))).r >= tapReference(u, ng, planeOffset, wn, dist) ? 1.0 : 0.0;
+  }
+  return lit / float(kLightShadowTaps);
+}

@@ -1,0 +1,12 @@
+#version 450 core
+// Stores the radial distance to the light (one value works for every face and for the filter taps, which cross
+// faces), pushed away from the light by how fast it changes across a texel (a slope-scaled bias, at most
+// uMaxSlopeBias x distance: grazing triangles would push it without bound). The depth test uses the ordinary depth.
+uniform float uMaxSlopeBias;
+in vec3 vOffset;
+layout(location = 0) out float outDistance;
+
+void main() {
+  float d = length(vOffset);
+  outDistance = d + min(fwidth(d), uMaxSlopeBias * d);
+}
