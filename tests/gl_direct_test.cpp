@@ -81,6 +81,36 @@ TEST_P(GlDirect, PointLightMatchesReferenceOnDetailedModel) {
   EXPECT_NEAR(m.energyRatioOverall, 1.0, 0.02);
 }
 
+// The Cornell box under a sun through where its ceiling would be: the blocks' shadows on the floor from a
+// directional light's orthographic map, against the reference.
+TEST_P(GlDirect, DirectionalLightMatchesReference) {
+  Scene scene = test::loadAssetScene("cornell-box")->scene();
+  for (Material& m : scene.materials) m.emission = glm::vec3(0.0f);
+  // Drop the ceiling so that the sun reaches the floor.
+  std::vector<glm::uvec3> triangles;
+  std::vector<uint32_t> materials;
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const glm::uvec3& v = scene.triangles[t];
+    bool ceiling = scene.positions[v.x].y > 0.5f && scene.positions[v.y].y > 0.5f && scene.positions[v.z].y > 0.5f;
+    if (ceiling) continue;
+    triangles.push_back(v);
+    materials.push_back(scene.triangleMaterials[t]);
+  }
+  scene.triangles = triangles;
+  scene.triangleMaterials = materials;
+  PunctualLight sun;
+  sun.name = "sun";
+  sun.type = PunctualLight::Type::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.4f));
+  sun.intensity = glm::vec3(2.0f);
+  scene.punctualLights.push_back(sun);
+  scene.finalize();
+  OfflineScene l(std::move(scene));
+  ImageMetrics m = directAgainstReference(l, 64, 64, "cornell-box without ceiling, directional light");
+  EXPECT_LE(m.relMse, 0.02);
+  EXPECT_NEAR(m.energyRatioOverall, 1.0, 0.02);
+}
+
 // A plane lit at 80 degrees from its normal by a point light: every pixel is lit (nothing occludes), so any pixel
 // darker than the unshadowed light is shadow acne.
 TEST_P(GlDirect, GrazingPlaneShowsNoAcne) {

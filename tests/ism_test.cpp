@@ -125,6 +125,7 @@ TEST(TextureUnits, GlslIncludeMatchesTheEnum) {
       {"UNIT_PASS_INPUT5", TextureUnit::PassInput5},  {"UNIT_PASS_INPUT6", TextureUnit::PassInput6},
       {"UNIT_PASS_INPUT7", TextureUnit::PassInput7},  {"UNIT_VISIBILITY", TextureUnit::Visibility},
       {"UNIT_LIGHT_SHADOWS", TextureUnit::LightShadows},
+      {"UNIT_DIRECTIONAL_SHADOWS", TextureUnit::DirectionalShadows},
   };
   EXPECT_EQ(glsl.size(), std::size(expected));
   for (const auto& [name, u] : expected) {

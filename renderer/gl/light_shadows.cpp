@@ -8,6 +8,7 @@
 
 #include "renderer/core/sampling.h"
 #include "renderer/gl/gl_scene.h"
+#include "renderer/gl/texture_units.h"
 
 namespace vplab {
 
@@ -90,9 +91,10 @@ void LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadow
   if (!program_.valid())
     program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
   count_ = static_cast<int>(casters.size());
-  if (count_ == 0) return;
-  if (!cubes_ || cubes_.layers() != 6 * count_ || faceSize_ != faceSize) {
-    cubes_ = GlTexture::cubeArray(faceSize, count_, TextureFormat::R32F);
+  // One cube at least, so that the direct pass's sampler is complete in a scene without such lights.
+  const int cubes = std::max(count_, 1);
+  if (!cubes_ || cubes_.layers() != 6 * cubes || faceSize_ != faceSize) {
+    cubes_ = GlTexture::cubeArray(faceSize, cubes, TextureFormat::R32F);
     cubes_.setLinearFiltering(false);
     depth_ = GlTexture(faceSize, faceSize, TextureFormat::Depth32F);
     faceSize_ = faceSize;
@@ -103,6 +105,7 @@ void LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadow
   static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
   const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far);
   // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
+  if (count_ == 0) return;
   program_.set("uMaxSlopeBias", 4.0f * 2.0f / static_cast<float>(faceSize));
   program_.use();
   glEnable(GL_DEPTH_TEST);
@@ -125,8 +128,57 @@ void LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadow
   glDisable(GL_DEPTH_TEST);
 }
 
-void LightShadowMaps::bind(int textureUnit) const {
-  if (cubes_) cubes_.bind(textureUnit);
+void LightShadowMaps::renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions,
+                                        glm::vec3 centre, float radius, int size) {
+  if (!program_.valid())
+    program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
+  directionalCount_ = static_cast<int>(directions.size());
+  // A 1-layer placeholder keeps the sampler complete when there is no directional light.
+  const int layers = std::max(1, directionalCount_);
+  if (!planes_ || planes_.layers() != layers || planes_.width() != size) {
+    planes_ = GlTexture(size, size, TextureFormat::R32F, 1, layers);
+    planes_.setLinearFiltering(false);
+    planeDepth_ = GlTexture(size, size, TextureFormat::Depth32F);
+  }
+  program_.set("uAlongDirection", 1);
+  program_.set("uMaxSlopeBias", 4.0f * 2.0f * radius / static_cast<float>(size));
+  program_.use();
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
+  for (int i = 0; i < layers; ++i) {
+    framebuffer_.attachColor(0, planes_, 0, i);
+    framebuffer_.attachDepth(planeDepth_);
+    framebuffer_.finalize(1);
+    framebuffer_.bind(size, size);
+    framebuffer_.clearColor(0, glm::vec4(3.0e38f));
+    framebuffer_.clearDepth(1.0f);
+    if (i >= directionalCount_) continue;
+    // The frame of shaders/common/math.glsl orthonormalFrame around the direction: map u along s, v along t.
+    const glm::vec3 dir = directions[static_cast<std::size_t>(i)];
+    const Frame frame(dir);
+    const glm::vec3 origin = centre - dir * radius;
+    glm::mat4 view(1.0f);
+    view[0] = glm::vec4(frame.s.x, frame.t.x, frame.n.x, 0.0f);
+    view[1] = glm::vec4(frame.s.y, frame.t.y, frame.n.y, 0.0f);
+    view[2] = glm::vec4(frame.s.z, frame.t.z, frame.n.z, 0.0f);
+    view[3] = glm::vec4(-glm::dot(frame.s, centre), -glm::dot(frame.t, centre), -glm::dot(frame.n, origin), 1.0f);
+    // View space: x, y in [-radius, radius], z = distance along the direction in [0, 2 radius]; GL looks down -z.
+    const glm::mat4 flip = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 1.0f, -1.0f));
+    const glm::mat4 projection = glm::ortho(-radius, radius, -radius, radius, -1e-3f * radius, 2.001f * radius);
+    program_.set("uViewProjection", projection * flip * view);
+    program_.set("uLightPosition", origin);
+    program_.set("uDirection", dir);
+    scene.drawIndexed();
+  }
+  program_.set("uAlongDirection", 0);
+  glDisable(GL_DEPTH_TEST);
+}
+
+void LightShadowMaps::bind() const {
+  if (cubes_) cubes_.bind(unit(TextureUnit::LightShadows));
+  if (planes_) planes_.bind(unit(TextureUnit::DirectionalShadows));
 }
 
 }  // namespace vplab

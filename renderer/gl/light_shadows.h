@@ -12,6 +12,7 @@
 // depth rejection works) by indexed draws without a geometry shader; the triangles are drawn with a slope-scaled
 // polygon offset and the receiver is offset along its normal by a texel's footprint, which together remove acne on
 // grazing surfaces without a large constant bias.
+//  - A directional light: an orthographic map over the scene's bounding sphere, filtered over about a texel.
 
 #include <vector>
 
@@ -46,16 +47,20 @@ class LightShadowMaps {
  public:
   /// Renders one cube of faceSize^2 texels per caster (radial distance, up to `far`).
   void render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize, float far);
-  /// Binds the cube-map array to `textureUnit`.
-  void bind(int textureUnit) const;
+  /// Renders one orthographic map of size^2 texels per directional light (unit direction of travel), over the disc of
+  /// `radius` around `centre` perpendicular to it (the scene's bounding sphere).
+  void renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions, glm::vec3 centre, float radius,
+                         int size);
+  /// Binds the cube-map array and the directional maps (TextureUnit::LightShadows, DirectionalShadows).
+  void bind() const;
   int count() const { return count_; }
   int faceSize() const { return faceSize_; }
 
  private:
-  GlTexture cubes_, depth_;
+  GlTexture cubes_, depth_, planes_, planeDepth_;
   GlFramebuffer framebuffer_;
   ShaderProgram program_;
-  int count_ = 0, faceSize_ = 0;
+  int count_ = 0, faceSize_ = 0, directionalCount_ = 0;
 };
 
 }  // namespace vplab

@@ -36,6 +36,8 @@ struct DirectLightGpu {
 // Texels per side of a light's cube-map face: a few lights, not one map per sample, so they can be sharp (a texel spans
 // 0.1 degrees: no stair-steps at contact shadows).
 constexpr int kLightShadowFaceSize = 1024;
+// Texels per side of a directional light's orthographic map over the scene's bounding sphere.
+constexpr int kDirectionalShadowSize = 2048;
 struct VplGpu {
   glm::vec4 position, normal, incoming, flux, baseColor, geoNormal, lambertPower;
 };
@@ -290,11 +292,6 @@ void PreviewRenderer::drawFullscreen(ShaderProgram& program) {
 }
 
 void PreviewRenderer::uploadDirectLights(const Scene& scene, const Settings& settings) {
-  // The direct pass has no shading or shadow map for a light at infinity yet: refuse rather than leave it black.
-  for (const PunctualLight& l : scene.punctualLights)
-    if (l.isDirectional())
-      throw GlError("the GL preview does not render directional lights yet ('" + l.name +
-                    "'); the Embree passes (reference, render) do");
   std::vector<DirectLightGpu> lights;
   lightCasters_.clear();
   // One shadow map per area emitter (light_shadows.h) and per punctual light.
@@ -337,7 +334,15 @@ void PreviewRenderer::uploadDirectLights(const Scene& scene, const Settings& set
     std::stable_sort(lights.begin(), lights.end(),
                      [](const DirectLightGpu& a, const DirectLightGpu& b) { return a.shadow.x < b.shadow.x; });
   }
+  directionalDirections_.clear();
   for (const PunctualLight& l : scene.punctualLights) {
+    if (l.isDirectional()) {
+      const float map = static_cast<float>(directionalDirections_.size());
+      directionalDirections_.push_back(l.direction);
+      lights.push_back({glm::vec4(0.0f, 0.0f, 0.0f, 3.0f), glm::vec4(l.direction, 0.0f), glm::vec4(l.intensity, 0.0f),
+                        glm::vec4(map, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f)});
+      continue;
+    }
     bool spot = l.type == PunctualLight::Type::Spot;
     const float cube = static_cast<float>(lightCasters_.size());
     lightCasters_.push_back({l.position, 0.0f});
@@ -421,6 +426,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
   float far = 2.0f * diagonal;
   float bias = settings.shadowBias * diagonal;
+  // The bounding sphere a directional light's map covers, a little larger so that no surface lies on its rim.
+  const float sceneRadius = 0.51f * diagonal;
   glm::mat4 view = glm::lookAt(camera.position, camera.position + camera.forward, camera.up);
   float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
   glm::mat4 proj = glm::perspective(camera.yfov, aspect, camera.znear, camera.zfar);
@@ -455,6 +462,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     t.directShadowMs = timed(timer_, t.directShadowWallMs, [&] {
       uploadDirectLights(scene, settings);
       lightShadows_.render(*glScene_, lightCasters_, kLightShadowFaceSize, far);
+      lightShadows_.renderDirectional(*glScene_, directionalDirections_, scene.bounds.center(), sceneRadius,
+                                      kDirectionalShadowSize);
     });
     ++counters_.directShadowMaps;
   }
@@ -522,7 +531,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       ShaderProgram& direct = direct_[lambertOnly_];
       direct.set("uCameraPosition", camera.position);
       direct.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
-      lightShadows_.bind(unit(TextureUnit::LightShadows));
+      direct.set("uSceneCentre", scene.bounds.center());
+      direct.set("uSceneRadius", sceneRadius);
+      direct.set("uDirectionalShadowTexel", 2.0f * sceneRadius / static_cast<float>(kDirectionalShadowSize));
+      lightShadows_.bind();
       // The whole light table is one chunk: every light's map is a layer of one cube-map array.
       const SingleChunk lights{directLightCount_};
       interleaved(direct, *tg.directRaw, lightTableDraws(lights, directTable_), [&](int subset) {

@@ -119,6 +119,7 @@ class PreviewRenderer {
 
   LightShadowMaps lightShadows_;
   std::vector<LightShadowCaster> lightCasters_;
+  std::vector<glm::vec3> directionalDirections_;
   int directLightCount_ = 0;
   /// The VPL visibility technique of Settings::visibility, and the gather compiled for it (with and without VSLs).
   std::unique_ptr<VplVisibility> vplVisibility_;

@@ -26,6 +26,8 @@ enum class TextureUnit : int {
   Visibility = 15,
   /// The lights' cube shadow maps (renderer/gl/light_shadows.h) in the direct pass.
   LightShadows = 16,
+  /// The directional lights' orthographic shadow maps (renderer/gl/light_shadows.h) in the direct pass.
+  DirectionalShadows = 17,
 };
 
 constexpr int unit(TextureUnit u) { return static_cast<int>(u); }

@@ -8,6 +8,13 @@
 // Every tap compares against the distance to the receiver's own plane along the tap's direction (receiver-plane depth
 // bias), so a wide filter on a tilted receiver does not shadow the receiver by itself.
 layout(binding = UNIT_LIGHT_SHADOWS) uniform samplerCubeArray uLightShadows;
+// Directional lights: an orthographic map each (layer of a 2D array) over the disc of radius uSceneRadius around
+// uSceneCentre perpendicular to the light's direction, storing the distance along the direction from the plane
+// uSceneRadius behind the centre.
+layout(binding = UNIT_DIRECTIONAL_SHADOWS) uniform sampler2DArray uDirectionalShadows;
+uniform vec3 uSceneCentre;
+uniform float uSceneRadius;
+uniform float uDirectionalShadowTexel;  // 2 uSceneRadius / map size, metres
 uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / faceSize
 
 const int kLightShadowTaps = 16;
@@ -61,6 +68,27 @@ float lightVisibility(int cube, vec3 lightPos, float emitterRadius, vec3 x, vec3
     vec2 o = vogelTap(i, rotation) * filterAngle;
     vec3 u = normalize(w + o.x * s + o.y * t);
     lit += texture(uLightShadows, vec4(u, float(cube))).r >= tapReference(u, ng, planeOffset, wn, dist) ? 1.0 : 0.0;
+  }
+  return lit / float(kLightShadowTaps);
+}
+
+// Visibility of a directional light (rays travelling along `direction`) from x: percentage-closer filtering over a
+// disc of about one texel, each tap compared with the receiver's plane at the tap's position.
+float directionalVisibility(int map, vec3 direction, vec3 x, vec3 ng, float rotation) {
+  vec3 s, t;
+  orthonormalFrame(direction, s, t);
+  vec3 p = x + ng * (1.5 * uDirectionalShadowTexel) - uSceneCentre;
+  vec2 uv = vec2(dot(p, s), dot(p, t)) / (2.0 * uSceneRadius) + 0.5;
+  float depth = dot(p, direction) + uSceneRadius;
+  // How the receiver's plane moves along the direction per metre across the map: -(ng.s, ng.t) / (ng.direction).
+  float nd = dot(ng, direction);
+  vec2 slope = abs(nd) > 0.05 ? -vec2(dot(ng, s), dot(ng, t)) / nd : vec2(0.0);
+  float lit = 0.0;
+  for (int i = 0; i < kLightShadowTaps; ++i) {
+    vec2 o = vogelTap(i, rotation) * uDirectionalShadowTexel;
+    float ref = depth + clamp(dot(slope, o), -4.0 * uDirectionalShadowTexel, 4.0 * uDirectionalShadowTexel);
+    float stored = texture(uDirectionalShadows, vec3(uv + o / (2.0 * uSceneRadius), float(map))).r;
+    lit += stored >= ref ? 1.0 : 0.0;
   }
   return lit / float(kLightShadowTaps);
 }

@@ -18,13 +18,9 @@ float vplVisibility(int caster, vec3 casterPos, vec3 casterNormal, vec3 x, float
   vec3 d = x + geoNormal * (0.5 * texelAngle * distance) - casterPos;
   float r = length(d);
   // The frame of renderer/core/sampling.h Frame (Duff et al. 2017) around the caster's normal.
-  vec3 n = casterNormal;
-  float sgn = n.z >= 0.0 ? 1.0 : -1.0;
-  float a = -1.0 / (sgn + n.z);
-  float b = n.x * n.y * a;
-  vec3 s = vec3(1.0 + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
-  vec3 t = vec3(b, sgn + n.y * n.y * a, -n.y);
-  vec3 local = vec3(dot(d, s), dot(d, t), dot(d, n));
+  vec3 s, t;
+  orthonormalFrame(casterNormal, s, t);
+  vec3 local = vec3(dot(d, s), dot(d, t), dot(d, casterNormal));
   // Behind the caster's plane it sends no light; the gather's cosines already give 0 there.
   vec2 uv = local.xy / max(r + local.z, 1e-20);
   vec2 texel = clamp((uv + 1.0) * (0.5 * tileSize), vec2(0.5), vec2(tileSize - 0.5));

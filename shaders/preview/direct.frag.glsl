@@ -9,14 +9,16 @@
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/interleaved.glsl"
+#include "common/math.glsl"
 #include "common/units.glsl"
 #include "common/light_shadow.glsl"
 
 struct DirectLight {
-  vec4 position;  // xyz, w: 0 area sample, 1 point, 2 spot
-  vec4 axis;      // emitter normal (area) or spot axis; w: cos(outer cone)
-  vec4 weight;    // rgb: Le / (K p_A) (area) or intensity in candela; w: cos(inner cone)
-  vec4 shadow;    // x: the light's cube shadow map, y: radius of its emitter (0: punctual)
+  vec4 position;  // xyz, w: 0 area sample, 1 point, 2 spot, 3 directional (xyz unused)
+  vec4 axis;      // emitter normal (area), spot axis or a directional light's direction of travel; w: cos(outer cone)
+  vec4 weight;    // rgb: Le / (K p_A) (area), intensity in candela, or irradiance in lux (directional); w: cos(inner)
+  vec4 shadow;    // x: the light's cube shadow map (its orthographic map for a directional light), y: radius of its
+                  // emitter (0: punctual)
   vec4 centre;    // xyz: where that shadow map was rendered from (the emitter's centre, or the punctual light)
 };
 // A uniform block of at most DIRECT_UBO_LIGHTS lights (set by the renderer), bound from light uUboBase on: llvmpipe
@@ -43,10 +45,12 @@ void main() {
   // This subset's lights inside the range [uLightBegin, uLightEnd).
   for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
     DirectLight l = lights[i - uUboBase];
+    bool directional = l.position.w == 3.0;
     vec3 d = l.position.xyz - x1;
-    float dist2 = dot(d, d);
+    // A directional light arrives from -direction with its irradiance, no falloff with distance.
+    float dist2 = directional ? 1.0 : dot(d, d);
     if (!(dist2 > 0.0)) continue;
-    vec3 w = d * inversesqrt(dist2);
+    vec3 w = directional ? -l.axis.xyz : d * inversesqrt(dist2);
     // One-sided receiver: the light must be on the side the geometric normal faces.
     if (dot(ng, w) <= 0.0) continue;
     float cos1 = dot(n1, w);
@@ -57,7 +61,7 @@ void main() {
       float cosY = -dot(l.axis.xyz, w);
       if (cosY <= 0.0) continue;
       radiantTerm = l.weight.rgb * cosY;
-    } else if (l.position.w == 1.0) {
+    } else if (l.position.w == 1.0 || directional) {
       radiantTerm = l.weight.rgb;
     } else {
       float cd = -dot(l.axis.xyz, w);
@@ -65,11 +69,16 @@ void main() {
       radiantTerm = l.weight.rgb * (t * t);
     }
     int cube = int(l.shadow.x);
-    if (cube != cachedCube) {
-      cachedVisibility = lightVisibility(cube, l.centre.xyz, l.shadow.y, x1, ng, rotation);
-      cachedCube = cube;
+    float v;
+    if (directional) {
+      v = directionalVisibility(cube, l.axis.xyz, x1, ng, rotation);
+    } else {
+      if (cube != cachedCube) {
+        cachedVisibility = lightVisibility(cube, l.centre.xyz, l.shadow.y, x1, ng, rotation);
+        cachedCube = cube;
+      }
+      v = cachedVisibility;
     }
-    float v = cachedVisibility;
     if (v <= 0.0) continue;
     sum += evaluateBrdf(p, n1, wo, w) * cos1 / dist2 * radiantTerm * v;
   }
