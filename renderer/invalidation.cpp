@@ -90,7 +90,9 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   // Preview-only parameters (section 8).
   if (a.directLightSamples != b.directLightSamples) s.lightShadowMaps = true;
   if (a.interleave != b.interleave || a.shadowBias != b.shadowBias) s.gather = true;
-  if (a.shadowMapSize != b.shadowMapSize) s.vplShadowMaps = true;
+  if (a.shadowMapSize != b.shadowMapSize || a.visibility != b.visibility || a.ismTileSize != b.ismTileSize ||
+      a.ismPointBudget != b.ismPointBudget)
+    s.vplShadowMaps = true;
   return s.propagated();
 }
 

@@ -6,8 +6,9 @@
 // Stage dependencies:
 //   VPL generation    <- scene, lights, seed, vplCount, vplMaxBounces, rejection (+ its parameters while it is on;
 //                        with rejection on also the image size, since the importance sample points are pixels)
-//   VPL shadow maps   <- the VPLs, shadowMapSize
-//   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points)
+//   VPL shadow maps   <- the VPLs, the visibility technique and its sizes (shadowMapSize; ismTileSize,
+//                        ismPointBudget)
+//   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points); not shadowMapSize
 //   gather            <- the camera, image size, VPLs and both shadow-map sets, clampBound, the VSL radius,
 //                        interleave, shadowBias, components
 //   SSBC              <- the gather, ssbcSteps

@@ -11,6 +11,7 @@
 
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
+#include "renderer/invalidation.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -91,6 +92,33 @@ TEST_P(GlIsm, SameSettingsSameImage) {
   std::size_t differing = 0;
   for (std::size_t i = 0; i < ia.pixels.size(); ++i) differing += ia.pixels[i] != ib.pixels[i];
   EXPECT_EQ(differing, 0u);
+}
+
+// The renderer redoes exactly the maps renderer/invalidation names stale: the VPL maps for the technique and its sizes,
+// the lights' maps for neither (they depend on the lights and their samples only).
+TEST_P(GlIsm, RendererRedoesTheMapsInvalidationNames) {
+  auto l = test::loadAssetScene("cornell-box");
+  Settings s = ismSettings(48, 32);
+  s.visibility = VisibilityMethod::Cube;
+  VplSet vpls = generateVpls(*l, s);
+  PreviewRenderer renderer;
+  renderer.render(l->scene(), vpls, s, l->scene().camera);
+  auto expectRedo = [&](const char* what, void (*edit)(Settings&)) {
+    Settings next = s;
+    edit(next);
+    Staleness stale = staleAfterSettingsChange(s, next, Method::Vpl);
+    PreviewCounters before = renderer.counters();
+    renderer.render(l->scene(), vpls, next, l->scene().camera);
+    EXPECT_EQ(renderer.counters().vplShadowMaps - before.vplShadowMaps, stale.vplShadowMaps ? 1 : 0) << what;
+    EXPECT_EQ(renderer.counters().directShadowMaps - before.directShadowMaps, stale.lightShadowMaps ? 1 : 0) << what;
+    s = next;
+  };
+  expectRedo("shadow-map size", [](Settings& x) { x.shadowMapSize = 128; });
+  expectRedo("ISM", [](Settings& x) { x.visibility = VisibilityMethod::Ism; });
+  expectRedo("ISM tile size", [](Settings& x) { x.ismTileSize = 32; });
+  expectRedo("ISM points", [](Settings& x) { x.ismPointBudget = 1 << 16; });
+  expectRedo("direct samples", [](Settings& x) { x.directLightSamples = 8; });
+  expectRedo("clamp bound", [](Settings& x) { x.clampBound = 3.0f; });
 }
 
 // A 1 cm wall on a floor; 64 VPLs on the floor left of it, facing up and to the right (so each VPL's tile holds only

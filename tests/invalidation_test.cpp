@@ -67,6 +67,10 @@ TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
   EXPECT_EQ(toString(interleave), "gather ssbc tonemap");
   Staleness mapSize = change([](Settings& x) { x.shadowMapSize = 128; });
   EXPECT_EQ(toString(mapSize), "vplShadowMaps gather ssbc tonemap");
+  // The VPL visibility technique and its sizes redo the VPL maps only; the lights' maps do not depend on them.
+  for (auto edit : {+[](Settings& x) { x.visibility = VisibilityMethod::Ism; },
+                    +[](Settings& x) { x.ismTileSize = 128; }, +[](Settings& x) { x.ismPointBudget = 4096; }})
+    EXPECT_EQ(toString(change(edit)), "vplShadowMaps gather ssbc tonemap");
   Staleness bias = change([](Settings& x) { x.shadowBias = 0.01f; });
   EXPECT_EQ(toString(bias), "gather ssbc tonemap");
   Staleness direct = change([](Settings& x) { x.directLightSamples = 16; });

@@ -50,6 +50,9 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.interleave = 4;
   s.shadowMapSize = 128;
   s.shadowBias = 0.01f;
+  s.visibility = VisibilityMethod::Ism;
+  s.ismTileSize = 32;
+  s.ismPointBudget = 5000;
 
   Settings back;
   applySettingsJson(settingsToJson(s), back);
@@ -59,8 +62,9 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_EQ(back.stage, Stage::Studio);
   EXPECT_FLOAT_EQ(back.clampBound, 3.75f);
   EXPECT_TRUE(back.vslRadiusFromDensity);
+  EXPECT_EQ(back.visibility, VisibilityMethod::Ism);
   // Every key the writer emits must be one the reader knows, and none may be missing.
-  EXPECT_EQ(settingsJsonKeys().size(), 26u);
+  EXPECT_EQ(settingsJsonKeys().size(), 29u);
 }
 
 TEST(SettingsJson, InfiniteClampIsWrittenAsStringAndReadBack) {

@@ -89,13 +89,36 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   ImGui::Separator();
   ImGui::TextDisabled("GL preview");
   changed |= sliderInt("interleave k", &s.interleave, 1, 8, "k x k VPL subsets, one per pixel; 1 = off");
-  int sizeLog = static_cast<int>(std::lround(std::log2(std::max(s.shadowMapSize, 16))));
-  if (ImGui::SliderInt("shadow map", &sizeLog, 4, 11, "")) {
-    s.shadowMapSize = 1 << sizeLog;
+  int visibility = s.visibility == VisibilityMethod::Ism ? 1 : 0;
+  if (ImGui::Combo("VPL visibility", &visibility, "cube shadow maps\0imperfect shadow maps\0")) {
+    s.visibility = visibility == 1 ? VisibilityMethod::Ism : VisibilityMethod::Cube;
     changed = true;
   }
-  ImGui::SameLine();
-  ImGui::Text("%d", s.shadowMapSize);
+  if (ImGui::IsItemHovered())
+    ImGui::SetTooltip("cube: one rasterised map per VPL, sharp, costs VPLs x triangles; ISM: a point-splatted tile per "
+                      "VPL, cost independent of the triangle count, leaks through thin walls");
+  // A power-of-two size: the slider moves its exponent.
+  auto powerOfTwoSlider = [&](const char* label, int& value, int minLog, int maxLog) {
+    int sizeLog = static_cast<int>(std::lround(std::log2(std::max(value, 1 << minLog))));
+    if (ImGui::SliderInt(label, &sizeLog, minLog, maxLog, "")) {
+      value = 1 << sizeLog;
+      changed = true;
+    }
+    ImGui::SameLine();
+    ImGui::Text("%d", value);
+  };
+  if (s.visibility == VisibilityMethod::Ism) {
+    powerOfTwoSlider("ISM tile", s.ismTileSize, 4, 8);
+    int pointsLog = static_cast<int>(std::lround(std::log2(std::max(s.ismPointBudget, 1024))));
+    if (ImGui::SliderInt("ISM points", &pointsLog, 10, 25, "")) {
+      s.ismPointBudget = 1 << pointsLog;
+      changed = true;
+    }
+    ImGui::SameLine();
+    ImGui::Text("%d", s.ismPointBudget);
+  } else {
+    powerOfTwoSlider("shadow map", s.shadowMapSize, 4, 11);
+  }
   changed |= sliderFloat("shadow bias", &s.shadowBias, 0.0f, 0.1f, "%.4f", "fraction of the scene diagonal",
                          ImGuiSliderFlags_Logarithmic);
   changed |= sliderInt("direct samples", &s.directLightSamples, 1, 256, "shadow-mapped area-light samples",

@@ -272,6 +272,9 @@ PreviewRenderer::~PreviewRenderer() = default;
 void PreviewRenderer::invalidateScene() {
   sceneDirty_ = true;
 }
+void PreviewRenderer::invalidateLights() {
+  lightsDirty_ = true;
+}
 void PreviewRenderer::invalidateVpls() {
   vplsDirty_ = true;
 }
@@ -401,8 +404,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // Invalidation (header comment): decide which passes the changes since the last frame affect.
   bool cameraChanged = !haveFrame_ || !sameCamera(camera, lastCamera_);
   // The lights' maps depend on the scene and the light samples (K, seed) only.
-  bool directMapsChanged =
-      !shadowsValid_ || settings.directLightSamples != last.directLightSamples || settings.seed != last.seed;
+  bool directMapsChanged = !shadowsValid_ || lightsDirty_ || settings.directLightSamples != last.directLightSamples ||
+                           settings.seed != last.seed;
+  lightsDirty_ = false;
   if (settings.visibility != visibilityMethod_) {
     useVisibility(settings.visibility);
     vplsDirty_ = true;

@@ -83,6 +83,9 @@ class PreviewRenderer {
   PreviewTimings render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera);
 
   void invalidateScene();
+  /// The scene's punctual lights were edited in place (no triangle moved): the lights' shadow maps and the direct light
+  /// are redone, the geometry and the VPL maps are kept.
+  void invalidateLights();
   /// The VPL set was edited in place: its data is re-uploaded; shadow maps are re-rendered only if a position changed.
   void invalidateVpls();
   /// Forgets the cached screen-space results (G-buffer to tonemap) so that the next render redoes them, as a camera
@@ -114,6 +117,7 @@ class PreviewRenderer {
   const VplSet* vplSet_ = nullptr;
   bool vplsDirty_ = true;
   bool sceneDirty_ = true;
+  bool lightsDirty_ = false;
   /// False until shadow maps exist for the current scene.
   bool shadowsValid_ = false;
 

@@ -24,6 +24,9 @@ class OfflineScene {
   const Scene& scene() const { return *scene_; }
   const EmbreeScene& embree() const { return *embree_; }
   const LightSampler& lights() const { return *lights_; }
+  /// The scene's punctual lights were edited in place (moved, rescaled, added): rebuilds the light sampler only. The
+  /// BVH is kept, which is right as long as no triangle moved (an emissive triangle is geometry: rebuild instead).
+  void punctualLightsChanged() { lights_ = std::make_unique<LightSampler>(*scene_); }
 
  private:
   std::unique_ptr<Scene> owned_;

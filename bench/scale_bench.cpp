@@ -1,0 +1,177 @@
+// Preview at scale: what a change costs on scenes of 10k, 100k and 1M triangles (scripts/make_dense_scene.py) or any
+// glTF file, with each VPL visibility technique (cube maps, imperfect shadow maps). Per scene and technique, at
+// 640x480, 256 VPLs, k = 4, 2 SSBC steps, b = 20 (the target configuration of docs/benchmarks.md):
+//   load       glTF load + BVH + light sampler (CPU)
+//   first      the first preview (scene upload, ISM points, every map, shader compiles)
+//   vpl change a new VPL set (the seed changed): generation + VPL maps + gather + SSBC + tonemap, wall time
+//   light move every punctual light moved 2 cm: light sampler, VPL generation, the lights' maps and the VPL maps,
+//              direct light, gather, SSBC, tonemap, wall time (scenes whose only lights are emissive triangles move
+//              geometry, which rebuilds the scene: not measured here)
+//   reference  the Embree reference at 256x256, 16 spp, BVH included (the yardstick: a preview slower than this is
+//              not interactive)
+// Changes are timed as the median of --repeats after a warm-up. Prints a table, writes a CSV.
+//
+// usage: vplab_bench_scale_bench [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv out.csv]
+//                                [--size WxH] scene.gltf...
+
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <fstream>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include "bench/bench_args.h"
+#include "renderer/gl/context.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/offline/offline_scene.h"
+#include "renderer/offline/path_tracer.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/vpl_generation.h"
+
+namespace {
+
+using namespace vplab;
+using Clock = std::chrono::steady_clock;
+
+double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+
+double median(std::vector<double> v) {
+  std::sort(v.begin(), v.end());
+  return v.empty() ? 0.0 : v[v.size() / 2];
+}
+
+struct Row {
+  std::string scene, visibility;
+  std::size_t triangles = 0;
+  double loadMs = 0, firstMs = 0, vplChangeMs = 0, lightMoveMs = -1, referenceMs = 0, vplMapsMs = 0, lightMapsMs = -1;
+};
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  GlBackend backend = GlBackend::Auto;
+  std::vector<VisibilityMethod> methods = {VisibilityMethod::Cube, VisibilityMethod::Ism};
+  std::vector<std::string> scenes;
+  std::string csvPath;
+  int repeats = 3, width = 640, height = 480;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--gl") {
+      if (!parseGlBackend(benchOptionValue(argc, argv, i), backend)) return std::fprintf(stderr, "bad --gl\n"), 2;
+    } else if (a == "--visibility") {
+      methods.clear();
+      std::stringstream list(benchOptionValue(argc, argv, i));
+      for (std::string item; std::getline(list, item, ',');) {
+        VisibilityMethod m;
+        if (!parseVisibilityMethod(item, m)) return std::fprintf(stderr, "bad --visibility '%s'\n", item.c_str()), 2;
+        methods.push_back(m);
+      }
+    } else if (a == "--repeats") {
+      repeats = std::max(1, std::atoi(benchOptionValue(argc, argv, i).c_str()));
+    } else if (a == "--csv") {
+      csvPath = benchOptionValue(argc, argv, i);
+    } else if (a == "--size") {
+      if (std::sscanf(benchOptionValue(argc, argv, i).c_str(), "%dx%d", &width, &height) != 2)
+        return std::fprintf(stderr, "bad --size\n"), 2;
+    } else if (a == "--help" || (!a.empty() && a[0] == '-')) {
+      std::fprintf(stderr,
+                   "usage: %s [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv F] [--size WxH] "
+                   "scene.gltf...\n",
+                   argv[0]);
+      return a == "--help" ? 0 : 2;
+    } else {
+      scenes.push_back(a);
+    }
+  }
+  if (scenes.empty()) return std::fprintf(stderr, "%s: give at least one scene\n", argv[0]), 2;
+
+  HeadlessGlContext context(backend);
+  std::vector<Row> rows;
+  for (const std::string& path : scenes) {
+    for (VisibilityMethod method : methods) {
+      Row row;
+      row.scene = path.substr(path.find_last_of('/') + 1);
+      row.visibility = toString(method);
+      auto t = Clock::now();
+      Scene scene = loadScene(path);
+      OfflineScene offline(scene);
+      row.loadMs = msSince(t);
+      row.triangles = scene.triangles.size();
+      Settings s;
+      s.width = width;
+      s.height = height;
+      s.vplCount = 256;
+      s.interleave = 4;
+      s.ssbcSteps = 2;
+      s.clampBound = 20.0f;
+      s.visibility = method;
+      PreviewRenderer renderer;
+      t = Clock::now();
+      VplSet vpls = generateVpls(offline, s);
+      renderer.render(scene, vpls, s, scene.camera);
+      row.firstMs = msSince(t);
+
+      std::vector<double> change, maps;
+      for (int r = 0; r <= repeats; ++r) {
+        s.seed = 100 + static_cast<uint32_t>(r);
+        t = Clock::now();
+        VplSet next = generateVpls(offline, s);
+        PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
+        double ms = msSince(t);
+        if (r == 0) continue;  // warm-up
+        change.push_back(ms);
+        maps.push_back(timings.vplShadowWallMs);
+      }
+      row.vplChangeMs = median(change);
+      row.vplMapsMs = median(maps);
+
+      if (!scene.punctualLights.empty()) {
+        std::vector<double> move, lightMaps;
+        for (int r = 0; r <= repeats; ++r) {
+          t = Clock::now();
+          for (PunctualLight& l : scene.punctualLights)
+            if (!l.isDirectional()) l.position += glm::vec3(0.02f, 0.0f, 0.0f) * (r % 2 ? -1.0f : 1.0f);
+          offline.punctualLightsChanged();
+          renderer.invalidateLights();
+          VplSet next = generateVpls(offline, s);
+          PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
+          double ms = msSince(t);
+          if (r == 0) continue;
+          move.push_back(ms);
+          lightMaps.push_back(timings.directShadowWallMs);
+        }
+        row.lightMoveMs = median(move);
+        row.lightMapsMs = median(lightMaps);
+      }
+
+      Settings ref;
+      ref.width = ref.height = 256;
+      ref.samplesPerPixel = 16;
+      t = Clock::now();
+      {
+        OfflineScene fresh(scene);
+        renderReference(fresh, ref);
+      }
+      row.referenceMs = msSince(t);
+      rows.push_back(row);
+      std::printf("%-28s %-4s %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (maps %6.0f)  light move %7.0f "
+                  "(maps %6.0f)  reference %6.0f ms\n",
+                  row.scene.c_str(), row.visibility.c_str(), row.triangles, row.loadMs, row.firstMs, row.vplChangeMs,
+                  row.vplMapsMs, row.lightMoveMs, row.lightMapsMs, row.referenceMs);
+      std::fflush(stdout);
+    }
+  }
+  if (!csvPath.empty()) {
+    std::ofstream csv(csvPath);
+    csv << "scene,visibility,triangles,load_ms,first_ms,vpl_change_ms,vpl_maps_ms,light_move_ms,light_maps_ms,"
+           "reference_256_16spp_ms\n";
+    for (const Row& r : rows)
+      csv << r.scene << ',' << r.visibility << ',' << r.triangles << ',' << r.loadMs << ',' << r.firstMs << ','
+          << r.vplChangeMs << ',' << r.vplMapsMs << ',' << r.lightMoveMs << ',' << r.lightMapsMs << ','
+          << r.referenceMs << '\n';
+    if (!csv) return std::fprintf(stderr, "cannot write %s\n", csvPath.c_str()), 1;
+  }
+  return 0;
+}
