@@ -222,6 +222,34 @@ TEST(GlPreview, DirectionalLightMatchesClosedFormWithinTwoPercent) {
     for (int x = 0; x < kSize; ++x) EXPECT_NEAR(direct.at(x, y).r, expected, 0.02f * expected) << x << "," << y;
 }
 
+// The editor splits a change's passes across frames (a budget per call): stepping with a budget that stops after every
+// pass, with a second change arriving mid-way, ends in exactly the image one unbudgeted call gives.
+TEST(GlPreview, BudgetedRenderConvergesToTheUnbudgetedImage) {
+  HeadlessGlContext context;
+  Scene scene = floorScene();
+  VplSet vpls = oneVpl(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(1.0f));
+  Settings settings = smallSettings();
+  settings.ssbcSteps = 2;
+  settings.clampBound = 2.0f;
+  PreviewRenderer stepped;
+  PreviewTimings t = stepped.render(scene, vpls, settings, scene.camera, 0.0);
+  EXPECT_FALSE(t.complete);
+  EXPECT_GT(t.progress, 0.0f);
+  EXPECT_LT(t.progress, 1.0f);
+  // A change while the first is still running.
+  settings.clampBound = 1.0f;
+  int calls = 1;
+  do t = stepped.render(scene, vpls, settings, scene.camera, 0.0);
+  while (!t.complete && ++calls < 100);
+  ASSERT_TRUE(t.complete);
+  EXPECT_GT(calls, 3) << "a zero budget runs one pass per call";
+  PreviewRenderer whole;
+  EXPECT_TRUE(whole.render(scene, vpls, settings, scene.camera).complete);
+  Image a = stepped.readLinear(), b = whole.readLinear();
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], b.pixels[i]) << i;
+}
+
 TEST(GlPreview, InvalidationRedoesOnlyDependentPasses) {
   HeadlessGlContext context;
   Scene scene = floorScene();

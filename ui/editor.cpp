@@ -130,6 +130,8 @@ class Editor {
   void markStale(const Staleness& s);
   void changeSettings(const Settings& next);
   void updateWork();
+  /// updateWork() until the preview is complete (script verbs that read the image or the counters).
+  void finishWork();
   void regenerateVpls();
   void measureClampEnergy();
   void composeDisplay();
@@ -223,6 +225,10 @@ class Editor {
   std::vector<ScriptCommand> script_;
   std::size_t scriptIndex_ = 0;
   int framesPending_ = 0;
+  /// The preview's work is split across frames of at most about this much (plus the pass that crosses it).
+  static constexpr double kPreviewFrameBudgetMs = 60.0;
+  bool previewUpdating_ = false;
+  float previewProgress_ = 1.0f;
   bool waitingOffline_ = false;
   std::string pendingScreenshot_;
   WorkCounters mark_;
@@ -433,11 +439,17 @@ void Editor::updateWork() {
     vslRadiiStale_ = false;
   }
   if (clampEnergyStale_) measureClampEnergy();
-  if (stale_.anyPreview()) {
+  if (stale_.anyPreview() || previewUpdating_) {
     try {
-      timings_ = preview_->render(scene_, vpls_, settings_, camera_.camera());
-      previewLinear_ = preview_->readLinear();
-      residual_ = view_ == ViewMode::SsbcResidual ? preview_->readLinear(PreviewOutput::Residual) : Image();
+      // Long work is split across frames (PreviewRenderer::render's budget): the last finished image stays on screen
+      // with "updating n %" until the new one is complete, which is then the image `vplab preview` gives.
+      timings_ = preview_->render(scene_, vpls_, settings_, camera_.camera(), kPreviewFrameBudgetMs);
+      previewUpdating_ = !timings_.complete;
+      previewProgress_ = timings_.progress;
+      if (timings_.complete) {
+        previewLinear_ = preview_->readLinear();
+        residual_ = view_ == ViewMode::SsbcResidual ? preview_->readLinear(PreviewOutput::Residual) : Image();
+      }
       previewError_.clear();
     } catch (const std::exception& e) {
       // A shader that fails to reload keeps the last image; the message is shown in the view.
@@ -456,10 +468,17 @@ void Editor::updateWork() {
     bool offline = stale_.offline;
     stale_ = Staleness{};
     stale_.offline = offline;
-    displayDirty_ = true;
-    if (chartPending_) addChartPoint();
+    if (!previewUpdating_) {
+      displayDirty_ = true;
+      if (chartPending_) addChartPoint();
+    }
   }
   if (displayDirty_) composeDisplay();
+}
+
+void Editor::finishWork() {
+  do updateWork();
+  while (previewUpdating_ && previewError_.empty());
 }
 
 void Editor::addChartPoint() {
@@ -692,7 +711,7 @@ void Editor::frame() {
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   glFinish();
   const double uiEnd = now();
-  if (!pendingScreenshot_.empty()) {
+  if (!pendingScreenshot_.empty() && !previewUpdating_) {
     takeScreenshot(pendingScreenshot_);
     pendingScreenshot_.clear();
   }
@@ -806,8 +825,10 @@ void Editor::drawView() {
       }
   }
   char status[256];
-  std::snprintf(status, sizeof status, "%s  %dx%d  x%.2g   frame %.1f ms (UI %.1f ms)   VPLs %zu", toString(view_),
-                texture_.width(), texture_.height(), scale, frameMs_, uiMs_, vpls_.vpls.size());
+  char updating[32] = "";
+  if (previewUpdating_) std::snprintf(updating, sizeof updating, "   updating %d %%", static_cast<int>(100.0f * previewProgress_));
+  std::snprintf(status, sizeof status, "%s  %dx%d  x%.2g   frame %.1f ms (UI %.1f ms)   VPLs %zu%s", toString(view_),
+                texture_.width(), texture_.height(), scale, frameMs_, uiMs_, vpls_.vpls.size(), updating);
   draw->AddText(ImVec2(areaX + 8, areaY + areaH - 20), IM_COL32(200, 200, 200, 255), status);
 }
 
@@ -1111,12 +1132,12 @@ void Editor::execute(const ScriptCommand& c) {
   } else if (c.verb == "screenshot") {
     pendingScreenshot_ = c.args[0];
   } else if (c.verb == "save-view") {
-    updateWork();
+    finishWork();
     if (previewLinear_.empty()) scriptFail(c, "no preview image");
     writeImage(c.args[0], previewLinear_, settings_.exposure);
     std::printf("save-view %s %dx%d\n", c.args[0].c_str(), previewLinear_.width, previewLinear_.height);
   } else if (c.verb == "offline") {
-    updateWork();  // the offline pass must use the VPLs of the current settings
+    finishWork();  // the offline pass must use the VPLs of the current settings
     startOffline(c.args[0] == "reference");
   } else if (c.verb == "wait-offline") {
     waitingOffline_ = true;
@@ -1127,11 +1148,11 @@ void Editor::execute(const ScriptCommand& c) {
   } else if (c.verb == "save-settings") {
     saveSettingsFile(c.args[0], settings_);
   } else if (c.verb == "mark") {
-    updateWork();  // what is stale now belongs before the mark
+    finishWork();  // what is stale now belongs before the mark
     mark_ = counters();
   } else if (c.verb == "expect-no-vpl-regeneration" || c.verb == "expect-no-shadow-map-render" ||
              c.verb == "expect-vpl-regeneration") {
-    updateWork();
+    finishWork();
     WorkCounters n = counters();
     int generations = n.vplGenerations - mark_.vplGenerations;
     int shadowMaps = n.vplShadowMaps - mark_.vplShadowMaps;
@@ -1141,7 +1162,7 @@ void Editor::execute(const ScriptCommand& c) {
       scriptFail(c, std::to_string(shadowMaps) + " VPL shadow-map render(s) since the mark");
     if (c.verb == "expect-vpl-regeneration" && generations == 0) scriptFail(c, "no VPL generation since the mark");
   } else if (c.verb == "counters") {
-    updateWork();
+    finishWork();
     WorkCounters n = counters();
     std::printf("counters vplGenerations=%d vplShadowMaps=%d gathers=%d\n", n.vplGenerations, n.vplShadowMaps,
                 n.gathers);

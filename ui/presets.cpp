@@ -126,6 +126,21 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "Tiny VPL shadow maps with a large depth bias: light leaks under the blocks and along the wall edges, where "
         "the exact render on the right is dark. Raise the shadow-map size and lower the bias to close the leaks; too "
         "small a bias brings back shadow acne."));
+    list.push_back(make(
+        "Imperfect shadow maps: leaks and over-darkening", "two-rooms.gltf", ViewMode::Difference,
+        [](Settings& s) {
+          s.vplCount = 256;
+          s.clampBound = 20.0f;
+          s.visibility = VisibilityMethod::Ism;
+          // A small point budget (256 points per VPL) and small tiles make ISM's failures visible at a glance.
+          s.ismPointBudget = 1 << 16;
+          s.ismTileSize = 32;
+        },
+        "Each VPL's visibility comes from a few hundred splatted points instead of the triangles (Ritschel et al. "
+        "2008). Render the exact VPL render (O): the difference against it is the failure map, brighter where light "
+        "leaks through the wall between the rooms, where too few points covered the wall near a VPL, darker where "
+        "splats and the depth bias shadow surfaces that meet. Raise the ISM points and the tile size, or "
+        "switch the VPL visibility to cube shadow maps, and the map fades."));
     return list;
   }();
   return presets;

@@ -380,7 +380,7 @@ void PreviewRenderer::uploadVpls(const Scene& scene, const VplSet& set) {
 }
 
 PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, const Settings& settings,
-                                       const Camera& camera) {
+                                       const Camera& camera, double budgetMs) {
   auto frameStart = std::chrono::steady_clock::now();
   requireValidSettings(settings);
   PreviewTimings t;
@@ -427,6 +427,37 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                      settings.ssbcCoarseRings != last.ssbcCoarseRings;
   bool tonemapChanged = ssbcChanged || settings.exposure != last.exposure;
 
+  // What this call found stale joins what earlier calls left undone (a budget cut them short); the passes then run in
+  // order from the first pending one until the budget is spent.
+  const bool jobRunning = pending_.any();
+  pending_.gbuffer |= cameraChanged;
+  pending_.directMaps |= directMapsChanged;
+  pending_.vplMaps |= vplMapsChanged;
+  pending_.direct |= directChanged;
+  pending_.gather |= gatherChanged;
+  pending_.merge |= directChanged || gatherChanged;
+  pending_.ssbc |= ssbcChanged;
+  pending_.tonemap |= tonemapChanged;
+  if (!jobRunning) jobDone_ = 0;
+  jobTotal_ = jobDone_ + pending_.count();
+  haveFrame_ = true;
+  lastCamera_ = camera;
+  lastSettings_ = settings;
+  cameraChanged = pending_.gbuffer;
+  directMapsChanged = pending_.directMaps;
+  vplMapsChanged = pending_.vplMaps;
+  directChanged = pending_.direct;
+  gatherChanged = pending_.gather;
+  ssbcChanged = pending_.ssbc;
+  tonemapChanged = pending_.tonemap;
+  // A pass runs only while no earlier pass of this call has spent the budget; each clears its pending flag.
+  bool outOfBudget = false;
+  auto finished = [&](bool& flag) {
+    flag = false;
+    ++jobDone_;
+    outOfBudget = msSince(frameStart) > budgetMs;
+  };
+
   float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
   float far = 2.0f * diagonal;
   float bias = settings.shadowBias * diagonal;
@@ -459,10 +490,11 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       tg.gbufferMipsCurrent = false;
     });
     ++counters_.gbuffer;
+    finished(pending_.gbuffer);
   }
 
   // Shadow maps of the direct-light samples: depend on the scene, K, the seed and the map size only.
-  if (directMapsChanged) {
+  if (directMapsChanged && !outOfBudget) {
     t.directShadowMs = timed(timer_, t.directShadowWallMs, [&] {
       uploadDirectLights(scene, settings);
       lightShadows_.render(*glScene_, lightCasters_, kLightShadowFaceSize, far);
@@ -470,15 +502,17 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                                       kDirectionalShadowSize);
     });
     ++counters_.directShadowMaps;
+    finished(pending_.directMaps);
   }
 
   if (vplDataChanged) uploadVpls(scene, vpls);
   vplsDirty_ = false;
   // Pass 3: one cube shadow map per VPL, only when a VPL position (or the map size, or the scene) changes.
-  if (vplMapsChanged) {
+  if (vplMapsChanged && !outOfBudget) {
     t.vplShadowMs = timed(timer_, t.vplShadowWallMs,
                           [&] { vplVisibility_->update(*glScene_, scene, casters, settings, far); });
     ++counters_.vplShadowMaps;
+    finished(pending_.vplMaps);
   }
   shadowsValid_ = true;
 
@@ -530,7 +564,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   tg.bindGbuffer();
   // Pass 2: direct light, additive over shadow-map chunks, interleaved over the light samples.
-  if (directChanged) {
+  if (directChanged && !outOfBudget) {
     t.directMs = timed(timer_, t.directWallMs, [&] {
       ShaderProgram& direct = direct_[lambertOnly_];
       direct.set("uCameraPosition", camera.position);
@@ -546,10 +580,11 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       });
     });
     ++counters_.direct;
+    finished(pending_.direct);
   }
 
   // Pass 4: VPL gather with G_b / VSL and interleaving (the de-interleave follows).
-  if (gatherChanged) {
+  if (gatherChanged && !outOfBudget) {
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
       // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
       ShaderProgram& gather = (vplsHaveRadius_ ? *gatherVsl_ : *gather_)[lambertOnly_];
@@ -564,22 +599,24 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       });
     });
     ++counters_.gather;
+    finished(pending_.gather);
   }
 
   // Geometry-aware de-interleave of the direct light and the gather together into I0 (deinterleave.frag.glsl): the
   // merge is linear and its weights depend on the G-buffer only, so one merge serves both. Its time is counted in the
   // gather pass (in the direct pass when only that one ran).
-  if (directChanged || gatherChanged) {
+  if (pending_.merge && !pending_.direct && !pending_.gather && !outOfBudget) {
     double wallMs = 0.0;
     double gpuMs = timed(timer_, wallMs, [&] { mergeInterleaved(glm::vec2(1.0f), tg.i0.framebuffer); });
     t.deinterleaveMs = gpuMs;
     (gatherChanged ? t.gatherMs : t.directMs) += gpuMs;
     (gatherChanged ? t.gatherWallMs : t.directWallMs) += wallMs;
+    finished(pending_.merge);
   }
 
   // Pass 5: R1 = T_r(I0) (I0 = direct + indirect, merged by the de-interleave), R2 = T_r(R1), final = Le + I0 + R1
   // + R2 (the final composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
-  if (ssbcChanged) {
+  if (ssbcChanged && !pending_.merge && !outOfBudget) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
       residualSteps_ = compensate ? std::min(settings.ssbcSteps, 2) : 0;
@@ -678,10 +715,11 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       drawFullscreen(compose_);
     });
     ++counters_.ssbc;
+    finished(pending_.ssbc);
   }
 
   // Pass 6: tonemap.
-  if (tonemapChanged) {
+  if (tonemapChanged && !pending_.ssbc && !outOfBudget) {
     t.tonemapMs = timed(timer_, t.tonemapWallMs, [&] {
       tg.display.framebuffer.bind(tg.width, tg.height);
       tg.linear.texture.bind(6);
@@ -689,18 +727,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       drawFullscreen(tonemap_);
     });
     ++counters_.tonemap;
+    finished(pending_.tonemap);
   }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   checkGlError("PreviewRenderer::render");
 
-  if (gatherChanged)
+  if (gatherChanged && !pending_.gather)
     t.gatherEvaluations = static_cast<double>(settings.width) * settings.height *
                           static_cast<double>(vpls.vpls.size()) /
                           static_cast<double>(settings.interleave * settings.interleave);
   t.frameWallMs = msSince(frameStart);
-  haveFrame_ = true;
-  lastCamera_ = camera;
-  lastSettings_ = settings;
+  t.complete = !pending_.any();
+  t.progress = jobTotal_ > 0 ? static_cast<float>(jobDone_) / static_cast<float>(jobTotal_) : 1.0f;
   return t;
 }
 

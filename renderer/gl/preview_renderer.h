@@ -12,6 +12,7 @@
 // scene, so a new VplSet (or invalidateVpls()) whose positions are unchanged keeps the maps.
 
 #include <cstdint>
+#include <limits>
 #include <memory>
 
 #include "renderer/gl/gl_scene.h"
@@ -41,6 +42,10 @@ struct PreviewTimings {
   double gatherEvaluations = 0;
   /// GPU time of the geometry-aware de-interleave, already counted in gatherMs (in directMs when only that ran).
   double deinterleaveMs = 0;
+  /// False when the call's budget ran out before every stale pass ran: the image is not the final one yet.
+  bool complete = true;
+  /// Share of the passes of the current change that have run, [0, 1].
+  float progress = 1.0f;
 };
 
 /// How often each pass ran since construction (tests check the invalidation rules with these).
@@ -80,7 +85,11 @@ class PreviewRenderer {
 
   /// Renders settings.width x settings.height. The scene and VPL set are compared by address and content version:
   /// call invalidateScene() / invalidateVpls() after editing them in place.
-  PreviewTimings render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera);
+  /// budgetMs splits long work across calls (the editor's frames): passes run in order until one finishes after the
+  /// budget is spent; the next call resumes with the remaining ones (and redoes any that a new change made stale).
+  /// The image is final when the result's `complete` is set; it is then the same as one unbudgeted call gives.
+  PreviewTimings render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera,
+                        double budgetMs = std::numeric_limits<double>::infinity());
 
   void invalidateScene();
   /// The scene's punctual lights were edited in place (no triangle moved): the lights' shadow maps and the direct light
@@ -159,6 +168,16 @@ class PreviewRenderer {
   Settings lastSettings_;
 
   PreviewCounters counters_;
+
+  /// Passes that are stale and have not run yet (render() with a budget can leave some for the next call).
+  struct PendingPasses {
+    bool gbuffer = false, directMaps = false, vplMaps = false, direct = false, gather = false, merge = false,
+         ssbc = false, tonemap = false;
+    int count() const { return gbuffer + directMaps + vplMaps + direct + gather + merge + ssbc + tonemap; }
+    bool any() const { return count() > 0; }
+  };
+  PendingPasses pending_;
+  int jobDone_ = 0, jobTotal_ = 0;
 };
 
 }  // namespace vplab
