@@ -9,6 +9,7 @@
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vpl_json.h"
 
@@ -28,9 +29,9 @@ int cmdRender(const Args& args) {
   cl.addOptions(cli::manyLightOptions());
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
-    std::printf("Generates VPLs by light tracing (--vpls is the expected count; with --reject the expected accepted "
-                "count),\nthen sums them at every pixel sample with exact shadow rays. --spp sets the samples per "
-                "pixel.\n");
+    std::printf("Generates VPLs by --generation (light tracing: --vpls is the expected count, with --reject the "
+                "expected accepted\ncount; bidirectional: exactly --vpls; metropolis: about --vpls), then sums them at "
+                "every pixel sample with\nexact shadow rays. --spp sets the samples per pixel.\n");
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
@@ -81,11 +82,8 @@ int cmdRender(const Args& args) {
               offline.lights().lightCount());
   std::printf("method      %s, %dx%d, %d spp, components %s, seed %u\n", toString(method), settings.width,
               settings.height, result.samplesPerPixel, toString(settings.components), settings.seed);
-  std::printf("vpls        %llu accepted of %llu candidates from %llu light paths (acceptance %.1f%%%s), "
-              "generated in %.3f s\n",
-              static_cast<unsigned long long>(st.accepted), static_cast<unsigned long long>(st.candidates),
-              static_cast<unsigned long long>(st.pathsTraced), 100.0 * st.acceptanceRate,
-              st.candidateCapReached ? ", candidate cap reached" : "", st.generationSeconds);
+  std::printf("vpls        %s\n", describeVplStats(st).c_str());
+  for (const std::string& w : st.warnings) std::fprintf(stderr, "vplab render: warning: %s\n", w.c_str());
   std::printf("clamp       b = %g, energy removed %.2f%%\n", settings.clampBound, 100.0 * result.clampEnergyRemoved);
   std::printf("time        %.3f s on %d threads (%llu VPL shadow rays, %.2f Mrays/s)\n", result.seconds,
               resolveThreadCount(settings.threads), static_cast<unsigned long long>(result.shadowRays),

@@ -3,6 +3,8 @@
 #include "renderer/image/image_io.h"
 #include "renderer/settings_json.h"
 
+#include <cctype>
+
 namespace vplab::cli {
 
 std::vector<OptionSpec> imageOptions() {
@@ -27,17 +29,26 @@ std::vector<OptionSpec> referenceOptions() {
 
 std::vector<OptionSpec> manyLightOptions() {
   return {
+      {"generation", "light|bidirectional|metropolis", "how VPLs are generated (default light)"},
       {"vpls", "N", "number of VPLs (accepted ones with --reject; default 256)"},
       {"bounces", "K", "maximum VPL bounce (default 31 = max depth - 1)"},
       {"clamp", "b", "clamp bound b on the geometry term, 1/m^2, 'inf' = none (default inf)"},
       {"vsl-radius", "r", "virtual spherical light radius in metres, 0 = point VPLs (default 0)"},
       {"vsl-density", "", "derive each VSL radius from the local VPL density (scaled by --vsl-radius)"},
       {"vsl-samples", "N", "samples per VSL of the exact CPU render (default 4; the GL preview takes none)"},
-      {"reject", "", "rejection of unimportant VPLs (Georgiev-Slusallek)"},
+      {"importance-points", "M", "camera-visible points importance is measured at (default 256)"},
+      {"reject", "", "rejection of unimportant VPLs (Georgiev-Slusallek; --generation light only)"},
       {"epsilon", "e", "rejection epsilon in [0,1] (default 0.1)"},
-      {"pilot-vpls", "N", "pilot VPLs for rejection (default 64)"},
-      {"sample-points", "M", "camera-visible points for rejection (default 256)"},
+      {"pilot-vpls", "N", "pilot VPLs for rejection (default 1024)"},
       {"max-candidates", "F", "candidate cap as a multiple of --vpls (default 100)"},
+      {"bir-candidate-factor", "F", "bidirectional: candidates per kept VPL (default 4)"},
+      {"bir-light-share", "s", "bidirectional: share of light-traced candidates in (0,1] (default 0.5)"},
+      {"bir-epsilon", "e", "bidirectional: defensive share of the resampling in [0,1] (default 0.1)"},
+      {"mir-chains", "C", "metropolis: independent Markov chains (default 16)"},
+      {"mir-large-step-probability", "p", "metropolis: probability of a large step in (0,1] (default 0.3)"},
+      {"mir-burn-in", "B", "metropolis: states discarded per chain (default 4)"},
+      {"mir-bootstrap-paths", "N", "metropolis: paths estimating the normalisation (default 1024)"},
+      {"mir-epsilon", "e", "metropolis: defensive share of the target in [0,1] (default 0.1)"},
       {"ssbc", "0|1|2", "screen-space bias compensation steps (GL preview; default 0)"},
       {"ssbc-coarse-rings", "0|1", "SSBC rings >= 4 px away on a 4 px grid, 0 = every pixel (GL preview; default 1)"},
       {"interleave", "k", "interleaved sampling k x k, 1 = off (GL preview; default 1)"},
@@ -49,6 +60,28 @@ std::vector<OptionSpec> manyLightOptions() {
       {"ism-points", "P", "imperfect shadow maps' surface point budget (GL preview; default 2097152)"},
   };
 }
+
+namespace {
+
+// validateSettings() messages start with the Settings member; where the option is that member's name in kebab case
+// (mirChains -> --mir-chains), the message names the option too.
+std::string withFlagName(const std::string& problem) {
+  std::string member = problem.substr(0, problem.find(' '));
+  std::string flag;
+  for (char c : member) {
+    if (std::isupper(static_cast<unsigned char>(c))) {
+      flag += '-';
+      flag += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    } else {
+      flag += c;
+    }
+  }
+  for (const OptionSpec& o : manyLightOptions())
+    if (flag == o.name) return "option --" + flag + ": " + problem;
+  return problem;
+}
+
+}  // namespace
 
 void applySettingsOptions(const CommandLine& cl, Settings& s) {
   if (auto file = cl.value("settings")) {
@@ -72,6 +105,8 @@ void applySettingsOptions(const CommandLine& cl, Settings& s) {
   s.maxDepth = cl.getInt("max-depth", s.maxDepth);
   if (auto c = cl.value("components"); c && !parseComponents(*c, s.components))
     throw CliError("option --components: '" + *c + "' is not all, direct or indirect");
+  if (auto g = cl.value("generation"); g && !parseGeneration(*g, s.generation))
+    throw CliError("option --generation: '" + *g + "' is not light, bidirectional or metropolis");
   s.vplCount = cl.getInt("vpls", s.vplCount);
   s.vplMaxBounces = cl.getInt("bounces", s.vplMaxBounces);
   s.clampBound = cl.getFloat("clamp", s.clampBound);
@@ -81,8 +116,16 @@ void applySettingsOptions(const CommandLine& cl, Settings& s) {
   if (cl.has("reject")) s.rejection = true;
   s.rejectionEpsilon = cl.getFloat("epsilon", s.rejectionEpsilon);
   s.rejectionPilotVpls = cl.getInt("pilot-vpls", s.rejectionPilotVpls);
-  s.rejectionSamplePoints = cl.getInt("sample-points", s.rejectionSamplePoints);
+  s.importancePoints = cl.getInt("importance-points", s.importancePoints);
   s.rejectionMaxCandidateFactor = cl.getInt("max-candidates", s.rejectionMaxCandidateFactor);
+  s.birCandidateFactor = cl.getInt("bir-candidate-factor", s.birCandidateFactor);
+  s.birLightShare = cl.getFloat("bir-light-share", s.birLightShare);
+  s.birEpsilon = cl.getFloat("bir-epsilon", s.birEpsilon);
+  s.mirChains = cl.getInt("mir-chains", s.mirChains);
+  s.mirLargeStepProbability = cl.getFloat("mir-large-step-probability", s.mirLargeStepProbability);
+  s.mirBurnIn = cl.getInt("mir-burn-in", s.mirBurnIn);
+  s.mirBootstrapPaths = cl.getInt("mir-bootstrap-paths", s.mirBootstrapPaths);
+  s.mirEpsilon = cl.getFloat("mir-epsilon", s.mirEpsilon);
   s.ssbcSteps = cl.getInt("ssbc", s.ssbcSteps);
   s.ssbcCoarseRings = cl.getInt("ssbc-coarse-rings", s.ssbcCoarseRings ? 1 : 0) != 0;
   s.interleave = cl.getInt("interleave", s.interleave);
@@ -94,7 +137,7 @@ void applySettingsOptions(const CommandLine& cl, Settings& s) {
   s.ismTileSize = cl.getInt("ism-tile-size", s.ismTileSize);
   s.ismPointBudget = cl.getInt("ism-points", s.ismPointBudget);
   std::vector<std::string> problems = validateSettings(s);
-  if (!problems.empty()) throw CliError(problems.front());
+  if (!problems.empty()) throw CliError(withFlagName(problems.front()));
 }
 
 void checkImageOutputs(const CommandLine& cl) {

@@ -1,5 +1,7 @@
 #include "renderer/invalidation.h"
 
+#include "renderer/vpl/generation_methods.h"
+
 namespace vplab {
 
 Staleness& Staleness::operator|=(const Staleness& o) {
@@ -45,10 +47,10 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   Staleness s;
   const bool usesVpls = method != Method::Reference;
 
-  // Image size: every per-pixel buffer, and the rejection sample points are pixels of that image.
+  // Image size: every per-pixel buffer, and the importance points are pixels of that image.
   if (a.width != b.width || a.height != b.height) {
     s.gather = s.offline = true;
-    s.vpls |= a.rejection || b.rejection;
+    s.vpls |= usesImportancePoints(a) || usesImportancePoints(b);
   }
   // The seed drives the VPL sequence, the light sample points and the offline sample streams.
   if (a.seed != b.seed) s.vpls = s.lightShadowMaps = s.offline = true;
@@ -58,13 +60,22 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   if (a.samplesPerPixel != b.samplesPerPixel || a.maxDepth != b.maxDepth) s.offline = true;
   if (a.components != b.components) s.gather = s.offline = true;
 
-  // VPL generation (MANYLIGHTS.md section 2) and rejection (section 3). The rejection parameters only matter while
-  // rejection is on in either state.
-  bool vplsChanged = a.vplCount != b.vplCount || a.vplMaxBounces != b.vplMaxBounces || a.rejection != b.rejection;
+  // VPL generation (docs/methods.md, "VPL generation"). A method's parameters only matter while it is in use in
+  // either state.
+  bool vplsChanged = a.generation != b.generation || a.vplCount != b.vplCount ||
+                     a.vplMaxBounces != b.vplMaxBounces || a.rejection != b.rejection;
+  if (usesImportancePoints(a) || usesImportancePoints(b)) vplsChanged |= a.importancePoints != b.importancePoints;
   if (a.rejection || b.rejection)
     vplsChanged |= a.rejectionEpsilon != b.rejectionEpsilon || a.rejectionPilotVpls != b.rejectionPilotVpls ||
-                   a.rejectionSamplePoints != b.rejectionSamplePoints ||
                    a.rejectionMaxCandidateFactor != b.rejectionMaxCandidateFactor;
+  auto uses = [&](VplGeneration g) { return a.generation == g || b.generation == g; };
+  if (uses(VplGeneration::Bidirectional))
+    vplsChanged |= a.birCandidateFactor != b.birCandidateFactor || a.birLightShare != b.birLightShare ||
+                   a.birEpsilon != b.birEpsilon;
+  if (uses(VplGeneration::Metropolis))
+    vplsChanged |= a.mirChains != b.mirChains || a.mirLargeStepProbability != b.mirLargeStepProbability ||
+                   a.mirBurnIn != b.mirBurnIn || a.mirBootstrapPaths != b.mirBootstrapPaths ||
+                   a.mirEpsilon != b.mirEpsilon;
   if (vplsChanged) {
     s.vpls = true;
     s.offline |= usesVpls;

@@ -4,8 +4,9 @@
 // stages it names; the tests check it against the dependency list below.
 //
 // Stage dependencies:
-//   VPL generation    <- scene, lights, seed, vplCount, vplMaxBounces, rejection (+ its parameters while it is on;
-//                        with rejection on also the image size, since the importance sample points are pixels)
+//   VPL generation    <- scene, lights, seed, generation, vplCount, vplMaxBounces, rejection (+ the parameters of
+//                        the generation method and of rejection while in use; with an importance-driven method also
+//                        importancePoints and the image size, since the importance points are pixels)
 //   VPL shadow maps   <- the VPLs, the visibility technique and its sizes (shadowMapSize; ismTileSize,
 //                        ismPointBudget)
 //   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points); not shadowMapSize

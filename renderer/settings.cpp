@@ -22,6 +22,14 @@ void checkRange(std::vector<std::string>& problems, const char* name, T value, T
   }
 }
 
+// A share or probability that must be positive: (0, 1].
+void checkUnitInterval(std::vector<std::string>& problems, const char* name, float value) {
+  if (value > 0.0f && value <= 1.0f) return;
+  std::ostringstream s;
+  s << name << " = " << value << " is outside (0, 1]";
+  problems.push_back(s.str());
+}
+
 }  // namespace
 
 std::vector<std::string> validateSettings(const Settings& s) {
@@ -36,8 +44,19 @@ std::vector<std::string> validateSettings(const Settings& s) {
   checkRange(p, "vplMaxBounces", s.vplMaxBounces, 1, 64);
   checkRange(p, "rejectionEpsilon", s.rejectionEpsilon, 0.0f, 1.0f);
   checkRange(p, "rejectionPilotVpls", s.rejectionPilotVpls, 1, 65536);
-  checkRange(p, "rejectionSamplePoints", s.rejectionSamplePoints, 1, 65536);
+  checkRange(p, "importancePoints", s.importancePoints, 1, 65536);
   checkRange(p, "rejectionMaxCandidateFactor", s.rejectionMaxCandidateFactor, 1, 10000);
+  if (s.rejection && s.generation != VplGeneration::Light)
+    p.push_back(std::string("rejection = true needs generation = light (") + toString(s.generation) +
+                " already chooses its VPLs by importance)");
+  checkRange(p, "birCandidateFactor", s.birCandidateFactor, 1, 256);
+  checkUnitInterval(p, "birLightShare", s.birLightShare);
+  checkRange(p, "birEpsilon", s.birEpsilon, 0.0f, 1.0f);
+  checkRange(p, "mirChains", s.mirChains, 1, 4096);
+  checkUnitInterval(p, "mirLargeStepProbability", s.mirLargeStepProbability);
+  checkRange(p, "mirBurnIn", s.mirBurnIn, 0, 100000);
+  checkRange(p, "mirBootstrapPaths", s.mirBootstrapPaths, 16, 1 << 20);
+  checkRange(p, "mirEpsilon", s.mirEpsilon, 0.0f, 1.0f);
   checkRange(p, "clampBound", s.clampBound, 0.0f, kInfinity);
   checkRange(p, "ssbcSteps", s.ssbcSteps, 0, 2);
   checkRange(p, "vslRadius", s.vslRadius, 0.0f, std::numeric_limits<float>::max());

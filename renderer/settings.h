@@ -24,6 +24,14 @@ enum class VisibilityMethod {
          ///< of the triangle count; leaks light through thin occluders and near the VPL
 };
 
+/// How VPLs are generated (docs/methods.md, "VPL generation"; the list with names, labels and colours is
+/// renderer/vpl/generation_methods.h, the one place a new method is added).
+enum class VplGeneration {
+  Light,          ///< light tracing (Keller 1997), optionally with rejection (Georgiev & Slusallek 2010)
+  Bidirectional,  ///< bidirectional instant radiosity (Segovia et al. 2006): camera-side candidates, resampled
+  Metropolis,     ///< Metropolis instant radiosity (Segovia et al. 2007): light paths from a Markov chain
+};
+
 /// Which part of the radiance an image holds. VPL methods approximate only the indirect part.
 enum class Components { All, Direct, Indirect };
 
@@ -61,26 +69,68 @@ struct Settings {
   /// Radiance components written by the offline pass. Default All.
   Components components = Components::All;
 
-  // --- VPL generation (MANYLIGHTS.md section 2) -------------------------------------------------------------
-  /// Number of VPLs to generate (accepted VPLs when rejection is on) [0, 1<<20]. Default 256.
+  // --- VPL generation (docs/methods.md, "VPL generation") ---------------------------------------------------
+  /// How VPLs are generated. Default Light (the plain method, the baseline the others are measured against).
+  VplGeneration generation = VplGeneration::Light;
+  /// Number of VPLs to generate: the expected count (accepted VPLs with rejection; VPLs kept from the bidirectional
+  /// pool; about this many from the Metropolis chains) [0, 1<<20]. Default 256.
   int vplCount = 256;
   /// Maximum VPL bounce index: VPLs are stored at bounces 1..vplMaxBounces [1, 64]. A VPL of bounce k lights x1
   /// through k + 1 reflections, so the default 31 = maxDepth - 1 makes the VPL methods sum the same paths as the
   /// reference (Russian roulette ends most paths long before). Default 31.
   int vplMaxBounces = 31;
+  /// Camera-visible points at which a VPL's importance (its contribution to the image) is measured, by rejection,
+  /// bidirectional resampling and the Metropolis target [1, 65536]: one primary hit per cell of a grid over the
+  /// image. More points = a better importance estimate at a cost linear in the count. Default 256.
+  int importancePoints = 256;
 
-  // --- rejection of unimportant VPLs, Georgiev & Slusallek 2010 (section 3) --------------------------------
-  /// Enables rejection sampling of VPL candidates. Default off.
+  // --- rejection of unimportant VPLs, Georgiev & Slusallek 2010 (light tracing only) ----------------------------
+  /// Enables rejection sampling of light-traced VPL candidates. Only with generation = Light: the other methods
+  /// already choose their VPLs by the same importance, so rejection would accept nearly all of them. Default off.
   bool rejection = false;
-  /// epsilon in p_i = min(Phi_i / Phi_v + epsilon, 1) [0, 1]. 0 rejects VPLs that miss every sample point.
+  /// epsilon in p_i = min(Phi_i / Phi_v + epsilon, 1) [0, 1]. 0 rejects VPLs that miss every importance point.
   /// Default 0.1.
   float rejectionEpsilon = 0.1f;
-  /// Pilot VPLs that estimate Phi_v [1, 65536]. Default 64.
-  int rejectionPilotVpls = 64;
-  /// Camera-visible sample points the importance is measured at [1, 65536]. Default 256.
-  int rejectionSamplePoints = 256;
+  /// Pilot VPLs that estimate Phi_v [1, 65536]. Phi_v is a mean of a heavy-tailed quantity: its relative error is
+  /// about the coefficient of variation of Phi_i / sqrt(this), so a few hundred pilot VPLs keep the acceptance rate
+  /// within a few percent across seeds; the pilot costs importancePoints shadow rays per VPL. Default 1024.
+  int rejectionPilotVpls = 1024;
   /// Cap on candidates traced, as a multiple of vplCount [1, 10000]; reaching it is reported. Default 100.
   int rejectionMaxCandidateFactor = 100;
+
+  // --- bidirectional instant radiosity, Segovia et al. 2006 -------------------------------------------------
+  /// Candidates per VPL kept: the pool (light-traced and camera-side candidates) holds about this times vplCount
+  /// candidates, from which exactly vplCount are resampled [1, 256]. A larger pool follows the importance more
+  /// closely at a cost linear in the pool (importancePoints shadow rays per candidate); about 1/this of the pool is
+  /// kept. Default 4.
+  int birCandidateFactor = 4;
+  /// Share of the pool's candidates that come from light tracing, in (0, 1]; the rest start from camera points.
+  /// Light-traced candidates are the only source of VPLs beyond the first bounce and of light the camera points do
+  /// not see; camera-side candidates put first-bounce VPLs where the camera looks. Default 0.5 (Segovia et al.).
+  float birLightShare = 0.5f;
+  /// Defensive share epsilon of the resampling [0, 1]: a candidate's selection weight is its importance relative to
+  /// the mean plus epsilon times its flux relative to the mean, so a VPL that no importance point sees but that
+  /// carries light can still be chosen (unbiased for epsilon > 0). Default 0.1.
+  float birEpsilon = 0.1f;
+
+  // --- Metropolis instant radiosity, Segovia et al. 2007 ----------------------------------------------------
+  /// Independent Markov chains, at most [1, 4096]. More chains explore separately found regions in proportion and
+  /// keep a light move's effect local (each chain has its own random stream); fewer chains mean longer, better mixed
+  /// walks. Fewer are run when their start paths would hold more than half of vplCount. Default 16.
+  int mirChains = 16;
+  /// Probability of a large step (fresh random numbers) instead of a small perturbation, in (0, 1]. Large steps
+  /// find new regions; small steps explore around a found path. Default 0.3 (Kelemen et al. 2002).
+  float mirLargeStepProbability = 0.3f;
+  /// States discarded at the start of each chain [0, 100000]. Chains start from a path drawn in proportion to the
+  /// target among the bootstrap paths, so no burn-in is needed for unbiasedness; a few states decorrelate the
+  /// chains' starts. Default 4.
+  int mirBurnIn = 4;
+  /// Independent light paths that estimate the normalisation b = E[f] and seed the chains [16, 1<<20]. b's relative
+  /// error is about the target's coefficient of variation / sqrt(this). Default 1024.
+  int mirBootstrapPaths = 1024;
+  /// Defensive share epsilon of the target [0, 1]: f = importance / mean + epsilon * flux / mean, so paths that light
+  /// nothing the importance points see are still visited (unbiased for epsilon > 0). Default 0.1.
+  float mirEpsilon = 0.1f;
 
   // --- bounded geometry term (section 4) and bias compensation (sections 5, 6) ------------------------------
   /// Clamp bound b on G = cos1 cos2 / d^2, in 1/m^2 [0, inf]; inf = no clamp. Default inf.
@@ -135,6 +185,9 @@ const char* toString(Stage stage);
 const char* toString(VisibilityMethod visibility);
 /// Parses "cube", "ism"; returns false on anything else.
 bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out);
+const char* toString(VplGeneration generation);
+/// Parses the names of renderer/vpl/generation_methods.h ("light", "bidirectional", "metropolis").
+bool parseGeneration(const std::string& text, VplGeneration& out);
 /// Parses "reference", "vpl", "vpl-kk", "vsl"; returns false on anything else.
 bool parseMethod(const std::string& text, Method& out);
 /// Parses "all", "direct", "indirect"; returns false on anything else.

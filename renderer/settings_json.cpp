@@ -17,7 +17,8 @@ using Json = nlohmann::json;
 // One row per Settings member: the JSON key and where the value lives. The table is the single list both directions
 // walk, so a member added to Settings and here is saved, loaded and scriptable at once.
 using MemberPtr = std::variant<int Settings::*, uint32_t Settings::*, float Settings::*, bool Settings::*,
-                               Components Settings::*, Stage Settings::*, VisibilityMethod Settings::*>;
+                               Components Settings::*, Stage Settings::*, VisibilityMethod Settings::*,
+                               VplGeneration Settings::*>;
 struct Field {
   const char* key;
   MemberPtr member;
@@ -34,13 +35,22 @@ const std::vector<Field>& fields() {
       {"samplesPerPixel", &Settings::samplesPerPixel},
       {"maxDepth", &Settings::maxDepth},
       {"components", &Settings::components},
+      {"generation", &Settings::generation},
       {"vplCount", &Settings::vplCount},
       {"vplMaxBounces", &Settings::vplMaxBounces},
+      {"importancePoints", &Settings::importancePoints},
       {"rejection", &Settings::rejection},
       {"rejectionEpsilon", &Settings::rejectionEpsilon},
       {"rejectionPilotVpls", &Settings::rejectionPilotVpls},
-      {"rejectionSamplePoints", &Settings::rejectionSamplePoints},
       {"rejectionMaxCandidateFactor", &Settings::rejectionMaxCandidateFactor},
+      {"birCandidateFactor", &Settings::birCandidateFactor},
+      {"birLightShare", &Settings::birLightShare},
+      {"birEpsilon", &Settings::birEpsilon},
+      {"mirChains", &Settings::mirChains},
+      {"mirLargeStepProbability", &Settings::mirLargeStepProbability},
+      {"mirBurnIn", &Settings::mirBurnIn},
+      {"mirBootstrapPaths", &Settings::mirBootstrapPaths},
+      {"mirEpsilon", &Settings::mirEpsilon},
       {"clampBound", &Settings::clampBound},
       {"ssbcSteps", &Settings::ssbcSteps},
       {"ssbcCoarseRings", &Settings::ssbcCoarseRings},
@@ -71,7 +81,7 @@ Json toJson(const Settings& s, const Field& f) {
       [&](auto member) -> Json {
         using T = std::decay_t<decltype(s.*member)>;
         if constexpr (std::is_same_v<T, Components> || std::is_same_v<T, Stage> ||
-                      std::is_same_v<T, VisibilityMethod>) {
+                      std::is_same_v<T, VisibilityMethod> || std::is_same_v<T, VplGeneration>) {
           return toString(s.*member);
         } else if constexpr (std::is_same_v<T, float>) {
           float v = s.*member;
@@ -108,6 +118,12 @@ void fromJson(Settings& s, const Field& f, const Json& value, const std::string&
           if (!value.is_string() || !parseVisibilityMethod(value.get<std::string>(), v))
             throw SettingsJsonError(where + ": expected \"cube\" or \"ism\", got " + value.dump());
           s.*member = v;
+        } else if constexpr (std::is_same_v<T, VplGeneration>) {
+          VplGeneration g;
+          if (!value.is_string() || !parseGeneration(value.get<std::string>(), g))
+            throw SettingsJsonError(where + ": expected \"light\", \"bidirectional\" or \"metropolis\", got " +
+                                    value.dump());
+          s.*member = g;
         } else if constexpr (std::is_same_v<T, float>) {
           if (value.is_string()) {
             const std::string text = value.get<std::string>();

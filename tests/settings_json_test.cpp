@@ -35,10 +35,19 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.stage = Stage::Studio;
   s.vplCount = 1234;
   s.vplMaxBounces = 7;
+  s.generation = VplGeneration::Light;
   s.rejection = true;
   s.rejectionEpsilon = 0.25f;
+  s.birCandidateFactor = 3;
+  s.birLightShare = 0.75f;
+  s.birEpsilon = 0.125f;
+  s.mirChains = 5;
+  s.mirLargeStepProbability = 0.5f;
+  s.mirBurnIn = 9;
+  s.mirBootstrapPaths = 333;
+  s.mirEpsilon = 0.375f;
   s.rejectionPilotVpls = 11;
-  s.rejectionSamplePoints = 99;
+  s.importancePoints = 99;
   s.rejectionMaxCandidateFactor = 42;
   s.clampBound = 3.75f;
   s.ssbcSteps = 2;
@@ -63,8 +72,19 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_FLOAT_EQ(back.clampBound, 3.75f);
   EXPECT_TRUE(back.vslRadiusFromDensity);
   EXPECT_EQ(back.visibility, VisibilityMethod::Ism);
+  EXPECT_EQ(back.mirBootstrapPaths, 333);
+  // The generation method is written by name and read back.
+  s.rejection = false;
+  s.generation = VplGeneration::Metropolis;
+  std::string json = settingsToJson(s);
+  EXPECT_NE(json.find("\"generation\": \"metropolis\""), std::string::npos) << json;
+  applySettingsJson(json, back);
+  EXPECT_EQ(back.generation, VplGeneration::Metropolis);
+  EXPECT_THROW(applySettingsJson("{\"generation\": \"photons\"}", back), SettingsJsonError);
+  EXPECT_THROW(applySettingsJson("{\"generation\": \"bidirectional\", \"rejection\": true}", back),
+               SettingsJsonError);
   // Every key the writer emits must be one the reader knows, and none may be missing.
-  EXPECT_EQ(settingsJsonKeys().size(), 29u);
+  EXPECT_EQ(settingsJsonKeys().size(), 38u);
 }
 
 TEST(SettingsJson, InfiniteClampIsWrittenAsStringAndReadBack) {

@@ -8,6 +8,16 @@
 
 namespace vplab::test {
 
+Settings smallVplSettings(int size, int vpls) {
+  Settings s;
+  s.width = size;
+  s.height = size;
+  s.vplCount = vpls;
+  s.samplesPerPixel = 1;
+  s.threads = 2;
+  return s;
+}
+
 std::unique_ptr<OfflineScene> loadAssetScene(const std::string& name) {
   return std::make_unique<OfflineScene>(loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/" + name + ".gltf"));
 }

@@ -4,6 +4,7 @@
 
 #include "renderer/offline/offline_scene.h"
 #include "renderer/scene/scene.h"
+#include "renderer/settings.h"
 
 #include <glm/glm.hpp>
 
@@ -11,6 +12,10 @@
 #include <string>
 
 namespace vplab::test {
+
+
+/// Settings for a cheap VPL test: size x size pixels, `vpls` VPLs, 1 sample per pixel, 2 threads.
+Settings smallVplSettings(int size, int vpls);
 
 /// Loads assets/scenes/<name>.gltf and builds its BVH and light sampler.
 std::unique_ptr<OfflineScene> loadAssetScene(const std::string& name);

@@ -25,15 +25,7 @@ using Loaded = OfflineScene;
 
 std::unique_ptr<Loaded> load(const std::string& name) { return test::loadAssetScene(name); }
 
-Settings smallSettings(int size, int vpls) {
-  Settings s;
-  s.width = size;
-  s.height = size;
-  s.vplCount = vpls;
-  s.samplesPerPixel = 1;
-  s.threads = 2;
-  return s;
-}
+Settings smallSettings(int size, int vpls) { return test::smallVplSettings(size, vpls); }
 
 VplSet generate(const Loaded& l, const Settings& s) { return generateVpls(l, s); }
 
@@ -170,7 +162,7 @@ TEST(VplGeneration, JsonRoundTripIsExact) {
   auto l = load("cornell-box");
   Settings s = smallSettings(16, 50);
   s.rejection = true;
-  s.rejectionSamplePoints = 16;
+  s.importancePoints = 16;
   s.rejectionPilotVpls = 16;
   VplSet set = generate(*l, s);
   std::string path = std::string(VPLAB_TEST_TMP) + "/vpl_roundtrip.json";
@@ -269,7 +261,7 @@ TEST(VplRejection, EpsilonKeepsTheExpectedImage) {
   s.components = Components::Indirect;
   s.rejection = true;
   s.rejectionPilotVpls = 64;
-  s.rejectionSamplePoints = 64;
+  s.importancePoints = 64;
   s.rejectionEpsilon = 1.0f;  // p_i = 1: every candidate accepted, the plain estimator
   double plain = meanOverSeeds(*l, s, Method::Vpl, 12);
   s.rejectionEpsilon = 0.1f;
@@ -376,7 +368,7 @@ TEST(VplExtremes, EveryExtremeParameterGivesAFiniteImage) {
     s.rejection = c.reject;
     s.rejectionEpsilon = c.epsilon;
     s.rejectionPilotVpls = 16;
-    s.rejectionSamplePoints = 16;
+    s.importancePoints = 16;
     VplSet set = generate(*l, s);
     if (c.vpls == 0) {
       EXPECT_TRUE(set.vpls.empty());

@@ -15,6 +15,7 @@
 #include "renderer/settings_json.h"
 #include "renderer/vpl/vpl_contribution.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "renderer/vpl/vpl_importance.h"
 #include "ui/camera_controller.h"
 #include "ui/chart.h"
 #include "ui/offline_job.h"
@@ -395,7 +396,7 @@ void Editor::changeSettings(const Settings& next) {
 }
 
 void Editor::regenerateVpls() {
-  // Rejection measures importance at the pixels of the current view.
+  // Importance-driven generation (rejection, bidirectional, Metropolis) measures importance from the current view.
   scene_.camera = camera_.camera();
   vpls_ = generateVpls(*offline_, settings_);
   ++vplGenerations_;
@@ -412,9 +413,9 @@ void Editor::measureClampEnergy() {
   // Energy removed by G_b over camera-visible points: sum(unclamped - clamped) / sum(unclamped) of the luminance of
   // every visible VPL contribution (MANYLIGHTS 4). A few hundred points suffice for a percentage.
   Settings pointSettings = settings_;
-  pointSettings.rejectionSamplePoints = std::max(16, std::min(256, 65536 / static_cast<int>(vpls_.vpls.size() + 1)));
+  pointSettings.importancePoints = std::max(16, std::min(256, 65536 / static_cast<int>(vpls_.vpls.size() + 1)));
   scene_.camera = camera_.camera();
-  std::vector<ShadingPoint> points = rejectionSamplePoints(*offline_, pointSettings);
+  std::vector<ShadingPoint> points = importancePoints(*offline_, pointSettings);
   const EmbreeScene& embree = offline_->embree();
   double clamped = 0.0, unclamped = 0.0;
   for (const ShadingPoint& sp : points)

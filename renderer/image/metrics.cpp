@@ -1,5 +1,6 @@
 #include "renderer/image/metrics.h"
 
+#include <algorithm>
 #include <cmath>
 #include <limits>
 #include <stdexcept>
@@ -88,6 +89,23 @@ Image signedDifferenceImage(const Image& image, const Image& reference) {
   Image out(image.width, image.height);
   // Non-finite inputs propagate as NaN/Inf on their own, which the heatmap marks.
   for (std::size_t i = 0; i < image.size(); ++i) out.pixels[i] = image.pixels[i] - reference.pixels[i];
+  return out;
+}
+
+Image blockAverage(const Image& image, int block) {
+  if (block < 1) throw std::invalid_argument("blockAverage: block must be >= 1");
+  Image out((image.width + block - 1) / block, (image.height + block - 1) / block);
+  for (int by = 0; by < out.height; ++by)
+    for (int bx = 0; bx < out.width; ++bx) {
+      glm::dvec3 sum(0.0);
+      int n = 0;
+      for (int y = by * block; y < std::min(image.height, (by + 1) * block); ++y)
+        for (int x = bx * block; x < std::min(image.width, (bx + 1) * block); ++x) {
+          sum += glm::dvec3(image.at(x, y));
+          ++n;
+        }
+      out.at(bx, by) = glm::vec3(sum / static_cast<double>(std::max(n, 1)));
+    }
   return out;
 }
 

@@ -40,6 +40,12 @@ Image relativeErrorImage(const Image& image, const Image& reference);
 /// Per pixel and channel I - R (positive: too bright). Throws std::invalid_argument on a size mismatch.
 Image signedDifferenceImage(const Image& image, const Image& reference);
 
+/// The image averaged over blocks of block x block pixels (partial blocks at the right and bottom edges average
+/// what they hold). Comparing block averages measures an estimator's error at the scale of features rather than
+/// its per-pixel noise: the "4x4-block relMSE" of docs/methods.md is compareImages(blockAverage(I, 4),
+/// blockAverage(R, 4)).relMse. block must be >= 1.
+Image blockAverage(const Image& image, int block);
+
 /// True when all three channels are finite.
 bool isFinite(glm::vec3 v);
 

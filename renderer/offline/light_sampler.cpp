@@ -94,6 +94,12 @@ LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2
     s.position = pl.position;
     s.radiance = pl.intensityToward(-s.wi) / dist2;
     s.pdf = pLight;
+    if (pl.type == PunctualLight::Type::Point) {
+      s.emissionPdfDirection = 1.0f / (4.0f * kPi);
+    } else {
+      float cosOuter = std::cos(pl.outerConeAngle);
+      s.emissionPdfDirection = glm::dot(pl.direction, -s.wi) >= cosOuter ? uniformConePdf(cosOuter) : 0.0f;
+    }
     s.isDelta = true;
     return s;
   }
@@ -110,6 +116,7 @@ LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2
   if (cosLight <= 0.0f) return LightSampleLi{};  // back of a one-sided emitter
   s.radiance = scene_.materialOf(light.index).emission;
   s.pdf = pLight * dist2 / (cosLight * scene_.triangleArea(light.index));
+  s.emissionPdfDirection = cosLight * kInvPi;
   return s;
 }
 
@@ -158,11 +165,13 @@ EmissionSample LightSampler::sampleEmission(float uLight, glm::vec2 uPoint, glm:
       float phi = 2.0f * kPi * uDirection.y;
       s.direction = {r * std::cos(phi), r * std::sin(phi), z};
       s.weight = pl.intensity * (4.0f * kPi) / pLight;
+      s.pdfDirection = 1.0f / (4.0f * kPi);
     } else {
       // Uniform inside the outer cone; the falloff goes into the weight.
       float cosOuter = std::cos(pl.outerConeAngle);
       s.direction = Frame(pl.direction).toWorld(sampleUniformCone(uDirection, cosOuter));
       s.weight = pl.intensityToward(s.direction) / (uniformConePdf(cosOuter) * pLight);
+      s.pdfDirection = uniformConePdf(cosOuter);
     }
     s.valid = true;
     return s;
@@ -175,6 +184,7 @@ EmissionSample LightSampler::sampleEmission(float uLight, glm::vec2 uPoint, glm:
   glm::vec3 local = sampleCosineHemisphere(uDirection);
   if (!(local.z > 0.0f)) return EmissionSample{};
   s.direction = glm::normalize(Frame(s.normal).toWorld(local));
+  s.pdfDirection = local.z * kInvPi;
   s.weight = scene_.materialOf(light.index).emission * (kPi * scene_.triangleArea(light.index)) / pLight;
   s.valid = true;
   return s;

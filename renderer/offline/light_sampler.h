@@ -22,6 +22,9 @@ struct LightSampleLi {
   /// pdf: for the delta lights, the factor that multiplies f cos.
   glm::vec3 radiance{0.0f};
   float pdf = 0.0f;          ///< solid-angle pdf including the light choice; for delta lights the choice probability
+  /// Solid-angle pdf with which sampleEmission(), having chosen the same light and point, emits toward x; 0 for a
+  /// light whose emission direction is a delta. Bidirectional VPL generation weighs its two strategies with it.
+  float emissionPdfDirection = 0.0f;
   bool isDelta = false;
   bool valid() const { return pdf > 0.0f; }
 };
@@ -31,6 +34,8 @@ struct EmissionSample {
   glm::vec3 position{0.0f};   ///< on the light; for a directional light, on its emission disk outside the scene
   glm::vec3 normal{0.0f};     ///< emitter normal (zero for punctual lights)
   glm::vec3 direction{0.0f};  ///< unit
+  /// Solid-angle pdf of `direction` given the light and the point (0 for a delta direction: directional lights).
+  float pdfDirection = 0.0f;
   /// Le cos / (p_light pdf_A pdf_dir) for area lights, I(dir) / (p_light pdf_dir) for point and spot lights,
   /// E / (p_light pdf_A) for a directional light: the initial path throughput alpha_0 before dividing by the number
   /// of paths.

@@ -4,13 +4,16 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <string>
 #include <vector>
+
+#include "renderer/settings.h"
 
 namespace vplab {
 
 /// One VPL: light that arrived at a surface point after `bounce` reflections and will be reflected from there.
 /// It carries indirect light only (bounce >= 1); its contribution at x1 is f(x1) G V f(x2) flux, where f(x2) is
-/// evaluated from the stored incoming direction (MANYLIGHTS.md section 1).
+/// evaluated from the stored incoming direction (docs/methods.md, "The two passes").
 struct Vpl {
   glm::vec3 position{0.0f};
   glm::vec3 normal{0.0f, 0.0f, 1.0f};    ///< unit shading normal at the VPL
@@ -25,12 +28,22 @@ struct Vpl {
 };
 
 struct VplStats {
-  uint64_t pathsTraced = 0;         ///< light paths started (N_paths in the flux normalisation)
-  uint64_t candidates = 0;          ///< VPL candidates produced before rejection
+  /// The method that produced the set: Settings::generation, or Light after a fallback (see warnings).
+  VplGeneration generation = VplGeneration::Light;
+  uint64_t pathsTraced = 0;         ///< light paths started (N_paths in the flux normalisation), pilots excluded
+  uint64_t candidates = 0;          ///< VPL candidates produced before rejection or resampling
   uint64_t accepted = 0;            ///< VPLs kept
   double acceptanceRate = 1.0;      ///< accepted / candidates
+  /// Rejection: the acceptance rate the pilot predicts, and its standard error from the pilot alone (the spread
+  /// to expect between seeds: the error of Phi_v and of the mean acceptance probability). 0 without rejection.
+  double predictedAcceptance = 0.0;
+  double acceptanceSpread = 0.0;
   bool candidateCapReached = false; ///< rejection stopped at Settings::rejectionMaxCandidateFactor
+  uint64_t cameraCandidates = 0;    ///< bidirectional: pool candidates that started from a camera point
+  uint64_t chainSteps = 0;          ///< Metropolis: recorded mutations over all chains (burn-in excluded)
+  double mutationAcceptance = 0.0;  ///< Metropolis: share of recorded mutations accepted
   double generationSeconds = 0.0;   ///< wall time of generateVpls, pilot included
+  std::vector<std::string> warnings;  ///< e.g. a fallback to light tracing, with the reason
 };
 
 struct VplSet {

@@ -1,0 +1,151 @@
+// VPL generation benchmark: every generation variant (renderer/vpl/generation_methods.h) at an equal accepted VPL
+// count and at equal total time, over several seeds, against a path-traced reference (indirect component, clamped
+// CPU VPL renders). Prints per variant: mean relMSE (per pixel and of 4x4 block averages), mean energy ratio,
+// acceptance rate with its spread over the seeds, generation and render time; then the ratios to plain light
+// tracing. docs/methods.md and docs/benchmarks.md record its output.
+//   vplab_bench_generation_bench [--size N] [--vpls N] [--seeds S] [--clamp b] [--epsilon e] [--ref-spp N]
+//                                [--threads T] [--cache DIR] [--csv out.csv] [scene.gltf ...]
+// Defaults: 64x64, 256 VPLs, 8 seeds, b = 100, rejection epsilon 0.05, 4096 reference spp, cornell-box and two-rooms.
+
+#include "bench/bench_args.h"
+#include "evaluation/harness.h"
+#include "renderer/image/metrics.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/generation_methods.h"
+#include "renderer/vpl/vpl_generation.h"
+
+#include <cmath>
+#include <cstdio>
+#include <cstdlib>
+#include <cstring>
+#include <fstream>
+#include <string>
+#include <vector>
+
+using namespace vplab;
+
+namespace {
+
+struct Summary {
+  double relMse = 0.0, blockRelMse = 0.0, energy = 0.0, acceptance = 0.0, acceptanceMin = 1e30,
+         acceptanceMax = 0.0, genMs = 0.0, renderMs = 0.0, vpls = 0.0;
+  double totalMs() const { return genMs + renderMs; }
+};
+
+Summary measure(const OfflineScene& setup, const Image& ref, Settings s, int seeds) {
+  Summary sum;
+  for (int i = 0; i < seeds; ++i) {
+    s.seed = 1000 + static_cast<uint32_t>(i);
+    VplSet vpls = generateVpls(setup, s);
+    MeasuredImage m = renderCpu(setup, Method::Vpl, vpls, s);
+    ImageMetrics px = compareImages(m.image, ref);
+    ImageMetrics blk = compareImages(blockAverage(m.image, 4), blockAverage(ref, 4));
+    sum.relMse += px.relMse / seeds;
+    sum.blockRelMse += blk.relMse / seeds;
+    sum.energy += px.energyRatioOverall / seeds;
+    sum.acceptance += vpls.stats.acceptanceRate / seeds;
+    sum.acceptanceMin = std::min(sum.acceptanceMin, vpls.stats.acceptanceRate);
+    sum.acceptanceMax = std::max(sum.acceptanceMax, vpls.stats.acceptanceRate);
+    sum.genMs += m.generationMs / seeds;
+    sum.renderMs += m.renderMs / seeds;
+    sum.vpls += static_cast<double>(vpls.vpls.size()) / seeds;
+  }
+  return sum;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  int size = 64, vpls = 256, seeds = 8, refSpp = 4096, threads = 0;
+  float clamp = 100.0f, epsilon = 0.05f;
+  std::string csvPath, cacheDir = "generation-bench-cache";
+  std::vector<std::string> scenes;
+  for (int i = 1; i < argc; ++i) {
+    std::string a = argv[i];
+    if (a == "--size") size = std::atoi(benchOptionValue(argc, argv, i).c_str());
+    else if (a == "--vpls") vpls = std::atoi(benchOptionValue(argc, argv, i).c_str());
+    else if (a == "--seeds") seeds = std::atoi(benchOptionValue(argc, argv, i).c_str());
+    else if (a == "--clamp") clamp = static_cast<float>(std::atof(benchOptionValue(argc, argv, i).c_str()));
+    else if (a == "--epsilon") epsilon = static_cast<float>(std::atof(benchOptionValue(argc, argv, i).c_str()));
+    else if (a == "--ref-spp") refSpp = std::atoi(benchOptionValue(argc, argv, i).c_str());
+    else if (a == "--threads") threads = std::atoi(benchOptionValue(argc, argv, i).c_str());
+    else if (a == "--cache") cacheDir = benchOptionValue(argc, argv, i);
+    else if (a == "--csv") csvPath = benchOptionValue(argc, argv, i);
+    else if (a.rfind("--", 0) == 0) {
+      std::fprintf(stderr, "%s: unknown option %s\n", argv[0], a.c_str());
+      return 2;
+    } else scenes.push_back(a);
+  }
+  if (size < 4 || vpls < 1 || seeds < 1 || refSpp < 1) {
+    std::fprintf(stderr, "%s: --size >= 4, --vpls, --seeds and --ref-spp >= 1\n", argv[0]);
+    return 2;
+  }
+  if (scenes.empty()) scenes = {"assets/scenes/cornell-box.gltf", "assets/scenes/two-rooms.gltf"};
+  std::FILE* csv = csvPath.empty() ? nullptr : std::fopen(csvPath.c_str(), "w");
+  if (!csvPath.empty() && !csv) {
+    std::fprintf(stderr, "%s: cannot write %s\n", argv[0], csvPath.c_str());
+    return 1;
+  }
+  if (csv)
+    std::fprintf(csv, "scene,variant,comparison,vpls,seeds,relmse,block_relmse,energy_ratio,acceptance,"
+                      "acceptance_min,acceptance_max,gen_ms,render_ms\n");
+  std::printf("%dx%d, indirect, clamp b = %g, %d seeds, reference %d spp, rejection epsilon %g\n", size, size, clamp,
+              seeds, refSpp, epsilon);
+  for (const std::string& path : scenes) {
+    OfflineScene setup(loadScene(path));
+    Settings base;
+    base.width = base.height = size;
+    base.threads = threads;
+    base.components = Components::Indirect;
+    base.samplesPerPixel = 1;
+    base.clampBound = clamp;
+    base.rejectionEpsilon = epsilon;
+    Settings refSettings = base;
+    refSettings.samplesPerPixel = refSpp;
+    Image ref = cachedReference(setup, sceneStem(path), refSettings, cacheDir).image;
+    std::printf("\n%s\n%-26s %-10s %6s %9s %9s %7s %18s %9s %9s %8s %8s\n", sceneStem(path).c_str(), "variant",
+                "at", "VPLs", "relMSE", "4x4 rel", "energy", "acceptance (range)", "gen ms", "render ms",
+                "x relMSE", "x 4x4");
+    Summary plain;
+    for (const GenerationVariant& v : generationVariants()) {
+      Settings s = base;
+      applyGenerationVariant(v, s);
+      s.vplCount = vpls;
+      Summary m = measure(setup, ref, s, seeds);
+      if (v.generation == VplGeneration::Light && !v.rejection) plain = m;
+      std::vector<std::pair<std::string, Summary>> rows = {{"equal N", m}};
+      // Equal total time: plain light tracing with as many VPLs as fit in this variant's time (render time grows
+      // linearly with N, generation is negligible for plain light tracing).
+      if (!(v.generation == VplGeneration::Light && !v.rejection) && plain.totalMs() > 0.0) {
+        Settings p = base;
+        p.vplCount = std::max(1, static_cast<int>(std::lround(vpls * m.totalMs() / plain.totalMs())));
+        rows.push_back({"equal time", measure(setup, ref, p, seeds)});
+      }
+      for (auto& [at, r] : rows) {
+        const Summary& shown = at == "equal N" ? m : r;
+        double ratio = plain.relMse > 0 ? m.relMse / (at == "equal N" ? plain.relMse : r.relMse) : 0.0;
+        double ratioBlock = plain.blockRelMse > 0 ? m.blockRelMse / (at == "equal N" ? plain.blockRelMse
+                                                                                      : r.blockRelMse)
+                                                  : 0.0;
+        std::string name = at == "equal N" ? v.label : std::string("  light tracing, same time");
+        char acc[64];
+        std::snprintf(acc, sizeof acc, "%.3f (%.3f-%.3f)", shown.acceptance, shown.acceptanceMin,
+                      shown.acceptanceMax);
+        std::printf("%-26s %-10s %6.0f %9.4g %9.4g %7.3f %18s %9.1f %9.1f %8.3f %8.3f\n", name.c_str(), at.c_str(),
+                    shown.vpls, shown.relMse, shown.blockRelMse, shown.energy, acc, shown.genMs, shown.renderMs,
+                    ratio, ratioBlock);
+        if (csv)
+          std::fprintf(csv, "%s,%s,%s,%.0f,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", sceneStem(path).c_str(),
+                       v.name, at == "equal N" ? "equal-count" : "plain-at-equal-time", shown.vpls, seeds,
+                       shown.relMse, shown.blockRelMse, shown.energy, shown.acceptance, shown.acceptanceMin,
+                       shown.acceptanceMax, shown.genMs, shown.renderMs);
+      }
+    }
+  }
+  if (csv && std::fclose(csv) != 0) {
+    std::fprintf(stderr, "%s: write failed: %s\n", argv[0], csvPath.c_str());
+    return 1;
+  }
+  if (csv) std::printf("\nwrote %s\n", csvPath.c_str());
+  return 0;
+}
