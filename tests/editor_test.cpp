@@ -3,6 +3,7 @@
 
 #include "evaluation/svg_chart.h"
 #include "evaluation/sweep.h"
+#include "renderer/core/sampling.h"
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
