@@ -10,15 +10,19 @@
 //      renders with different pixel seeds, averaged); "cpu noise" is the relMSE between those two renders, the
 //      floor under which the comparison cannot go.
 //   3. Speed at each size: the GL gather pass (median of --frames steady-state frames, GPU time of the pass with its
-//      de-interleave) and the exact CPU render at --spp samples per pixel, point VPLs (b = inf) against VSLs.
+//      de-interleave) and the exact CPU render at --spp samples per pixel, point VPLs (b = inf) against VSLs. Each is
+//      also given as the process CPU time (all threads, llvmpipe's included; the minimum over the repetitions), which
+//      other processes on a shared machine disturb much less than the wall clock: the ratios come from these. A GL
+//      frame renders only the indirect component without SSBC, so the gather is nearly all of its CPU time.
 //
 // usage: vplab_bench_vsl_bench [--gl auto|egl|osmesa] [--vpls N] [--radius r] [--frames F] [--spp S]
-//                              [--csv out.csv] [--quick]
+//                              [--repeats R] [--csv out.csv] [--quick]
 
 #include <algorithm>
 #include <chrono>
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <string>
 #include <vector>
@@ -89,22 +93,44 @@ Image average(const Image& a, const Image& b) {
   return out;
 }
 
-double gatherMs(PreviewRenderer& renderer, const OfflineScene& l, const VplSet& vpls, const Settings& s, int frames) {
+double processCpuSeconds() { return static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
+struct Timing {
+  double ms = 0.0;     ///< GL: median gather GPU time; CPU: median wall time
+  double cpuMs = 0.0;  ///< minimum process CPU time
+};
+
+Timing gatherTiming(PreviewRenderer& renderer, const OfflineScene& l, const VplSet& vpls, const Settings& s,
+                    int frames) {
   renderer.render(l.scene(), vpls, s, l.scene().camera);  // compiles, renders the shadow maps
   renderer.invalidateFrame();
   renderer.render(l.scene(), vpls, s, l.scene().camera);
   std::vector<double> ms;
+  Timing t;
+  t.cpuMs = 1e30;
   for (int f = 0; f < frames; ++f) {
     renderer.invalidateFrame();
+    double c0 = processCpuSeconds();
     ms.push_back(renderer.render(l.scene(), vpls, s, l.scene().camera).gatherMs);
+    t.cpuMs = std::min(t.cpuMs, 1e3 * (processCpuSeconds() - c0));
   }
-  return median(ms);
+  t.ms = median(ms);
+  return t;
 }
 
-double cpuSeconds(const OfflineScene& l, const VplSet& vpls, Method method, const Settings& s) {
-  auto start = std::chrono::steady_clock::now();
-  renderVpl(l, vpls, method, s);
-  return seconds(start);
+Timing cpuTiming(const OfflineScene& l, const VplSet& vpls, Method method, const Settings& s, int repeats) {
+  std::vector<double> ms;
+  Timing t;
+  t.cpuMs = 1e30;
+  for (int i = 0; i < repeats; ++i) {
+    auto start = std::chrono::steady_clock::now();
+    double c0 = processCpuSeconds();
+    renderVpl(l, vpls, method, s);
+    t.cpuMs = std::min(t.cpuMs, 1e3 * (processCpuSeconds() - c0));
+    ms.push_back(1e3 * seconds(start));
+  }
+  t.ms = median(ms);
+  return t;
 }
 
 VplSet withRadius(VplSet set, float r) {
@@ -116,7 +142,7 @@ VplSet withRadius(VplSet set, float r) {
 
 int main(int argc, char** argv) {
   GlBackend backend = GlBackend::Auto;
-  int vplCount = 256, frames = 5, spp = 1;
+  int vplCount = 256, frames = 5, spp = 1, repeats = 2;
   float radius = 0.03f;
   bool quick = false;
   std::string csvPath = "vsl_bench.csv";
@@ -130,6 +156,8 @@ int main(int argc, char** argv) {
       radius = std::max(0.0f, static_cast<float>(std::atof(benchOptionValue(argc, argv, i).c_str())));
     } else if (a == "--frames") {
       frames = std::max(1, std::atoi(benchOptionValue(argc, argv, i).c_str()));
+    } else if (a == "--repeats") {
+      repeats = std::max(1, std::atoi(benchOptionValue(argc, argv, i).c_str()));
     } else if (a == "--spp") {
       spp = std::max(1, std::atoi(benchOptionValue(argc, argv, i).c_str()));
     } else if (a == "--csv") {
@@ -138,8 +166,8 @@ int main(int argc, char** argv) {
       quick = true;
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--gl auto|egl|osmesa] [--vpls N] [--radius r] [--frames F] [--spp S] [--csv F] "
-                   "[--quick]\n",
+                   "usage: %s [--gl auto|egl|osmesa] [--vpls N] [--radius r] [--frames F] [--spp S] "
+                   "[--repeats R] [--csv F] [--quick]\n",
                    argv[0]);
       return 2;
     }
@@ -150,9 +178,10 @@ int main(int argc, char** argv) {
   if (quick) sizes = {{128, 128}};
   std::ofstream csv(csvPath);
   csv << "scene,vpls,radius,pairs,pair_bias,pair_mean_abs,gl_vs_cpu_relmse,gl_vs_cpu_energy,cpu_noise_relmse,width,"
-         "height,gl_point_ms,gl_vsl_ms,cpu_spp,cpu_point_s,cpu_vsl_s\n";
-  std::printf("gl %s, N = %d, r = %g m, %d GL frames, CPU %d spp (threads: all cores)\n\n", toString(backend), vplCount,
-              radius, frames, spp);
+         "height,gl_point_ms,gl_vsl_ms,gl_point_cpu_ms,gl_vsl_cpu_ms,cpu_spp,cpu_point_ms,cpu_vsl_ms,cpu_point_cpu_ms,"
+         "cpu_vsl_cpu_ms\n";
+  std::printf("gl %s, N = %d, r = %g m, %d GL frames, CPU %d spp x %d repeats (threads: all cores)\n\n",
+              toString(backend), vplCount, radius, frames, spp, repeats);
   std::printf("%-15s %7s %8s %10s | %11s %8s %10s\n", "scene", "pairs", "bias", "mean |err|", "GL vs CPU", "energy",
               "cpu noise");
   std::vector<std::string> speedLines;
@@ -191,22 +220,26 @@ int main(int argc, char** argv) {
       t.height = h;
       t.samplesPerPixel = spp;
       t.clampBound = kInfinity;
-      double glPoint = gatherMs(renderer, l, points, t, frames);
-      double glVsl = gatherMs(renderer, l, vsls, t, frames);
-      double cpuPoint = cpuSeconds(l, points, Method::Vpl, t);
-      double cpuVsl = cpuSeconds(l, vsls, Method::Vsl, t);
+      Timing glPoint = gatherTiming(renderer, l, points, t, frames);
+      Timing glVsl = gatherTiming(renderer, l, vsls, t, frames);
+      Timing cpuPoint = cpuTiming(l, points, Method::Vpl, t, repeats);
+      Timing cpuVsl = cpuTiming(l, vsls, Method::Vsl, t, repeats);
       char line[256];
-      std::snprintf(line, sizeof(line), "%-15s %4dx%-4d %9.1f %9.1f %6.2fx | %9.2f %9.2f %6.2fx", name.c_str(), w, h,
-                    glPoint, glVsl, glVsl / glPoint, cpuPoint, cpuVsl, cpuVsl / cpuPoint);
+      std::snprintf(line, sizeof(line), "%-15s %4dx%-4d %8.0f %8.0f %8.0f %8.0f %6.2fx | %8.2f %8.2f %8.2f %8.2f %6.2fx",
+                    name.c_str(), w, h, glPoint.ms, glVsl.ms, glPoint.cpuMs, glVsl.cpuMs, glVsl.cpuMs / glPoint.cpuMs,
+                    cpuPoint.ms / 1e3, cpuVsl.ms / 1e3, cpuPoint.cpuMs / 1e3, cpuVsl.cpuMs / 1e3,
+                    cpuVsl.cpuMs / cpuPoint.cpuMs);
       speedLines.push_back(line);
       csv << name << ',' << vsls.vpls.size() << ',' << radius << ',' << pe.pairs << ',' << pe.bias << ','
           << pe.meanAbs << ',' << m.relMse << ',' << m.energyRatioOverall << ',' << noise << ',' << w << ',' << h
-          << ',' << glPoint << ',' << glVsl << ',' << spp << ',' << cpuPoint << ',' << cpuVsl << '\n';
+          << ',' << glPoint.ms << ',' << glVsl.ms << ',' << glPoint.cpuMs << ',' << glVsl.cpuMs << ',' << spp << ','
+          << cpuPoint.ms << ',' << cpuVsl.ms << ',' << cpuPoint.cpuMs << ',' << cpuVsl.cpuMs << '\n';
     }
   }
-  std::printf("\n%-15s %9s %9s %9s %7s | %9s %9s %7s\n", "scene", "size", "GL point", "GL VSL", "ratio", "CPU point",
-              "CPU VSL", "ratio");
-  std::printf("%-15s %9s %9s %9s %7s | %9s %9s %7s\n", "", "", "[ms]", "[ms]", "", "[s]", "[s]", "");
+  std::printf("\n%-15s %9s %8s %8s %8s %8s %7s | %8s %8s %8s %8s %7s\n", "", "", "GL point", "GL VSL", "point",
+              "VSL", "ratio", "CPU pt", "CPU VSL", "point", "VSL", "ratio");
+  std::printf("%-15s %9s %8s %8s %8s %8s %7s | %8s %8s %8s %8s %7s\n", "scene", "size", "gpu ms", "gpu ms", "cpu ms",
+              "cpu ms", "(cpu)", "wall s", "wall s", "cpu s", "cpu s", "(cpu)");
   for (const std::string& line : speedLines) std::printf("%s\n", line.c_str());
   std::printf("\nwrote %s\n", csvPath.c_str());
   return 0;

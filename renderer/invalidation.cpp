@@ -58,6 +58,8 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
 
   // Reference-only parameters; the VPL methods also take samplesPerPixel (KK and VSL are stochastic).
   if (a.samplesPerPixel != b.samplesPerPixel || a.maxDepth != b.maxDepth) s.offline = true;
+  // The editor's exact VPL render takes its own sample count.
+  if (a.exactSamplesPerPixel != b.exactSamplesPerPixel) s.offline |= method != Method::Reference;
   if (a.components != b.components) s.gather = s.offline = true;
 
   // VPL generation (docs/methods.md, "VPL generation"). A method's parameters only matter while it is in use in

@@ -39,6 +39,7 @@ std::vector<std::string> validateSettings(const Settings& s) {
   checkRange(p, "threads", s.threads, 0, 1024);
   checkRange(p, "exposure", s.exposure, -20.0f, 20.0f);
   checkRange(p, "samplesPerPixel", s.samplesPerPixel, 1, 1 << 20);
+  checkRange(p, "exactSamplesPerPixel", s.exactSamplesPerPixel, 1, 1 << 20);
   checkRange(p, "maxDepth", s.maxDepth, 1, 1024);
   checkRange(p, "vplCount", s.vplCount, 0, 1 << 20);
   checkRange(p, "vplMaxBounces", s.vplMaxBounces, 1, 64);

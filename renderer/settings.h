@@ -64,6 +64,11 @@ struct Settings {
   // --- path-traced reference ---------------------------------------------------------------------------------
   /// Samples per pixel of the reference and of the stochastic VPL variants [1, 1<<20]. Default 64.
   int samplesPerPixel = 64;
+  /// Samples per pixel of the exact VPL render the editor runs beside the preview (vpl, vpl-kk, vsl) [1, 1<<20]:
+  /// every sample already sums every VPL with exact visibility, so few suffice (they anti-alias and average the VSL
+  /// and Kollig-Keller samples), where the reference needs samplesPerPixel. `vplab render --spp` sets
+  /// samplesPerPixel. Default 4.
+  int exactSamplesPerPixel = 4;
   /// Maximum path length in bounces for the reference (1 = direct light only) [1, 1024]. Default 32.
   int maxDepth = 32;
   /// Radiance components written by the offline pass. Default All.

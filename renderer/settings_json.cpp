@@ -33,6 +33,7 @@ const std::vector<Field>& fields() {
       {"exposure", &Settings::exposure},
       {"stage", &Settings::stage},
       {"samplesPerPixel", &Settings::samplesPerPixel},
+      {"exactSamplesPerPixel", &Settings::exactSamplesPerPixel},
       {"maxDepth", &Settings::maxDepth},
       {"components", &Settings::components},
       {"generation", &Settings::generation},

@@ -18,6 +18,7 @@
 #ifdef VPLAB_HAVE_EDITOR
 #include "ui/camera_controller.h"
 #include "ui/chart.h"
+#include "ui/offline_job.h"
 #include "ui/panels.h"
 #include "ui/presets.h"
 #include "ui/script.h"
@@ -227,6 +228,19 @@ TEST(EditorPresets, EveryPresetIsValidAndItsSceneExists) {
     auto parsed = ui::parseScript("preset " + p.name + "\n", "p");
     EXPECT_EQ(parsed.at(0).args.at(0), p.name);
   }
+}
+
+TEST(EditorOffline, ExactRendersTakeTheirOwnSampleCountAndEstimateTheTimeLeft) {
+  Settings s;
+  s.samplesPerPixel = 64;
+  s.exactSamplesPerPixel = 3;
+  EXPECT_EQ(ui::offlineRenderSettings(s, Method::Reference).samplesPerPixel, 64);
+  for (Method m : {Method::Vpl, Method::VplKK, Method::Vsl})
+    EXPECT_EQ(ui::offlineRenderSettings(s, m).samplesPerPixel, 3) << toString(m);
+  EXPECT_DOUBLE_EQ(ui::estimateSecondsLeft(10.0, 0.25f), 30.0);
+  EXPECT_DOUBLE_EQ(ui::estimateSecondsLeft(4.0, 1.0f), 0.0);
+  EXPECT_LT(ui::estimateSecondsLeft(10.0, 0.01f), 0.0) << "too little done to extrapolate";
+  EXPECT_LT(ui::estimateSecondsLeft(0.1, 0.5f), 0.0) << "too early to extrapolate";
 }
 
 // --- the window, under Xvfb -----------------------------------------------------------------------------------------

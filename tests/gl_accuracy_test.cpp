@@ -141,6 +141,25 @@ TEST_P(GlAccuracy, VslsTendToPointVplsAndAreDeterministic) {
   EXPECT_EQ(differing, 0u) << "two runs differ";
 }
 
+// The preview's VSLs spread energy and do not remove it: over seeds, the VSL gather's mean matches the unclamped
+// point-VPL gather of the same VPLs.
+TEST_P(GlAccuracy, VslsKeepThePointVplEnergyOverSeeds) {
+  for (const char* name : {"cornell-box", "cornell-glossy"}) {
+    auto l = load(name);
+    Settings s = baseSettings(64, 128);
+    double point = 0.0, vsl = 0.0;
+    for (uint32_t seed = 1; seed <= 4; ++seed) {
+      s.seed = seed;
+      VplSet vpls = generateVpls(*l, s);
+      point += meanLuminance(preview(l->scene(), vpls, s, PreviewOutput::Indirect));
+      for (Vpl& v : vpls.vpls) v.radius = 0.03f;
+      vsl += meanLuminance(preview(l->scene(), vpls, s, PreviewOutput::Indirect));
+    }
+    std::printf("[ measured ] %s r = 0.03, 4 seeds: GL VSL / point VPL indirect mean %.4f\n", name, vsl / point);
+    EXPECT_NEAR(vsl / point, 1.0, 0.02) << name;
+  }
+}
+
 // Interleaved sampling with k = 4 (16 subsets of N/16 VPLs, merged by the geometry-aware k x k blur) against the
 // full gather.
 TEST_P(GlAccuracy, InterleavedMatchesFullGather) {

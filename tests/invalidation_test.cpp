@@ -90,6 +90,8 @@ TEST(Invalidation, VslParametersAffectTheGatherAndTheVslMethodOnly) {
 
 TEST(Invalidation, ReferenceParametersTouchOnlyTheOfflineResult) {
   EXPECT_EQ(toString(change([](Settings& x) { x.samplesPerPixel = 8; }, Method::Reference)), "offline");
+  EXPECT_FALSE(change([](Settings& x) { x.exactSamplesPerPixel = 8; }, Method::Reference).any());
+  EXPECT_EQ(toString(change([](Settings& x) { x.exactSamplesPerPixel = 8; }, Method::Vsl)), "offline");
   EXPECT_EQ(toString(change([](Settings& x) { x.maxDepth = 3; }, Method::Reference)), "offline");
 }
 

@@ -30,6 +30,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.threads = 3;
   s.exposure = -1.5f;
   s.samplesPerPixel = 17;
+  s.exactSamplesPerPixel = 3;
   s.maxDepth = 5;
   s.components = Components::Indirect;
   s.stage = Stage::Studio;

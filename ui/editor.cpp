@@ -910,7 +910,10 @@ void Editor::drawRightPanel() {
     Settings next = settings_;
     if (drawOfflineSettingsPanel(next)) changeSettings(next);
     if (job_.running()) {
-      ImGui::ProgressBar(job_.progress(), ImVec2(180.0f, 0.0f));
+      double left = job_.secondsLeft();
+      char overlay[32] = "";
+      if (left >= 0.0) std::snprintf(overlay, sizeof(overlay), "%.0f s left", std::ceil(left));
+      ImGui::ProgressBar(job_.progress(), ImVec2(180.0f, 0.0f), overlay[0] ? overlay : nullptr);
       ImGui::SameLine();
       if (ImGui::Button("Cancel")) job_.cancel();
       ImGui::Text("%s: %.1f s", toString(job_.method()), job_.seconds());

@@ -22,6 +22,17 @@ Method exactCounterpartOf(const Settings& s) {
   return Method::Vpl;
 }
 
+Settings offlineRenderSettings(const Settings& settings, Method method) {
+  Settings s = settings;
+  if (method != Method::Reference) s.samplesPerPixel = settings.exactSamplesPerPixel;
+  return s;
+}
+
+double estimateSecondsLeft(double elapsedSeconds, float progress) {
+  if (!(progress >= 0.02f) || !(elapsedSeconds >= 0.25)) return -1.0;
+  return elapsedSeconds * (1.0 - static_cast<double>(progress)) / static_cast<double>(progress);
+}
+
 OfflineJob::~OfflineJob() {
   control_.cancel = true;
   join();
@@ -34,6 +45,8 @@ void OfflineJob::join() {
 void OfflineJob::cancel() { control_.cancel = true; }
 
 double OfflineJob::seconds() const { return running_ ? now() - startTime_ : seconds_.load(); }
+
+double OfflineJob::secondsLeft() const { return running_ ? estimateSecondsLeft(seconds(), progress_.load()) : -1.0; }
 
 std::string OfflineJob::error() const {
   std::lock_guard lock(mutex_);
@@ -62,7 +75,8 @@ void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& v
   Scene sceneCopy = scene;
   sceneCopy.camera = camera;
   VplSet vplCopy = method == Method::Reference ? VplSet{} : vpls;
-  thread_ = std::thread([this, sceneCopy = std::move(sceneCopy), vplCopy = std::move(vplCopy), settings, method] {
+  thread_ = std::thread([this, sceneCopy = std::move(sceneCopy), vplCopy = std::move(vplCopy),
+                         settings = offlineRenderSettings(settings, method), method] {
     auto onPass = [this](const Image& mean, int) {
       std::lock_guard lock(mutex_);
       image_ = mean;

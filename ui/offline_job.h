@@ -21,6 +21,14 @@ namespace vplab::ui {
 /// preview compensates the bound (SSBC), else the clamped VPL render.
 Method exactCounterpartOf(const Settings& settings);
 
+/// The settings an offline render of `method` runs with: the reference takes samplesPerPixel, an exact VPL render
+/// exactSamplesPerPixel.
+Settings offlineRenderSettings(const Settings& settings, Method method);
+
+/// Seconds an offline render still needs, extrapolated from its progress: elapsed (1 - p) / p. Negative while too
+/// little is done to tell (the first 2 %, or under a quarter of a second).
+double estimateSecondsLeft(double elapsedSeconds, float progress);
+
 class OfflineJob {
  public:
   OfflineJob() = default;
@@ -36,6 +44,8 @@ class OfflineJob {
   float progress() const { return progress_.load(); }
   /// Seconds since start (while running) or of the whole render (when done).
   double seconds() const;
+  /// estimateSecondsLeft() of the running render; negative when unknown or not running.
+  double secondsLeft() const;
   Method method() const { return method_; }
 
   /// The running mean (or the final image) when it changed since the last call.

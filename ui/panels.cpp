@@ -83,7 +83,7 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     changed |=
         sliderFloat("radius r [m]", &s.vslRadius, 0.001f, 1.0f, "%.4f", "0 = point VPLs", ImGuiSliderFlags_Logarithmic);
     changed |= ImGui::Checkbox("r from VPL density", &s.vslRadiusFromDensity);
-    changed |= sliderInt("VSL samples", &s.vslSamples, 1, 64, "cone + BRDF samples per VSL (MIS)");
+    changed |= sliderInt("VSL samples", &s.vslSamples, 1, 64, "cone + BRDF samples per VSL, exact render (MIS)");
   }
 
   ImGui::Separator();
@@ -135,7 +135,9 @@ bool drawOfflineSettingsPanel(Settings& s) {
     s.height = size[1];
     changed = true;
   }
-  changed |= sliderInt("spp", &s.samplesPerPixel, 1, 4096, "offline samples per pixel", ImGuiSliderFlags_Logarithmic);
+  changed |= sliderInt("spp", &s.samplesPerPixel, 1, 4096, "reference samples per pixel", ImGuiSliderFlags_Logarithmic);
+  changed |= sliderInt("exact spp", &s.exactSamplesPerPixel, 1, 4096,
+                       "samples per pixel of the exact VPL render (each sums every VPL)", ImGuiSliderFlags_Logarithmic);
   changed |= sliderInt("max depth", &s.maxDepth, 1, 64, "reference path length in bounces");
   return changed;
 }

@@ -69,7 +69,9 @@ const std::vector<TeachingPreset>& teachingPresets() {
           s.vslRadius = 0.05f;
         },
         "Each VPL becomes a sphere of radius r whose light is integrated over the cone it subtends (Hasan et al. "
-        "2009): the glossy highlights spread into smooth reflections and no energy is removed. Increase r to see "
+        "2009): the point-like glossy highlights of the previous preset spread into smooth reflections, and no energy "
+        "is removed. The preview evaluates the cone integral without random samples, so the reflections are smooth "
+        "and stay still; 'Render exact VPL' puts the exact CPU render of the same VSLs beside it. Increase r to see "
         "the price: sharp indirect features blur."));
     list.push_back(make(
         "Wasted VPLs (two rooms)", "two-rooms.gltf", ViewMode::VplOverlay,
