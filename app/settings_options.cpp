@@ -35,7 +35,7 @@ std::vector<OptionSpec> manyLightOptions() {
       {"clamp", "b", "clamp bound b on the geometry term, 1/m^2, 'inf' = none (default inf)"},
       {"vsl-radius", "r", "virtual spherical light radius in metres, 0 = point VPLs (default 0)"},
       {"vsl-density", "", "derive each VSL radius from the local VPL density (scaled by --vsl-radius)"},
-      {"vsl-samples", "N", "samples per VSL of the exact CPU render (default 4; the GL preview takes none)"},
+      {"vsl-samples", "N", "samples per VSL of the exact CPU render (default 2; the GL preview takes none)"},
       {"importance-points", "M", "camera-visible points importance is measured at (default 256)"},
       {"reject", "", "rejection of unimportant VPLs (Georgiev-Slusallek; --generation light only)"},
       {"epsilon", "e", "rejection epsilon in [0,1] (default 0.1)"},

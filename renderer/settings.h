@@ -155,8 +155,9 @@ struct Settings {
   bool vslRadiusFromDensity = false;
   /// Samples per VSL and shading point of the exact CPU estimator: one-sample MIS over the cone and the BRDFs of the
   /// glossy ends (pure-Lambert pairs whose cone no surface cuts take none: closed form) [1, 256]. The GL preview
-  /// evaluates the integral without samples. Default 4.
-  int vslSamples = 4;
+  /// evaluates the integral without samples. Default 2: one sample from the cone and one from a glossy end's BRDF,
+  /// on average, keeps the exact VSL render within 3x the point-VPL render (docs/benchmarks.md).
+  int vslSamples = 2;
 
   // --- GL preview (section 8) -------------------------------------------------------------------------------
   /// Shadow-mapped samples on area lights for the preview's direct light [1, 4096]. Default 64.

@@ -84,8 +84,8 @@ TEST(Invalidation, VslParametersAffectTheGatherAndTheVslMethodOnly) {
   EXPECT_TRUE(s.gather && s.offline);
   EXPECT_FALSE(change([](Settings& x) { x.vslRadius = 0.05f; }, Method::Vpl).offline);
   // The cone samples are the CPU estimator's: the preview's integral takes none.
-  EXPECT_EQ(toString(change([](Settings& x) { x.vslSamples = 2; }, Method::Vsl)), "offline");
-  EXPECT_FALSE(change([](Settings& x) { x.vslSamples = 2; }, Method::Vpl).any());
+  EXPECT_EQ(toString(change([](Settings& x) { x.vslSamples = 5; }, Method::Vsl)), "offline");
+  EXPECT_FALSE(change([](Settings& x) { x.vslSamples = 5; }, Method::Vpl).any());
 }
 
 TEST(Invalidation, ReferenceParametersTouchOnlyTheOfflineResult) {
