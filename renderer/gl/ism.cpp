@@ -162,7 +162,6 @@ std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector
       const float u = local.x * s, v = local.y * s;
       const float rho2 = u * u + v * v;
       const float fx = (u + 1.0f) * halfSize, fy = (v + 1.0f) * halfSize;
-      const float depth = r * invFar;
       // The disc covers the solid angle of the point's share of the area, foreshortened (two-sided occluders).
       const glm::vec3& np = subsets.normals[j];
       const float cosP = std::abs(glm::dot(np, d)) / r;
@@ -193,13 +192,11 @@ std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector
         }
     }
     pullPush(tile, tileSize, fillLevels);
-    const int c0 = i % layout.tilesPerLayer, layer = i / layout.tilesPerLayer;
-    const int tx = (c0 % layout.tilesPerRow) * tileSize, ty = (c0 / layout.tilesPerRow) * tileSize;
-    uint16_t* out = atlas.data() + static_cast<std::size_t>(layer) * side * side;
+    uint16_t* out = atlas.data() + layout.tileOrigin(i);
     for (int y = 0; y < tileSize; ++y)
       for (int x = 0; x < tileSize; ++x) {
         float t = tile[static_cast<std::size_t>(y) * tileSize + x];
-        out[static_cast<std::size_t>(ty + y) * side + tx + x] =
+        out[static_cast<std::size_t>(y) * side + x] =
             t == kEmpty ? uint16_t(65535) : static_cast<uint16_t>(std::min(65534.0f, std::round(t * 65535.0f)));
       }
   });
@@ -218,10 +215,7 @@ float ismVisibility(const std::vector<uint16_t>& tiles, const IsmLayout& layout,
   const int tileSize = layout.tileSize, side = layout.atlasSize();
   const int px = std::clamp(static_cast<int>((local.x * s + 1.0f) * 0.5f * tileSize), 0, tileSize - 1);
   const int py = std::clamp(static_cast<int>((local.y * s + 1.0f) * 0.5f * tileSize), 0, tileSize - 1);
-  const int c0 = caster % layout.tilesPerLayer, layer = caster / layout.tilesPerLayer;
-  const int tx = (c0 % layout.tilesPerRow) * tileSize, ty = (c0 / layout.tilesPerRow) * tileSize;
-  const uint16_t stored =
-      tiles[static_cast<std::size_t>(layer) * side * side + static_cast<std::size_t>(ty + py) * side + tx + px];
+  const uint16_t stored = tiles[layout.tileOrigin(caster) + static_cast<std::size_t>(py) * side + px];
   return static_cast<float>(stored) / 65535.0f >= (r - bias - texelAngle * r) / far ? 1.0f : 0.0f;
 }
 

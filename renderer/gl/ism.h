@@ -59,6 +59,14 @@ struct IsmLayout {
   int tilesPerLayer = 1;
   int layers = 1;
   int atlasSize() const { return tileSize * tilesPerRow; }
+  /// Index of tile `tile`'s texel (0, 0) in the layers x atlasSize^2 texels of splatIsmTiles' result.
+  std::size_t tileOrigin(int tile) const {
+    const int inLayer = tile % tilesPerLayer, layer = tile / tilesPerLayer;
+    const std::size_t side = static_cast<std::size_t>(atlasSize());
+    return static_cast<std::size_t>(layer) * side * side +
+           static_cast<std::size_t>((inLayer / tilesPerRow) * tileSize) * side +
+           static_cast<std::size_t>((inLayer % tilesPerRow) * tileSize);
+  }
 };
 
 /// Chooses the smallest square atlas (a power-of-two number of tiles per row, at most maxTextureSize texels wide)
