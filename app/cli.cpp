@@ -26,7 +26,18 @@ bool CommandLine::parse(const std::vector<std::string>& args) {
   for (std::size_t i = 0; i < args.size(); ++i) {
     const std::string& a = args[i];
     if (a == "--help" || a == "-h") return false;
-    if (a.size() > 2 && a.rfind("--", 0) == 0) {
+    if (a.size() == 2 && a[0] == '-' && a[1] != '-') {
+      const OptionSpec* spec = nullptr;
+      for (const OptionSpec& o : options_)
+        if (o.shortName == a[1]) spec = &o;
+      if (!spec) throw CliError("unknown option " + a + " (see --help)");
+      if (spec->valueName.empty()) {
+        values_[spec->name] = "1";
+      } else {
+        if (i + 1 >= args.size()) throw CliError("option " + a + " needs a value <" + spec->valueName + ">");
+        values_[spec->name] = args[++i];
+      }
+    } else if (a.size() > 2 && a.rfind("--", 0) == 0) {
       std::string name = a.substr(2), value;
       bool inlineValue = false;
       if (std::size_t eq = name.find('='); eq != std::string::npos) {
@@ -35,8 +46,10 @@ bool CommandLine::parse(const std::vector<std::string>& args) {
         inlineValue = true;
       }
       const OptionSpec* spec = find(name);
-      if (!spec) throw CliError("unknown option --" + name + " (see --help)");
-      if (spec->valueName.empty()) {
+      if (!spec) throw CliError("unknown option --" + name + suggestion(name) + " (see --help)");
+      if (spec->switchWithValue) {
+        values_[name] = inlineValue ? value : "true";
+      } else if (spec->valueName.empty()) {
         if (inlineValue) throw CliError("option --" + name + " takes no value");
         values_[name] = "1";
       } else {
@@ -53,14 +66,26 @@ bool CommandLine::parse(const std::vector<std::string>& args) {
   return true;
 }
 
+// "; did you mean --clamp-bound?" for "--clamp": the options whose name contains the one typed.
+std::string CommandLine::suggestion(const std::string& name) const {
+  std::string list;
+  for (const OptionSpec& o : options_)
+    if (name.size() >= 3 && o.name.find(name) != std::string::npos) list += (list.empty() ? "--" : " or --") + o.name;
+  return list.empty() ? "" : "; did you mean " + list + "?";
+}
+
 std::string CommandLine::help() const {
   std::ostringstream s;
   s << "usage: " << usage_ << "\n";
   if (!options_.empty()) s << "options:\n";
   for (const OptionSpec& o : options_) {
-    std::string left = "  --" + o.name + (o.valueName.empty() ? "" : " <" + o.valueName + ">");
+    std::string left = std::string(o.shortName ? "  -" + std::string(1, o.shortName) + ", " : "  ") + "--" + o.name;
+    if (o.switchWithValue)
+      left += "[=" + o.valueName + "]";
+    else if (!o.valueName.empty())
+      left += " <" + o.valueName + ">";
     s << left;
-    for (std::size_t pad = left.size(); pad < 30; ++pad) s << ' ';
+    for (std::size_t pad = left.size(); pad < 36; ++pad) s << ' ';
     s << " " << o.help << "\n";
   }
   return s.str();

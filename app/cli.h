@@ -19,6 +19,9 @@ struct OptionSpec {
   std::string name;       ///< without the leading "--"
   std::string valueName;  ///< empty for a flag
   std::string help;
+  /// A switch that may also be given a value inline: "--rejection" means "--rejection=true"; "--rejection=false".
+  bool switchWithValue = false;
+  char shortName = 0;  ///< "-o FILE" for "--out FILE"; 0 = none
 };
 
 class CommandLine {
@@ -44,6 +47,7 @@ class CommandLine {
 
  private:
   const OptionSpec* find(const std::string& name) const;
+  std::string suggestion(const std::string& name) const;
   std::string usage_;
   std::vector<OptionSpec> options_;
   std::map<std::string, std::string> values_;

@@ -7,6 +7,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/file_plan.h"
 #include "app/sweep_options.h"
 #include "evaluation/sweep.h"
 #include "renderer/gl/context.h"
@@ -21,7 +22,7 @@ int cmdBench(const Args& args) {
        {"quick", "", "fewer parameter values and VPLs (a minute per scene instead of several)"},
        {"methods", "LIST", "comma-separated subset of vpl,clamp,ssbc,vsl,reject,vpl-kk (default all)"},
        {"ref-spp", "N", "reference samples per pixel (default 1024, 256 with --quick)"},
-       {"spp", "N", "samples per pixel of the CPU VPL renders (default 4, 2 with --quick)"},
+       {"samples-per-pixel", "N", "samples per pixel of the CPU VPL renders (default 4, 2 with --quick)"},
        {"components", "indirect|all", "what is compared with the reference (default indirect)"}});
   cl.addOptions(cli::sweepOptions("variants"));
   if (!cl.parse(args)) {
@@ -39,8 +40,9 @@ int cmdBench(const Args& args) {
   config.cpuSpp = config.quick ? 2 : 4;
   cl.getSize("size", config.width, config.height);
   config.referenceSpp = cl.getInt("ref-spp", config.referenceSpp);
-  config.cpuSpp = cl.getInt("spp", config.cpuSpp);
-  if (config.referenceSpp < 1 || config.cpuSpp < 1) throw cli::CliError("--ref-spp and --spp must be >= 1");
+  config.cpuSpp = cl.getInt("samples-per-pixel", config.cpuSpp);
+  if (config.referenceSpp < 1 || config.cpuSpp < 1)
+    throw cli::CliError("--ref-spp and --samples-per-pixel must be >= 1");
   if (config.width < 1 || config.height < 1 || config.width > 4096 || config.height > 4096)
     throw cli::CliError("option --size: each side must be in [1, 4096]");
   if (auto m = cl.value("methods")) {
@@ -62,6 +64,7 @@ int cmdBench(const Args& args) {
   else
     throw cli::CliError("option --components: '" + comp + "' is not indirect or all");
   cli::applySweepOptions(cl, "bench", config);
+  cli::requireOutputFolder(config.outDir, cl.positional());
 
   BenchOutcome out = runBench(cl.positional(), config);
   std::printf("runs        %zu measured, %zu reused from %s\n", out.rowsMeasured, out.rowsReused, out.csvPath.c_str());

@@ -1,11 +1,16 @@
-// vplab compare: error metrics of an image against a reference (MANYLIGHTS 10), optionally a heatmap of where.
+// vplab compare: error metrics of an image against a reference (docs/guide.md, "Comparisons in CI"), optionally a
+// heatmap of where.
 
+#include <cmath>
 #include <cstdio>
+#include <optional>
 #include <stdexcept>
 #include <string>
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/comparison.h"
+#include "app/file_plan.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -28,8 +33,13 @@ int cmdCompare(const Args& args) {
       "vplab compare <image> <reference> [options]\n"
       "  Prints the error of <image> against <reference> (.exr, .pfm or .png), one 'name value' per line:\n"
       "  rmse, relmse = mean((I-R)^2 / (R^2 + 0.01)), energy ratios mean(I)/mean(R), means, and the counts of\n"
-      "  NaN/Inf and negative pixels. Errors and means are over pixels finite in both images.",
-      {{"heatmap", "png", "also write a heatmap of the per-pixel relative error (viridis) with a legend"},
+      "  NaN/Inf and negative pixels. Errors and means are over pixels finite in both images.\n"
+      "  With any --max-* threshold the last line is PASS or FAIL (naming what failed) and FAIL exits 1.",
+      {{"max-relmse", "X", "fail when relmse > X"},
+       {"max-energy-error", "E", "fail when |energy_ratio - 1| > E (0.05: within 5% of the reference's energy)"},
+       {"max-bad-pixels", "N", "fail when the image has more than N NaN/Inf or negative pixels"},
+       {"allow-tonemapped", "", "compare a tonemapped PNG with linear radiance (EXR/PFM) anyway"},
+       {"heatmap", "png", "also write a heatmap of the per-pixel relative error (viridis) with a legend"},
        {"signed", "", "heatmap of the signed difference I - R instead (blue: too dark, red: too bright)"},
        {"heatmap-max", "value", "fixed upper end of the heatmap scale (signed: +-value); default: 99th percentile"}});
   if (!cl.parse(args)) {
@@ -40,15 +50,37 @@ int cmdCompare(const Args& args) {
   if (cl.has("signed") && !cl.has("heatmap")) throw cli::CliError("--signed needs --heatmap <png>");
   float heatmapMax = cl.getFloat("heatmap-max", 0.0f);
   if (cl.has("heatmap-max") && !(heatmapMax > 0.0f)) throw cli::CliError("--heatmap-max must be a positive number");
+  auto threshold = [&](const char* name) -> std::optional<double> {
+    if (!cl.has(name)) return std::nullopt;
+    float v = cl.getFloat(name, 0.0f);
+    if (!(v >= 0.0f)) throw cli::CliError(std::string("option --") + name + " must be a number >= 0");
+    return v;
+  };
+  std::optional<double> maxRelMse = threshold("max-relmse");
+  std::optional<double> maxEnergyError = threshold("max-energy-error");
+  std::optional<double> maxBadPixels = threshold("max-bad-pixels");
 
   const std::string& imagePath = cl.positional()[0];
   const std::string& referencePath = cl.positional()[1];
+  cli::FilePlan files;
+  files.input(imagePath);
+  files.input(referencePath);
+  if (auto heatmapPath = cl.value("heatmap")) files.output("--heatmap", *heatmapPath, cli::OutputKind::Png);
+  files.check();
+  bool imageLinear = isLinearFormat(imageFormatFromPath(imagePath));
+  bool referenceLinear = isLinearFormat(imageFormatFromPath(referencePath));
+  if (imageLinear != referenceLinear && !cl.has("allow-tonemapped"))
+    throw cli::CliError((imageLinear ? referencePath : imagePath) +
+                        " is a tonemapped PNG and the other image is linear radiance: their difference is the tonemap, "
+                        "not the error (compare two EXR/PFM files, or pass --allow-tonemapped)");
   Image image = readImage(imagePath);
   Image reference = readImage(referencePath);
   if (image.width != reference.width || image.height != reference.height)
     throw std::runtime_error(imagePath + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                              " but reference " + referencePath + " is " + std::to_string(reference.width) + "x" +
                              std::to_string(reference.height));
+  for (const std::string& line : cli::infoMismatches(readImageInfo(imagePath), readImageInfo(referencePath)))
+    std::fprintf(stderr, "vplab compare: warning: %s\n", line.c_str());
 
   ImageMetrics m = compareImages(image, reference);
   print("width", static_cast<std::size_t>(image.width));
@@ -81,7 +113,34 @@ int cmdCompare(const Args& args) {
     std::fprintf(stderr, "wrote %s (%dx%d, scale %g .. %g)\n", heatmapPath->c_str(), h.width, h.height,
                  static_cast<double>(h.minValue), static_cast<double>(h.maxValue));
   }
-  return 0;
+
+  if (!maxRelMse && !maxEnergyError && !maxBadPixels) return 0;
+  // A comparison with nothing finite to compare cannot pass.
+  std::vector<std::string> failed;
+  char line[160];
+  if (m.comparedPixels == 0) failed.push_back("no pixel finite in both images");
+  if (maxRelMse && !(m.relMse <= *maxRelMse)) {
+    std::snprintf(line, sizeof line, "relmse %.6g > %g", m.relMse, *maxRelMse);
+    failed.push_back(line);
+  }
+  double energyError = std::abs(m.energyRatioOverall - 1.0);
+  if (maxEnergyError && !(energyError <= *maxEnergyError)) {
+    std::snprintf(line, sizeof line, "energy error |%.6g - 1| > %g", m.energyRatioOverall, *maxEnergyError);
+    failed.push_back(line);
+  }
+  double bad = static_cast<double>(m.nonFinitePixels + m.negativePixels);
+  if (maxBadPixels && bad > *maxBadPixels) {
+    std::snprintf(line, sizeof line, "bad pixels %.0f > %g", bad, *maxBadPixels);
+    failed.push_back(line);
+  }
+  if (failed.empty()) {
+    std::printf("PASS\n");
+    return 0;
+  }
+  std::string text = "FAIL:";
+  for (std::size_t i = 0; i < failed.size(); ++i) text += (i ? "; " : " ") + failed[i];
+  std::printf("%s\n", text.c_str());
+  return 1;
 }
 
 }  // namespace vplab::app

@@ -19,9 +19,8 @@ int cmdEdit(const Args& args) {
                           {"screenshot", "out.png", "write the whole window as PNG after the script, then exit"},
                           {"window", "WxH", "window size in pixels (default 1280x720)"},
                       });
-  cl.addOptions(cli::imageOptions());
-  cl.addOptions(cli::referenceOptions());
-  cl.addOptions(cli::manyLightOptions());
+  const unsigned use = kUseImage | kUseReference | kUseGeneration | kUseCpuVpl | kUseGl;
+  cl.addOptions(cli::settingOptions(Settings{}, use));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     std::printf("Opens the editor on a scene (default: the Cornell box). Needs a display: use xvfb-run without one.\n");
@@ -35,7 +34,7 @@ int cmdEdit(const Args& args) {
   options.scriptPath = cl.getString("script", "");
   options.screenshotPath = cl.getString("screenshot", "");
   cl.getSize("window", options.windowWidth, options.windowHeight);
-  cli::applySettingsOptions(cl, options.settings);
+  cli::applySettingsOptions(cl, options.settings, use);
   return ui::runEditor(options);
 #else
   std::fprintf(stderr, "vplab edit: this build has no editor (configured with -DVPLAB_BUILD_EDITOR=OFF)\n");

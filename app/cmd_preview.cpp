@@ -1,14 +1,21 @@
 // vplab preview <scene>: the GL instant-radiosity preview rendered headless (EGL or OSMesa) from the same VPLs and
 // Settings as `vplab render`, with per-pass GPU/CPU timings and the VPL statistics.
 
+#include <glad/gl.h>
+
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/comparison.h"
+#include "app/file_plan.h"
 #include "app/scene_input.h"
+#include "app/scene_summary.h"
 #include "app/settings_options.h"
 #include "app/sweep_options.h"
+#include "evaluation/harness.h"
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
+#include "renderer/image/metrics.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -20,13 +27,14 @@
 namespace vplab::app {
 
 int cmdPreview(const Args& args) {
-  cli::CommandLine cl("vplab preview <scene.gltf|scene.glb> --out image.png [--exr image.exr] [options]",
-                      {{"out", "FILE", "tonemapped PNG of the preview (uses --exposure)"},
-                       {"exr", "FILE", "linear radiance of the preview (.exr or .pfm)"},
-                       {"gl", "auto|egl|osmesa", "headless GL context (default auto: EGL, then OSMesa)"},
-                       {"frames", "N", "render N frames and report the last (the first compiles shaders; default 1)"}});
-  cl.addOptions(cli::imageOptions());
-  cl.addOptions(cli::manyLightOptions());
+  Settings settings;
+  const unsigned use = kUseImage | kUseGeneration | kUseGl;
+  cli::CommandLine cl("vplab preview <scene.gltf|scene.glb> -o image.png|image.exr [options]",
+                      cli::imageOutputOptions());
+  cl.addOptions({{"ref", "FILE", "reference image: print relMSE, RMSE and energy ratio against it"},
+                 {"gl", "auto|egl|osmesa", "headless GL context (default auto: EGL, then OSMesa)"},
+                 {"frames", "N", "render N frames and report the last (the first compiles shaders; default 1)"}});
+  cl.addOptions(cli::settingOptions(settings, use));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     std::printf("Generates the VPLs as `vplab render` does (same settings, same seed => same VPLs), then renders the\n"
@@ -35,26 +43,44 @@ int cmdPreview(const Args& args) {
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
-  auto out = cl.value("out");
-  auto exr = cl.value("exr");
-  if (!out && !exr) throw cli::CliError("nothing to write: give --out FILE.png (and/or --exr FILE.exr)");
-  if (out && imageFormatFromPath(*out) != ImageFormat::Png) throw cli::CliError("option --out: '" + *out + "' is not .png");
-  if (exr && imageFormatFromPath(*exr) == ImageFormat::Png)
-    throw cli::CliError("option --exr: '" + *exr + "' is not .exr or .pfm");
   GlBackend backend = GlBackend::Auto;
   cli::parseGlOption(cl, backend, false);
   int frames = cl.getInt("frames", 1);
   if (frames < 1 || frames > 10000) throw cli::CliError("option --frames: must be in [1, 10000]");
+  cli::applySettingsOptions(cl, settings, use);
+  cli::FilePlan files = cli::imageOutputPlan(cl);
+  files.check();
+  auto out = cl.value("out");
+  auto png = cl.value("png");
+  auto refPath = cl.value("ref");
+  Image reference;
+  if (refPath)
+    reference = cli::readReference(*refPath, settings, cli::renderInfo(settings, "gl-preview", 1), "preview");
 
-  Settings settings;
-  cli::applySettingsOptions(cl, settings);
+  // The context first: the machine's GL limits are checked before any work.
+  HeadlessGlContext context(backend);
+  GLint maxTexture = 0, maxCube = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
+  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &maxCube);
+  if (settings.width > maxTexture || settings.height > maxTexture)
+    throw cli::CliError("option --size: " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
+                        " exceeds this GL's largest texture, " + std::to_string(maxTexture) + " px (" +
+                        context.description() + ")");
+  // Every screen-space target (G-buffer, light, compensation, mips) is at most four floats per pixel; a dozen of
+  // them, and the VPLs' depth cube maps, in memory that llvmpipe takes from the host (a GPU has its own and is
+  // checked by GL itself).
+  cli::requireMemory(12.0 * 16.0 * settings.width * settings.height +
+                         6.0 * 4.0 * settings.shadowMapSize * settings.shadowMapSize * settings.vplCount,
+                     "the " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " preview");
+  if (settings.shadowMapSize > maxCube)
+    throw cli::CliError("option --shadow-map-size: " + std::to_string(settings.shadowMapSize) +
+                        " exceeds this GL's largest cube map, " + std::to_string(maxCube) + " px");
 
   Scene scene = cli::loadSceneForCommand("preview", cl.positional()[0], settings.stage);
   OfflineScene offline(scene);
   VplSet vpls = generateVpls(offline, settings);
 
-  // The context comes before the renderer (it loads the GL function table) and outlives it.
-  HeadlessGlContext context(backend);
+  // The renderer comes after the context (which loads the GL function table) and goes before it.
   PreviewRenderer renderer;
   PreviewTimings t;
   PreviewTimings first;
@@ -64,14 +90,13 @@ int cmdPreview(const Args& args) {
     t = renderer.render(scene, vpls, settings, scene.camera);
     if (f == 0) first = t;
   }
-  Image linear = renderer.readLinear(PreviewOutput::Final);
-  if (out) writeImage(*out, linear, settings.exposure);
-  if (exr) writeImage(*exr, linear, settings.exposure);
+  Image linear = readPreviewComponents(renderer, settings);
+  if (out) writeImage(*out, linear, settings.exposure, cli::renderInfo(settings, "gl-preview", 1));
+  if (png) writeImage(*png, linear, settings.exposure);
 
   const VplStats& st = vpls.stats;
   std::printf("gl          %s\n", context.description().c_str());
-  std::printf("scene       %s (%zu triangles, %zu lights)\n", scene.sourcePath.c_str(), scene.triangles.size(),
-              offline.lights().lightCount());
+  std::printf("scene       %s\n", cli::sceneSummary(scene).c_str());
   std::printf("preview     %dx%d, k = %d, b = %g, ssbc %d, shadow maps %d, direct samples %d, seed %u\n",
               settings.width, settings.height, settings.interleave, settings.clampBound, settings.ssbcSteps,
               settings.shadowMapSize, settings.directLightSamples, settings.seed);
@@ -114,8 +139,13 @@ int cmdPreview(const Args& args) {
   if (t.gatherMs > 0.0)
     std::printf("gather      %.3g pixel x VPL evaluations, %.3f G/s (its de-interleave: %.2f ms)\n",
                 t.gatherEvaluations, t.gatherEvaluations / (t.gatherMs * 1e6), t.deinterleaveMs);
-  if (out) std::printf("wrote       %s (exposure %+.2f EV)\n", out->c_str(), settings.exposure);
-  if (exr) std::printf("wrote       %s\n", exr->c_str());
+  if (refPath) {
+    ImageMetrics m = compareImages(linear, reference);
+    std::printf("vs ref      relMSE %.6g, RMSE %.6g, energy ratio %.4f (%zu non-finite pixels)\n", m.relMse, m.rmse,
+                m.energyRatioOverall, m.nonFinitePixels);
+  }
+  if (out) std::printf("wrote       %s\n", out->c_str());
+  if (png) std::printf("wrote       %s (exposure %+.2f EV)\n", png->c_str(), settings.exposure);
   return 0;
 }
 

@@ -2,7 +2,9 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/file_plan.h"
 #include "app/scene_input.h"
+#include "app/scene_summary.h"
 #include "app/settings_options.h"
 #include "renderer/image/image_io.h"
 #include "renderer/offline/offline_scene.h"
@@ -15,11 +17,10 @@
 namespace vplab::app {
 
 int cmdReference(const Args& args) {
-  cli::CommandLine cl("vplab reference <scene.gltf|scene.glb> --out image.exr [options]",
-                      {{"out", "FILE", "linear output image (.exr or .pfm; .png is tonemapped)"},
-                       {"png", "FILE", "also write a tonemapped PNG (uses --exposure)"}});
-  cl.addOptions(cli::imageOptions());
-  cl.addOptions(cli::referenceOptions());
+  Settings settings;
+  const unsigned use = kUseImage | kUseReference;
+  cli::CommandLine cl("vplab reference <scene.gltf|scene.glb> -o image.exr [options]", cli::imageOutputOptions());
+  cl.addOptions(cli::settingOptions(settings, use));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     std::printf("Path-traced reference (NEE + MIS, Russian roulette) on all cores; progress on stderr.\n"
@@ -27,12 +28,14 @@ int cmdReference(const Args& args) {
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
-  cli::checkImageOutputs(cl);
+  cli::applySettingsOptions(cl, settings, use);
+  cli::FilePlan files = cli::imageOutputPlan(cl);
+  files.check();
   auto out = cl.value("out");
   auto png = cl.value("png");
-
-  Settings settings;
-  cli::applySettingsOptions(cl, settings);
+  // The accumulated mean, the pass's samples and the written copy: three images of 3 floats per pixel.
+  cli::requireMemory(3.0 * 12.0 * settings.width * settings.height,
+                     "the " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " reference");
 
   Scene scene = cli::loadSceneForCommand("reference", cl.positional()[0], settings.stage);
   auto buildStart = std::chrono::steady_clock::now();
@@ -46,12 +49,12 @@ int cmdReference(const Args& args) {
   ProgressiveResult result = renderReference(offline, settings, &control, {}, &stats);
   progress.finish();
 
-  if (out) writeImage(*out, result.image, settings.exposure);
+  ImageInfo info = cli::renderInfo(settings, toString(Method::Reference), result.samplesPerPixel);
+  if (out) writeImage(*out, result.image, settings.exposure, info);
   if (png) writeImage(*png, result.image, settings.exposure);
 
   double raysPerSecond = result.seconds > 0.0 ? static_cast<double>(stats.totalRays()) / result.seconds : 0.0;
-  std::printf("scene       %s (%zu triangles, %zu lights; BVH + light table %.1f ms)\n", scene.sourcePath.c_str(),
-              scene.triangles.size(), offline.lights().lightCount(), 1e3 * buildSeconds);
+  std::printf("scene       %s; BVH + light table %.1f ms\n", cli::sceneSummary(scene).c_str(), 1e3 * buildSeconds);
   std::printf("image       %dx%d, %d spp, components %s, max depth %d, seed %u\n", settings.width, settings.height,
               result.samplesPerPixel, toString(settings.components), settings.maxDepth, settings.seed);
   std::printf("time        %.3f s on %d threads\n", result.seconds, resolveThreadCount(settings.threads));

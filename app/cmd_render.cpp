@@ -2,7 +2,10 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/comparison.h"
+#include "app/file_plan.h"
 #include "app/scene_input.h"
+#include "app/scene_summary.h"
 #include "app/settings_options.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -18,20 +21,19 @@
 namespace vplab::app {
 
 int cmdRender(const Args& args) {
-  cli::CommandLine cl("vplab render <scene.gltf|scene.glb> --method vpl|vpl-kk|vsl --out image.exr [options]",
-                      {{"method", "vpl|vpl-kk|vsl", "many-light method (default vpl)"},
-                       {"out", "FILE", "linear output image (.exr or .pfm; .png is tonemapped)"},
-                       {"png", "FILE", "also write a tonemapped PNG (uses --exposure)"},
-                       {"ref", "FILE", "reference image: print relMSE, RMSE and energy ratio against it"},
-                       {"save-vpls", "FILE", "write the VPL set (accepted and rejected) as JSON"}});
-  cl.addOptions(cli::imageOptions());
-  cl.addOptions(cli::referenceOptions());
-  cl.addOptions(cli::manyLightOptions());
+  Settings settings;
+  const unsigned use = kUseImage | kUseGeneration | kUseCpuVpl;
+  cli::CommandLine cl("vplab render <scene.gltf|scene.glb> --method vpl|vpl-kk|vsl -o image.exr [options]",
+                      {{"method", "vpl|vpl-kk|vsl", "many-light method (default vpl)"}});
+  cl.addOptions(cli::imageOutputOptions());
+  cl.addOptions({{"ref", "FILE", "reference image: print relMSE, RMSE and energy ratio against it"},
+                 {"save-vpls", "FILE", "write the VPL set (accepted and rejected) as JSON"}});
+  cl.addOptions(cli::settingOptions(settings, use));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
-    std::printf("Generates VPLs by --generation (light tracing: --vpls is the expected count, with --reject the "
-                "expected accepted\ncount; bidirectional: exactly --vpls; metropolis: about --vpls), then sums them at "
-                "every pixel sample with\nexact shadow rays. --spp sets the samples per pixel.\n");
+    std::printf("Generates VPLs by --generation (light tracing: --vpl-count is the expected count, with --rejection the\n"
+                "expected accepted count; bidirectional: exactly --vpl-count; metropolis: about --vpl-count), then sums\n"
+                "them at every pixel sample with exact shadow rays.\n");
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
@@ -39,24 +41,21 @@ int cmdRender(const Args& args) {
   std::string methodName = cl.getString("method", "vpl");
   if (!parseMethod(methodName, method) || method == Method::Reference)
     throw cli::CliError("option --method: '" + methodName + "' is not vpl, vpl-kk or vsl");
-  cli::checkImageOutputs(cl);
+  cli::applySettingsOptions(cl, settings, use);
+  cli::FilePlan files = cli::imageOutputPlan(cl);
   auto out = cl.value("out");
   auto png = cl.value("png");
   auto refPath = cl.value("ref");
   auto vplPath = cl.value("save-vpls");
-
-  Settings settings;
-  // The VPL sum is exact per sample; a few samples only anti-alias and average the direct light.
-  settings.samplesPerPixel = 4;
-  cli::applySettingsOptions(cl, settings);
+  if (vplPath) files.output("--save-vpls", *vplPath, cli::OutputKind::Text);
+  files.check();
+  cli::requireMemory(3.0 * 12.0 * settings.width * settings.height,
+                     "the " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " render");
 
   // Read the reference first: a wrong path should fail before minutes of rendering.
   Image reference;
-  if (refPath) reference = readImage(*refPath);
-  if (refPath && (reference.width != settings.width || reference.height != settings.height))
-    throw cli::CliError("option --ref: " + *refPath + " is " + std::to_string(reference.width) + "x" +
-                        std::to_string(reference.height) + ", the render is " + std::to_string(settings.width) + "x" +
-                        std::to_string(settings.height));
+  if (refPath)
+    reference = cli::readReference(*refPath, settings, cli::renderInfo(settings, toString(method), 0), "render");
 
   Scene scene = cli::loadSceneForCommand("render", cl.positional()[0], settings.stage);
   OfflineScene offline(scene);
@@ -71,15 +70,16 @@ int cmdRender(const Args& args) {
   RenderControl control;
   cli::ProgressReporter progress("render");
   control.onProgress = [&](float f) { progress.update(f); };
-  VplRenderResult result = renderVpl(offline, vpls, method, settings, &control);
+  VplRenderResult result = renderVpl(offline, vpls, method, offlineRenderSettings(settings, method), &control);
   progress.finish();
 
-  if (out) writeImage(*out, result.image, settings.exposure);
+  if (out)
+    writeImage(*out, result.image, settings.exposure,
+               cli::renderInfo(settings, toString(method), result.samplesPerPixel));
   if (png) writeImage(*png, result.image, settings.exposure);
 
   const VplStats& st = vpls.stats;
-  std::printf("scene       %s (%zu triangles, %zu lights)\n", scene.sourcePath.c_str(), scene.triangles.size(),
-              offline.lights().lightCount());
+  std::printf("scene       %s\n", cli::sceneSummary(scene).c_str());
   std::printf("method      %s, %dx%d, %d spp, components %s, seed %u\n", toString(method), settings.width,
               settings.height, result.samplesPerPixel, toString(settings.components), settings.seed);
   std::printf("vpls        %s\n", describeVplStats(st).c_str());

@@ -7,6 +7,7 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "app/file_plan.h"
 #include "app/sweep_options.h"
 #include "evaluation/stability.h"
 #include "renderer/gl/context.h"
@@ -21,7 +22,7 @@ int cmdStability(const Args& args) {
                        {"frames", "F", "frames of each scripted motion, >= 2 (default 8, 4 with --quick)"},
                        {"quick", "", "fewer methods, VPLs and samples"},
                        {"size", "WxH", "image size (default 96x96, 64x64 with --quick)"},
-                       {"vpls", "N", "VPLs of every method (default 256, 64 with --quick)"},
+                       {"vpl-count", "N", "VPLs of every method (default 256, 64 with --quick)"},
                        {"ref-spp", "N", "samples per pixel of the reference frames (default 256, 64 with --quick)"},
                        {"methods", "LIST", "flicker methods: vpl,clamp,vsl,reject,vpl-gl,ssbc-gl"}});
   cl.addOptions(cli::sweepOptions("parts"));
@@ -42,9 +43,9 @@ int cmdStability(const Args& args) {
   config.frames = cl.getInt("frames", config.frames);
   if (config.frames < 2) throw cli::CliError("option --frames: at least 2 frames are needed");
   cl.getSize("size", config.width, config.height);
-  config.vplCount = cl.getInt("vpls", config.vplCount);
+  config.vplCount = cl.getInt("vpl-count", config.vplCount);
   config.referenceSpp = cl.getInt("ref-spp", config.referenceSpp);
-  if (config.vplCount < 1 || config.referenceSpp < 1) throw cli::CliError("--vpls and --ref-spp must be >= 1");
+  if (config.vplCount < 1 || config.referenceSpp < 1) throw cli::CliError("--vpl-count and --ref-spp must be >= 1");
   if (auto m = cl.value("methods")) {
     std::stringstream ss(*m);
     std::string name;
@@ -55,6 +56,7 @@ int cmdStability(const Args& args) {
         throw cli::CliError("option --methods: unknown flicker method '" + n + "'");
   }
   cli::applySweepOptions(cl, "stability", config);
+  cli::requireOutputFolder(config.outDir, cl.positional());
 
   StabilityOutcome out = runStability(cl.positional()[0], config);
   for (const FlickerRow& r : out.flicker)

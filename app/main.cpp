@@ -3,8 +3,10 @@
 #include "app/cli.h"
 #include "app/commands.h"
 
+#include <csignal>
 #include <cstdio>
 #include <exception>
+#include <new>
 #include <string>
 #include <vector>
 
@@ -33,13 +35,17 @@ const std::vector<vplab::cli::Command>& commands() {
 
 void printUsage() {
   std::printf("vplab - a rendering lab for many-light (virtual point light) methods\n\n");
-  std::printf("usage: vplab <command> [arguments]   (vplab <command> --help for its options)\n\ncommands:\n");
+  std::printf(
+      "usage: vplab <command> [arguments]   (vplab <command> --help for its options; vplab --version)\n\n"
+      "commands:\n");
   for (const auto& c : commands()) std::printf("  %-12s %s\n", c.name.c_str(), c.summary.c_str());
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  // Past a file-size limit (ulimit -f) a write must fail with EFBIG and be reported, not kill the process.
+  std::signal(SIGXFSZ, SIG_IGN);
   if (argc < 2) {
     printUsage();
     return 2;
@@ -47,6 +53,10 @@ int main(int argc, char** argv) {
   std::string name = argv[1];
   if (name == "--help" || name == "-h" || name == "help") {
     printUsage();
+    return 0;
+  }
+  if (name == "--version" || name == "version") {
+    std::printf("vplab %s\n", VPLAB_VERSION);
     return 0;
   }
   std::vector<std::string> args(argv + 2, argv + argc);
@@ -57,6 +67,9 @@ int main(int argc, char** argv) {
     } catch (const vplab::cli::CliError& e) {
       std::fprintf(stderr, "vplab %s: %s\n", name.c_str(), e.what());
       return 2;
+    } catch (const std::bad_alloc&) {
+      std::fprintf(stderr, "vplab %s: error: out of memory (try a smaller --size or fewer VPLs)\n", name.c_str());
+      return 1;
     } catch (const std::exception& e) {
       std::fprintf(stderr, "vplab %s: error: %s\n", name.c_str(), e.what());
       return 1;

@@ -1,24 +1,19 @@
 #pragma once
-// The command-line spelling of Settings, shared by every subcommand that renders.
+// The command-line spelling of Settings, shared by every subcommand that renders. Every flag comes from the settings
+// table (renderer/settings.h): its name is the setting's key in kebab case, its help and range are the table's, and
+// the default shown is the one the command really uses.
 
 #include "app/cli.h"
 #include "renderer/settings.h"
 
 namespace vplab::cli {
 
-/// Image, seed, thread and staging options (--settings, --size, --seed, --threads, --exposure, --stage).
-std::vector<OptionSpec> imageOptions();
-/// Reference options (--spp, --max-depth, --components).
-std::vector<OptionSpec> referenceOptions();
-/// Many-light options (--vpls, --bounces, --clamp, --vsl-radius, --reject, --epsilon, ...; GL ones included).
-std::vector<OptionSpec> manyLightOptions();
+/// --settings F.json, --size WxH (when the command renders an image), and one option per setting that acts on the
+/// passes in `use` (SettingUse bits), each help line ending with its value in `defaults`.
+std::vector<OptionSpec> settingOptions(const Settings& defaults, unsigned use);
 
-/// Loads --settings first, then copies every other option that is present into settings (so they override the
-/// file), then validates; throws CliError naming the bad option or key.
-void applySettingsOptions(const CommandLine& cl, Settings& settings);
-
-/// The offline renderers' outputs: --out FILE (.exr, .pfm or .png) and/or --png FILE. Throws CliError when neither is
-/// given or an extension is wrong, so that a mistake shows before minutes of rendering.
-void checkImageOutputs(const CommandLine& cl);
+/// Loads --settings first, then copies every option of settingOptions(use) that is present into settings (so they
+/// override the file), then validates; throws CliError naming the flag (or the file's key) that is wrong.
+void applySettingsOptions(const CommandLine& cl, Settings& settings, unsigned use);
 
 }  // namespace vplab::cli

@@ -2,7 +2,10 @@
 
 #include <cassert>
 #include <filesystem>
+#include <fstream>
 #include <sstream>
+
+#include "renderer/core/atomic_file.h"
 
 namespace vplab {
 
@@ -83,41 +86,32 @@ CsvLog::CsvLog(std::string path, std::vector<std::string> header, std::size_t ke
       for (std::size_t i = 0; i < keyColumns_; ++i) key.push_back(r.at(header_[i]));
       keys_.insert(join(key));
     }
-    // Rewrite without a cut-off last line, so appended rows start on a line of their own.
-    std::ofstream rewrite(path_, std::ios::trunc);
-    std::string line;
-    for (std::size_t i = 0; i < header_.size(); ++i) line += (i ? "," : "") + csvField(header_[i]);
-    rewrite << line << "\n";
-    for (const CsvRow& r : rows_) {
-      line.clear();
-      for (std::size_t i = 0; i < header_.size(); ++i) line += (i ? "," : "") + csvField(r.at(header_[i]));
-      rewrite << line << "\n";
-    }
-    if (!rewrite.flush()) throw CsvError(path_ + ": cannot rewrite");
   }
-  out_.open(path_, std::ios::app);
-  if (!out_) throw CsvError(path_ + ": cannot open for appending");
-  if (!exists) {
-    std::string line;
-    for (std::size_t i = 0; i < header_.size(); ++i) line += (i ? "," : "") + csvField(header_[i]);
-    out_ << line << "\n";
-    out_.flush();
+  save();
+}
+
+void CsvLog::save() const {
+  std::string text;
+  for (std::size_t i = 0; i < header_.size(); ++i) text += (i ? "," : "") + csvField(header_[i]);
+  text += "\n";
+  for (const CsvRow& r : rows_) {
+    for (std::size_t i = 0; i < header_.size(); ++i) text += (i ? "," : "") + csvField(r.at(header_[i]));
+    text += "\n";
+  }
+  try {
+    writeFileAtomically(path_, text);
+  } catch (const FileWriteError& e) {
+    throw CsvError(e.what());
   }
 }
 
 void CsvLog::append(const std::vector<std::string>& values) {
   assert(values.size() == header_.size());
-  std::string line;
   CsvRow row;
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    line += (i ? "," : "") + csvField(values[i]);
-    row[header_[i]] = values[i];
-  }
-  out_ << line << "\n";
-  out_.flush();
-  if (!out_) throw CsvError(path_ + ": write failed");
-  keys_.insert(join(std::vector<std::string>(values.begin(), values.begin() + static_cast<long>(keyColumns_))));
+  for (std::size_t i = 0; i < values.size(); ++i) row[header_[i]] = values[i];
   rows_.push_back(std::move(row));
+  save();
+  keys_.insert(join(std::vector<std::string>(values.begin(), values.begin() + static_cast<long>(keyColumns_))));
 }
 
 }  // namespace vplab

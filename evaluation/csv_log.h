@@ -1,10 +1,10 @@
 #pragma once
-// An append-only CSV log for long measurement sweeps: each row is written and flushed as soon as it is measured, so
-// an interrupted sweep keeps what it measured; reopening the same file with the same header loads the rows already
-// there so the sweep can skip them (restart where it stopped).
+// An append-only CSV log for long measurement sweeps: the file is rewritten (atomically, renderer/core/atomic_file.h)
+// as soon as each row is measured, so an interrupted sweep keeps what it measured and the file is never cut; reopening
+// the same file with the same header loads the rows already there so the sweep can skip them (restart where it
+// stopped).
 
 #include <cstddef>
-#include <fstream>
 #include <map>
 #include <set>
 #include <stdexcept>
@@ -34,7 +34,7 @@ class CsvLog {
 
   /// True when a row with these key fields (the first keyColumns values, in header order) is already logged.
   bool contains(const std::vector<std::string>& key) const { return keys_.count(join(key)) > 0; }
-  /// Appends and flushes one row (values in header order; the count must match the header).
+  /// Appends one row and rewrites the file (values in header order; the count must match the header).
   void append(const std::vector<std::string>& values);
 
   const std::vector<std::string>& header() const { return header_; }
@@ -49,7 +49,7 @@ class CsvLog {
   std::size_t keyColumns_;
   std::set<std::string> keys_;
   std::vector<CsvRow> rows_;
-  std::ofstream out_;
+  void save() const;
 };
 
 /// Reads a whole CSV file with a header line into rows (throws CsvError naming the file when it cannot be read).

@@ -6,6 +6,7 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <cstring>
 #include <filesystem>
 #include <limits>
 
@@ -98,16 +99,21 @@ MeasuredImage PreviewBench::render(const Scene& scene, const VplSet& vpls, const
     m.renderMs = std::min(m.renderMs,
                           std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
   }
-  if (settings.components == Components::All) {
-    m.image = renderer_->readLinear(PreviewOutput::Final);
-  } else {
-    m.image = renderer_->readLinear(PreviewOutput::Indirect);
-    if (settings.ssbcSteps > 0 && std::isfinite(settings.clampBound)) {
-      Image residual = renderer_->readLinear(PreviewOutput::Residual);
-      for (std::size_t i = 0; i < m.image.size(); ++i) m.image.pixels[i] += residual.pixels[i];
-    }
-  }
+  m.image = readPreviewComponents(*renderer_, settings);
   return m;
+}
+
+Image readPreviewComponents(PreviewRenderer& renderer, const Settings& settings) {
+  if (settings.components == Components::All) return renderer.readLinear(PreviewOutput::Final);
+  Image indirect = renderer.readLinear(PreviewOutput::Indirect);
+  if (settings.ssbcSteps > 0 && std::isfinite(settings.clampBound)) {
+    Image residual = renderer.readLinear(PreviewOutput::Residual);
+    for (std::size_t i = 0; i < indirect.size(); ++i) indirect.pixels[i] += residual.pixels[i];
+  }
+  if (settings.components == Components::Indirect) return indirect;
+  Image direct = renderer.readLinear(PreviewOutput::Final);
+  for (std::size_t i = 0; i < direct.size(); ++i) direct.pixels[i] -= indirect.pixels[i];
+  return direct;
 }
 
 std::string sceneStem(const std::string& path) {
@@ -124,17 +130,34 @@ MeasuredImage cachedReference(const OfflineScene& setup, const std::string& scen
            toString(settings.components) + "-d" + std::to_string(settings.maxDepth) + "-s" +
            std::to_string(settings.seed) + ".exr";
     if (std::filesystem::exists(file)) {
-      MeasuredImage m;
-      m.image = readImage(file);
-      if (m.image.width == settings.width && m.image.height == settings.height) {
-        if (cached) *cached = true;
-        return m;
+      // A file that does not read back as an image of the right size (cut, empty, replaced by hand) is rendered
+      // again and replaced, never trusted and never a reason to fail every later run.
+      try {
+        MeasuredImage m;
+        m.image = readImage(file);
+        if (m.image.width == settings.width && m.image.height == settings.height) {
+          if (cached) *cached = true;
+          return m;
+        }
+      } catch (const ImageIoError&) {
       }
     }
   }
   if (cached) *cached = false;
   MeasuredImage m = renderReferenceImage(setup, settings);
-  if (!file.empty()) writeImage(file, m.image);
+  if (!file.empty()) {
+    ImageInfo info = {{"components", toString(settings.components)},
+                      {"method", toString(Method::Reference)},
+                      {"spp", std::to_string(settings.samplesPerPixel)}};
+    writeImage(file, m.image, 0.0f, info);
+    // Cached only when it reads back bit for bit: a later run trusts this file instead of rendering.
+    Image back = readImage(file);
+    if (back.width != m.image.width || back.height != m.image.height ||
+        std::memcmp(back.pixels.data(), m.image.pixels.data(), m.image.size() * sizeof(glm::vec3)) != 0) {
+      std::filesystem::remove(file);
+      throw ImageIoError(file + ": the cached reference does not read back as written; removed");
+    }
+  }
   return m;
 }
 

@@ -63,6 +63,11 @@ class PreviewBench {
   bool warmedUp_ = false;
 };
 
+/// The part of the preview's last frame named by settings.components, in linear radiance: All is the final image;
+/// Indirect the de-interleaved gather plus the screen-space residual (with SSBC on and a finite clamp); Direct the
+/// final image less those two (emission seen directly and the direct light).
+Image readPreviewComponents(PreviewRenderer& renderer, const Settings& settings);
+
 /// A reference for (scene, size, spp, components, seed), read from `cacheDir` when it was rendered before, else
 /// rendered and stored there as EXR. The file name holds every key, so a different setting never reuses a file.
 /// cacheDir empty: no cache. `cached`, when given, says whether the file was reused.

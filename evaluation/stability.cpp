@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "evaluation/svg_chart.h"
+#include "renderer/core/atomic_file.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -468,27 +469,30 @@ StabilityOutcome runStability(const std::string& scenePath, const StabilityConfi
 
   // CSVs, one row per measurement.
   {
-    std::ofstream f(config.outDir + "/flicker.csv");
+    std::ostringstream f;
     f << "scene,motion,method,vpls,frames,flicker,reference_flicker,excess,mean_reference\n";
     for (const FlickerRow& r : out.flicker)
       f << name << "," << r.motion << "," << r.method << "," << r.vplMode << "," << config.frames << ","
         << fmt(r.flicker) << "," << fmt(r.referenceFlicker) << "," << fmt(r.excess) << "," << fmt(r.meanReference)
         << "\n";
+    writeFileAtomically(config.outDir + "/flicker.csv", f.str());
   }
   {
-    std::ofstream f(config.outDir + "/failures.csv");
+    std::ostringstream f;
     f << "scene,map,against,relmse,energy_ratio,worst5_share,worst_tile_x,worst_tile_y,worst_tile_error,heatmap\n";
     for (const FailureRow& r : out.failures)
       f << name << ",\"" << r.method << "\",\"" << r.against << "\"," << fmt(r.relMse) << "," << fmt(r.energyRatio)
         << "," << fmt(r.worstShare) << "," << r.worstTileX << "," << r.worstTileY << "," << fmt(r.worstTileError) << ","
         << r.heatmap << "\n";
+    writeFileAtomically(config.outDir + "/failures.csv", f.str());
   }
   {
-    std::ofstream f(config.outDir + "/extremes.csv");
+    std::ostringstream f;
     f << "scene,parameter,value,method,backend,time_ms,nonfinite,negative,mean_radiance\n";
     for (const ExtremeRow& r : out.extremes)
       f << name << "," << r.parameter << ",\"" << r.value << "\"," << r.method << "," << toString(r.backend) << ","
         << fmt(r.timeMs) << "," << r.bad.nonFinite << "," << r.bad.negative << "," << fmt(r.meanRadiance) << "\n";
+    writeFileAtomically(config.outDir + "/extremes.csv", f.str());
   }
 
   // Per-frame flicker charts, one per motion.
@@ -558,8 +562,7 @@ StabilityOutcome runStability(const std::string& scenePath, const StabilityConfi
   md << "\n**" << (out.extremesClean ? "All extremes clean." : "Some extremes produced bad pixels.") << "**\n";
   if (!out.glNote.empty()) md << "\n" << out.glNote << "\n";
   out.reportPath = config.outDir + "/stability.md";
-  std::ofstream f(out.reportPath);
-  f << md.str();
+  writeFileAtomically(out.reportPath, md.str());
   return out;
 }
 

@@ -1,5 +1,6 @@
 #include "evaluation/svg_chart.h"
 
+#include "renderer/core/atomic_file.h"
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -310,10 +311,7 @@ std::string renderSvgChart(const ChartSpec& spec) {
 }
 
 void writeSvgChart(const std::string& path, const ChartSpec& spec) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw std::runtime_error(path + ": cannot open for writing");
-  out << renderSvgChart(spec);
-  if (!out.flush()) throw std::runtime_error(path + ": write failed");
+  writeFileAtomically(path, renderSvgChart(spec));
 }
 
 }  // namespace vplab

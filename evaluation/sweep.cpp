@@ -10,6 +10,7 @@
 #include <sstream>
 
 #include "evaluation/svg_chart.h"
+#include "renderer/core/atomic_file.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -475,9 +476,7 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
            << " | " << r->at("acceptance_rate") << " | " << r->at("nonfinite") << " | " << r->at("negative") << " |\n";
     md << "\n";
   }
-  std::ofstream out(outcome.reportPath);
-  out << md.str();
-  if (!out.flush()) throw CsvError(outcome.reportPath + ": cannot write");
+  writeFileAtomically(outcome.reportPath, md.str());
   return outcome;
 }
 

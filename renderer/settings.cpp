@@ -1,6 +1,9 @@
 #include "renderer/settings.h"
 
+#include <cctype>
+#include <cerrno>
 #include <cmath>
+#include <cstdlib>
 #include <sstream>
 #include <stdexcept>
 
@@ -8,69 +11,215 @@ namespace vplab {
 
 namespace {
 
-template <typename T>
-void checkRange(std::vector<std::string>& problems, const char* name, T value, T lo, T hi) {
-  bool ok;
-  if constexpr (std::is_floating_point_v<T>)
-    ok = !std::isnan(value) && value >= lo && value <= hi;
-  else
-    ok = value >= lo && value <= hi;
-  if (!ok) {
-    std::ostringstream s;
-    s << name << " = " << value << " is outside [" << lo << ", " << hi << "]";
-    problems.push_back(s.str());
-  }
+/// An enum member of N values 0..N-1, named by toString().
+template <typename E, int N, E Settings::*Member>
+SettingChoice choice() {
+  SettingChoice c;
+  for (int i = 0; i < N; ++i) c.names.emplace_back(toString(static_cast<E>(i)));
+  c.get = [](const Settings& s) { return static_cast<int>(s.*Member); };
+  c.set = [](Settings& s, int i) { s.*Member = static_cast<E>(i); };
+  return c;
 }
 
-// A share or probability that must be positive: (0, 1].
-void checkUnitInterval(std::vector<std::string>& problems, const char* name, float value) {
-  if (value > 0.0f && value <= 1.0f) return;
+constexpr double kMaxFloat = std::numeric_limits<float>::max();
+constexpr unsigned kUseVplGather = kUseCpuVpl | kUseGl;
+
+std::string formatNumber(double v, bool integral) {
+  if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
   std::ostringstream s;
-  s << name << " = " << value << " is outside (0, 1]";
-  problems.push_back(s.str());
+  if (integral)
+    s << static_cast<long long>(v);
+  else
+    s << v;
+  return s.str();
+}
+
+std::string spelled(const std::string& key, SettingSpelling spelling) {
+  return spelling == SettingSpelling::Flag ? "--" + settingFlag(key) : key;
 }
 
 }  // namespace
 
-std::vector<std::string> validateSettings(const Settings& s) {
-  std::vector<std::string> p;
-  checkRange(p, "width", s.width, 1, 16384);
-  checkRange(p, "height", s.height, 1, 16384);
-  checkRange(p, "threads", s.threads, 0, 1024);
-  checkRange(p, "exposure", s.exposure, -20.0f, 20.0f);
-  checkRange(p, "samplesPerPixel", s.samplesPerPixel, 1, 1 << 20);
-  checkRange(p, "exactSamplesPerPixel", s.exactSamplesPerPixel, 1, 1 << 20);
-  checkRange(p, "maxDepth", s.maxDepth, 1, 1024);
-  checkRange(p, "vplCount", s.vplCount, 0, 1 << 20);
-  checkRange(p, "vplMaxBounces", s.vplMaxBounces, 1, 64);
-  checkRange(p, "rejectionEpsilon", s.rejectionEpsilon, 0.0f, 1.0f);
-  checkRange(p, "rejectionPilotVpls", s.rejectionPilotVpls, 1, 65536);
-  checkRange(p, "importancePoints", s.importancePoints, 1, 65536);
-  checkRange(p, "rejectionMaxCandidateFactor", s.rejectionMaxCandidateFactor, 1, 10000);
+const std::vector<SettingInfo>& settingsTable() {
+  // key, member, min, max, value name, help (unit; the default is appended per command), passes.
+  static const std::vector<SettingInfo> table = {
+      {"width", &Settings::width, 1, 16384, "W", "image width in pixels", kUseImage, false},
+      {"height", &Settings::height, 1, 16384, "H", "image height in pixels", kUseImage, false},
+      {"seed", &Settings::seed, 0, 4294967295.0, "S", "seed of every random sequence", kUseImage},
+      {"threads", &Settings::threads, 0, 1024, "T", "CPU worker threads, 0 = all cores", kUseImage},
+      {"exposure", &Settings::exposure, -20, 20, "EV", "PNG and display exposure in stops", kUseImage},
+      {"stage", choice<Stage, 3, &Settings::stage>(), 0, 0, "auto|none|studio",
+       "studio around the model: ground, backdrop, area light (auto: only for a scene without lights)", kUseImage},
+      {"samplesPerPixel", &Settings::samplesPerPixel, 1, 1 << 20, "N", "samples per pixel of the path-traced reference",
+       kUseReference},
+      {"exactSamplesPerPixel", &Settings::exactSamplesPerPixel, 1, 1 << 20, "N",
+       "samples per pixel of the exact VPL render (each sums every VPL)", kUseCpuVpl},
+      {"maxDepth", &Settings::maxDepth, 1, 1024, "D", "maximum path length in bounces (reference, vpl-kk)",
+       kUseReference | kUseCpuVpl},
+      {"components", choice<Components, 3, &Settings::components>(), 0, 0, "all|direct|indirect",
+       "radiance components in the image", kUseReference | kUseCpuVpl | kUseGl},
+      {"generation", choice<VplGeneration, 3, &Settings::generation>(), 0, 0, "light|bidirectional|metropolis",
+       "how VPLs are generated", kUseGeneration},
+      {"vplCount", &Settings::vplCount, 0, 1 << 20, "N",
+       "number of VPLs (expected; accepted ones with rejection; about this many from metropolis)", kUseGeneration},
+      {"vplMaxBounces", &Settings::vplMaxBounces, 1, 64, "K", "VPLs are stored at bounces 1..K", kUseGeneration},
+      {"importancePoints", &Settings::importancePoints, 1, 65536, "M",
+       "camera-visible points a VPL's importance is measured at (rejection, bidirectional, metropolis)",
+       kUseGeneration},
+      {"rejection", &Settings::rejection, 0, 0, "", "rejection of unimportant VPLs (Georgiev-Slusallek; generation light)",
+       kUseGeneration},
+      {"rejectionEpsilon", &Settings::rejectionEpsilon, 0, 1, "e", "rejection epsilon: p = min(Phi/Phi_v + e, 1)",
+       kUseGeneration},
+      {"rejectionPilotVpls", &Settings::rejectionPilotVpls, 1, 65536, "N", "pilot VPLs that estimate Phi_v",
+       kUseGeneration},
+      {"rejectionMaxCandidateFactor", &Settings::rejectionMaxCandidateFactor, 1, 10000, "F",
+       "cap on candidates traced, as a multiple of the VPL count", kUseGeneration},
+      {"birCandidateFactor", &Settings::birCandidateFactor, 1, 256, "F", "bidirectional: candidates per kept VPL",
+       kUseGeneration},
+      {"birLightShare", &Settings::birLightShare, 0, 1, "s", "bidirectional: share of light-traced candidates",
+       kUseGeneration, true, SettingBound::AboveMin},
+      {"birEpsilon", &Settings::birEpsilon, 0, 1, "e", "bidirectional: defensive share of the resampling",
+       kUseGeneration},
+      {"mirChains", &Settings::mirChains, 1, 4096, "C", "metropolis: independent Markov chains", kUseGeneration},
+      {"mirLargeStepProbability", &Settings::mirLargeStepProbability, 0, 1, "p",
+       "metropolis: probability of a large step", kUseGeneration, true, SettingBound::AboveMin},
+      {"mirBurnIn", &Settings::mirBurnIn, 0, 100000, "B", "metropolis: states discarded per chain", kUseGeneration},
+      {"mirBootstrapPaths", &Settings::mirBootstrapPaths, 16, 1 << 20, "N",
+       "metropolis: light paths estimating the normalisation", kUseGeneration},
+      {"mirEpsilon", &Settings::mirEpsilon, 0, 1, "e", "metropolis: defensive share of the target", kUseGeneration},
+      {"clampBound", &Settings::clampBound, 0, kInfinity, "b", "clamp bound b on the geometry term, 1/m^2, inf = none",
+       kUseVplGather},
+      {"ssbcSteps", &Settings::ssbcSteps, 0, 2, "0|1|2", "screen-space bias compensation steps", kUseGl},
+      {"ssbcCoarseRings", &Settings::ssbcCoarseRings, 0, 0, "", "SSBC rings >= 4 px away on a 4 px grid", kUseGl},
+      {"vslRadius", &Settings::vslRadius, 0, kMaxFloat, "r", "virtual spherical light radius in metres, 0 = points",
+       kUseGeneration},
+      {"vslRadiusFromDensity", &Settings::vslRadiusFromDensity, 0, 0, "",
+       "each VSL radius from the local VPL density, scaled by the VSL radius", kUseGeneration},
+      {"vslSamples", &Settings::vslSamples, 1, 256, "N", "samples per VSL of the exact CPU render (one-sample MIS)",
+       kUseCpuVpl},
+      {"directLightSamples", &Settings::directLightSamples, 1, 4096, "K", "shadow-mapped area-light samples", kUseGl},
+      {"interleave", &Settings::interleave, 1, 8, "k", "interleaved sampling k x k, 1 = off", kUseGl},
+      {"shadowMapSize", &Settings::shadowMapSize, 16, 2048, "S", "VPL shadow-map resolution in texels", kUseGl},
+      {"shadowBias", &Settings::shadowBias, 0, 0.1, "B", "VPL shadow depth bias, fraction of the scene diagonal",
+       kUseGl},
+      {"visibility", choice<VisibilityMethod, 2, &Settings::visibility>(), 0, 0, "cube|ism",
+       "VPL visibility: cube shadow maps or imperfect shadow maps", kUseGl},
+      {"ismTileSize", &Settings::ismTileSize, 16, 512, "T", "imperfect shadow map tile, texels per side",
+       kUseGl, true, SettingBound::PowerOfTwo},
+      {"ismPointBudget", &Settings::ismPointBudget, 1024, 1 << 25, "P",
+       "imperfect shadow maps: surface points shared among the VPLs", kUseGl},
+  };
+  return table;
+}
+
+const SettingInfo* findSetting(const std::string& key) {
+  for (const SettingInfo& info : settingsTable())
+    if (key == info.key) return &info;
+  return nullptr;
+}
+
+std::string settingFlag(const std::string& key) {
+  std::string flag;
+  for (char c : key) {
+    if (std::isupper(static_cast<unsigned char>(c))) {
+      flag += '-';
+      flag += static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    } else {
+      flag += c;
+    }
+  }
+  return flag;
+}
+
+std::string formatSetting(const Settings& s, const SettingInfo& info) {
+  return std::visit(
+      [&](const auto& member) -> std::string {
+        using M = std::decay_t<decltype(member)>;
+        if constexpr (std::is_same_v<M, SettingChoice>) {
+          return member.names.at(static_cast<std::size_t>(member.get(s)));
+        } else {
+          using T = std::decay_t<decltype(s.*member)>;
+          if constexpr (std::is_same_v<T, bool>)
+            return s.*member ? "true" : "false";
+          else
+            return formatNumber(static_cast<double>(s.*member), !std::is_floating_point_v<T>);
+        }
+      },
+      info.member);
+}
+
+void parseSetting(Settings& s, const SettingInfo& info, const std::string& text) {
+  std::visit(
+      [&](const auto& member) {
+        using M = std::decay_t<decltype(member)>;
+        if constexpr (std::is_same_v<M, SettingChoice>) {
+          for (std::size_t i = 0; i < member.names.size(); ++i)
+            if (text == member.names[i]) return member.set(s, static_cast<int>(i));
+          std::string list;
+          for (std::size_t i = 0; i < member.names.size(); ++i) list += (i ? ", " : "") + member.names[i];
+          throw std::invalid_argument("expected one of " + list);
+        } else {
+          using T = std::decay_t<decltype(s.*member)>;
+          if constexpr (std::is_same_v<T, bool>) {
+            if (text == "true" || text == "on" || text == "1") return void(s.*member = true);
+            if (text == "false" || text == "off" || text == "0") return void(s.*member = false);
+            throw std::invalid_argument("expected true or false");
+          } else if constexpr (std::is_floating_point_v<T>) {
+            if (text == "inf" || text == "infinity") return void(s.*member = kInfinity);
+            char* end = nullptr;
+            double v = std::strtod(text.c_str(), &end);
+            if (text.empty() || *end != '\0' || std::isnan(v) || std::abs(v) > kMaxFloat)
+              throw std::invalid_argument("expected a number or inf");
+            s.*member = static_cast<T>(v);
+          } else {
+            char* end = nullptr;
+            errno = 0;
+            long long v = std::strtoll(text.c_str(), &end, 10);
+            if (text.empty() || *end != '\0' || errno == ERANGE ||
+                v < static_cast<long long>(std::numeric_limits<T>::min()) ||
+                v > static_cast<long long>(std::numeric_limits<T>::max()))
+              throw std::invalid_argument(std::string("expected an integer in [") +
+                                          std::to_string(std::numeric_limits<T>::min()) + ", " +
+                                          std::to_string(std::numeric_limits<T>::max()) + "]");
+            s.*member = static_cast<T>(v);
+          }
+        }
+      },
+      info.member);
+}
+
+std::vector<std::string> validateSettings(const Settings& s, SettingSpelling spelling) {
+  std::vector<std::string> problems;
+  for (const SettingInfo& info : settingsTable()) {
+    std::visit(
+        [&](const auto& member) {
+          using M = std::decay_t<decltype(member)>;
+          if constexpr (!std::is_same_v<M, SettingChoice>) {
+            using T = std::decay_t<decltype(s.*member)>;
+            if constexpr (!std::is_same_v<T, bool>) {
+              double v = static_cast<double>(s.*member);
+              bool aboveMin = info.bound == SettingBound::AboveMin ? v > info.min : v >= info.min;
+              bool integral = !std::is_floating_point_v<T>;
+              if (std::isnan(v) || !aboveMin || v > info.max) {
+                problems.push_back(spelled(info.key, spelling) + " = " + formatSetting(s, info) + " is outside " +
+                                   (info.bound == SettingBound::AboveMin ? "(" : "[") +
+                                   formatNumber(info.min, integral) + ", " + formatNumber(info.max, integral) + "]");
+              } else if (info.bound == SettingBound::PowerOfTwo) {
+                auto n = static_cast<long long>(v);
+                if ((n & (n - 1)) != 0)
+                  problems.push_back(spelled(info.key, spelling) + " = " + formatSetting(s, info) +
+                                     " is not a power of two");
+              }
+            }
+          }
+        },
+        info.member);
+  }
+  // Rules between settings.
   if (s.rejection && s.generation != VplGeneration::Light)
-    p.push_back(std::string("rejection = true needs generation = light (") + toString(s.generation) +
-                " already chooses its VPLs by importance)");
-  checkRange(p, "birCandidateFactor", s.birCandidateFactor, 1, 256);
-  checkUnitInterval(p, "birLightShare", s.birLightShare);
-  checkRange(p, "birEpsilon", s.birEpsilon, 0.0f, 1.0f);
-  checkRange(p, "mirChains", s.mirChains, 1, 4096);
-  checkUnitInterval(p, "mirLargeStepProbability", s.mirLargeStepProbability);
-  checkRange(p, "mirBurnIn", s.mirBurnIn, 0, 100000);
-  checkRange(p, "mirBootstrapPaths", s.mirBootstrapPaths, 16, 1 << 20);
-  checkRange(p, "mirEpsilon", s.mirEpsilon, 0.0f, 1.0f);
-  checkRange(p, "clampBound", s.clampBound, 0.0f, kInfinity);
-  checkRange(p, "ssbcSteps", s.ssbcSteps, 0, 2);
-  checkRange(p, "vslRadius", s.vslRadius, 0.0f, std::numeric_limits<float>::max());
-  checkRange(p, "vslSamples", s.vslSamples, 1, 256);
-  checkRange(p, "directLightSamples", s.directLightSamples, 1, 4096);
-  checkRange(p, "interleave", s.interleave, 1, 8);
-  checkRange(p, "shadowMapSize", s.shadowMapSize, 16, 2048);
-  checkRange(p, "shadowBias", s.shadowBias, 0.0f, 0.1f);
-  checkRange(p, "ismTileSize", s.ismTileSize, 16, 512);
-  if (s.ismTileSize > 0 && (s.ismTileSize & (s.ismTileSize - 1)) != 0)
-    p.push_back("ismTileSize = " + std::to_string(s.ismTileSize) + " is not a power of two");
-  checkRange(p, "ismPointBudget", s.ismPointBudget, 1024, 1 << 25);
-  return p;
+    problems.push_back(spelled("rejection", spelling) + " = true needs " + spelled("generation", spelling) +
+                       " = light (" + toString(s.generation) + " already chooses its VPLs by importance)");
+  return problems;
 }
 
 void requireValidSettings(const Settings& settings) {
@@ -107,6 +256,12 @@ const char* toString(Stage stage) {
     case Stage::Studio: return "studio";
   }
   return "?";
+}
+
+Settings offlineRenderSettings(const Settings& settings, Method method) {
+  Settings s = settings;
+  if (method != Method::Reference) s.samplesPerPixel = settings.exactSamplesPerPixel;
+  return s;
 }
 
 const char* toString(VisibilityMethod visibility) {

@@ -5,6 +5,7 @@
 #include <cstdint>
 #include <limits>
 #include <string>
+#include <variant>
 #include <vector>
 
 namespace vplab {
@@ -62,12 +63,12 @@ struct Settings {
   Stage stage = Stage::Auto;
 
   // --- path-traced reference ---------------------------------------------------------------------------------
-  /// Samples per pixel of the reference and of the stochastic VPL variants [1, 1<<20]. Default 64.
+  /// Samples per pixel of the path-traced reference [1, 1<<20]. Default 64.
   int samplesPerPixel = 64;
-  /// Samples per pixel of the exact VPL render the editor runs beside the preview (vpl, vpl-kk, vsl) [1, 1<<20]:
-  /// every sample already sums every VPL with exact visibility, so few suffice (they anti-alias and average the VSL
-  /// and Kollig-Keller samples), where the reference needs samplesPerPixel. `vplab render --spp` sets
-  /// samplesPerPixel. Default 4.
+  /// Samples per pixel of the exact VPL render (vpl, vpl-kk, vsl), in the editor beside the preview and in
+  /// `vplab render` [1, 1<<20]: every sample already sums every VPL with exact visibility, so few suffice (they
+  /// anti-alias and average the VSL and Kollig-Keller samples), where the reference needs samplesPerPixel.
+  /// Default 4.
   int exactSamplesPerPixel = 4;
   /// Maximum path length in bounces for the reference (1 = direct light only) [1, 1024]. Default 32.
   int maxDepth = 32;
@@ -178,12 +179,76 @@ struct Settings {
   int ismPointBudget = 1 << 21;
 };
 
-/// Checks every field against its documented range. Returns one message per problem (field name, value, range);
-/// an empty list means the settings are usable. Never modifies the settings.
-std::vector<std::string> validateSettings(const Settings& settings);
+// --- the settings table: one row per member -------------------------------------------------------------------
+// Each setting has one name, its member name, which is also its JSON key and editor script verb; its command-line
+// flag is that name in kebab case (clampBound -> --clamp-bound). The table below feeds all of them: JSON reading
+// and writing, the script verbs, each command's flags and --help, and validateSettings(). Adding a setting is adding
+// the member above and one row in settingsTable() (renderer/settings.cpp).
+
+/// The passes a setting acts on, as a bit set: a command offers exactly the settings of the passes it runs.
+enum SettingUse : unsigned {
+  kUseImage = 1u << 0,       ///< every rendering command: image size, seed, threads, exposure
+  kUseReference = 1u << 1,   ///< the path-traced reference
+  kUseGeneration = 1u << 2,  ///< VPL generation (render, preview)
+  kUseCpuVpl = 1u << 3,      ///< the exact CPU VPL render
+  kUseGl = 1u << 4,          ///< the GL preview
+};
+
+/// An enum member, seen as the index of its value: names[i] is toString(E(i)).
+struct SettingChoice {
+  std::vector<std::string> names;
+  int (*get)(const Settings&);
+  void (*set)(Settings&, int);
+};
+
+/// What the range [min, max] of a number means beyond itself.
+enum class SettingBound {
+  Closed,      ///< min <= value <= max
+  AboveMin,    ///< min < value <= max: a share or probability that must be positive
+  PowerOfTwo,  ///< min <= value <= max and a power of two
+};
+
+/// Where one setting lives in Settings and how it is typed.
+using SettingMember =
+    std::variant<int Settings::*, uint32_t Settings::*, float Settings::*, bool Settings::*, SettingChoice>;
+
+struct SettingInfo {
+  const char* key;       ///< the member name: JSON key, script verb, and (kebab case) the command-line flag
+  SettingMember member;  ///< where the value lives
+  double min = 0.0;      ///< range of a number, inclusive unless bound says otherwise (ignored for bool and choice)
+  double max = 0.0;
+  const char* valueName;    ///< what --help shows for the value: "N", "1/m^2"
+  const char* help;         ///< one line with the unit; --help appends the command's own default
+  unsigned use;             ///< SettingUse bits
+  bool commandLine = true;  ///< false: no flag of its own (width and height are set together by --size WxH)
+  SettingBound bound = SettingBound::Closed;
+};
+
+/// Every setting, in Settings member order.
+const std::vector<SettingInfo>& settingsTable();
+/// The row of a key (exact, case-sensitive), or nullptr.
+const SettingInfo* findSetting(const std::string& key);
+/// The command-line flag of a key, without the leading "--": "clampBound" -> "clamp-bound".
+std::string settingFlag(const std::string& key);
+/// The value as the user writes it: "0.25", "inf", "true", "indirect", "4000000000".
+std::string formatSetting(const Settings& settings, const SettingInfo& info);
+/// Sets one member from text as the user writes it (numbers, "inf", true/false/on/off/1/0, an enum name). Does not
+/// check the range (validateSettings() does). Throws std::invalid_argument saying what was expected.
+void parseSetting(Settings& settings, const SettingInfo& info, const std::string& text);
+
+/// How validation messages name a setting: by key ("vplCount") or by flag ("--vpl-count"), whichever the user typed.
+enum class SettingSpelling { Key, Flag };
+
+/// Checks every member against its range in the table. Returns one message per problem (name, value, range), the
+/// name spelled as asked; an empty list means the settings are usable. Never modifies the settings.
+std::vector<std::string> validateSettings(const Settings& settings, SettingSpelling spelling = SettingSpelling::Key);
 
 /// Throws std::invalid_argument with all problems joined when validateSettings() finds any.
 void requireValidSettings(const Settings& settings);
+
+/// The settings an offline render of `method` runs with: the reference takes samplesPerPixel, an exact VPL render
+/// exactSamplesPerPixel (the editor's exact render and `vplab render` alike).
+Settings offlineRenderSettings(const Settings& settings, Method method);
 
 const char* toString(Method method);
 const char* toString(Components components);

@@ -1,5 +1,6 @@
 #include "renderer/settings_json.h"
 
+#include "renderer/core/atomic_file.h"
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -14,143 +15,115 @@ namespace {
 
 using Json = nlohmann::json;
 
-// One row per Settings member: the JSON key and where the value lives. The table is the single list both directions
-// walk, so a member added to Settings and here is saved, loaded and scriptable at once.
-using MemberPtr = std::variant<int Settings::*, uint32_t Settings::*, float Settings::*, bool Settings::*,
-                               Components Settings::*, Stage Settings::*, VisibilityMethod Settings::*,
-                               VplGeneration Settings::*>;
-struct Field {
-  const char* key;
-  MemberPtr member;
-};
-
-const std::vector<Field>& fields() {
-  static const std::vector<Field> table = {
-      {"width", &Settings::width},
-      {"height", &Settings::height},
-      {"seed", &Settings::seed},
-      {"threads", &Settings::threads},
-      {"exposure", &Settings::exposure},
-      {"stage", &Settings::stage},
-      {"samplesPerPixel", &Settings::samplesPerPixel},
-      {"exactSamplesPerPixel", &Settings::exactSamplesPerPixel},
-      {"maxDepth", &Settings::maxDepth},
-      {"components", &Settings::components},
-      {"generation", &Settings::generation},
-      {"vplCount", &Settings::vplCount},
-      {"vplMaxBounces", &Settings::vplMaxBounces},
-      {"importancePoints", &Settings::importancePoints},
-      {"rejection", &Settings::rejection},
-      {"rejectionEpsilon", &Settings::rejectionEpsilon},
-      {"rejectionPilotVpls", &Settings::rejectionPilotVpls},
-      {"rejectionMaxCandidateFactor", &Settings::rejectionMaxCandidateFactor},
-      {"birCandidateFactor", &Settings::birCandidateFactor},
-      {"birLightShare", &Settings::birLightShare},
-      {"birEpsilon", &Settings::birEpsilon},
-      {"mirChains", &Settings::mirChains},
-      {"mirLargeStepProbability", &Settings::mirLargeStepProbability},
-      {"mirBurnIn", &Settings::mirBurnIn},
-      {"mirBootstrapPaths", &Settings::mirBootstrapPaths},
-      {"mirEpsilon", &Settings::mirEpsilon},
-      {"clampBound", &Settings::clampBound},
-      {"ssbcSteps", &Settings::ssbcSteps},
-      {"ssbcCoarseRings", &Settings::ssbcCoarseRings},
-      {"vslRadius", &Settings::vslRadius},
-      {"vslRadiusFromDensity", &Settings::vslRadiusFromDensity},
-      {"vslSamples", &Settings::vslSamples},
-      {"directLightSamples", &Settings::directLightSamples},
-      {"interleave", &Settings::interleave},
-      {"shadowMapSize", &Settings::shadowMapSize},
-      {"shadowBias", &Settings::shadowBias},
-      {"visibility", &Settings::visibility},
-      {"ismTileSize", &Settings::ismTileSize},
-      {"ismPointBudget", &Settings::ismPointBudget},
-  };
-  return table;
+std::string quoted(const std::string& key) {
+  return "'" + key + "'";
 }
 
-const Field* findField(const std::string& key) {
-  for (const Field& f : fields())
-    if (key == f.key) return &f;
-  return nullptr;
+/// At most kExcerptChars of a text for an error message, so a huge value or key never becomes a huge message.
+constexpr std::size_t kExcerptChars = 40;
+std::string excerpt(const std::string& text) {
+  if (text.size() <= kExcerptChars) return text;
+  return text.substr(0, kExcerptChars) + "... (" + std::to_string(text.size()) + " characters)";
+}
+std::string excerpt(const Json& value) {
+  // A deep or long value is summarised by its type instead of dumped whole.
+  if (value.is_structured()) return value.is_object() ? "an object" : "an array";
+  return excerpt(value.dump());
 }
 
-std::string quoted(const std::string& key) { return "'" + key + "'"; }
-
-Json toJson(const Settings& s, const Field& f) {
+Json toJson(const Settings& s, const SettingInfo& info) {
   return std::visit(
-      [&](auto member) -> Json {
-        using T = std::decay_t<decltype(s.*member)>;
-        if constexpr (std::is_same_v<T, Components> || std::is_same_v<T, Stage> ||
-                      std::is_same_v<T, VisibilityMethod> || std::is_same_v<T, VplGeneration>) {
-          return toString(s.*member);
-        } else if constexpr (std::is_same_v<T, float>) {
-          float v = s.*member;
-          if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
-          return v;
+      [&](const auto& member) -> Json {
+        using M = std::decay_t<decltype(member)>;
+        if constexpr (std::is_same_v<M, SettingChoice>) {
+          return member.names.at(static_cast<std::size_t>(member.get(s)));
         } else {
-          return s.*member;
+          using T = std::decay_t<decltype(s.*member)>;
+          if constexpr (std::is_same_v<T, float>) {
+            float v = s.*member;
+            if (std::isinf(v)) return v > 0 ? "inf" : "-inf";
+            return v;
+          } else {
+            return s.*member;
+          }
         }
       },
-      f.member);
+      info.member);
 }
 
 // Reads one value with the member's type. Integers must be integral and representable: 3.5 for an int is an error,
 // not a truncation, and so is -1 for the unsigned seed.
-void fromJson(Settings& s, const Field& f, const Json& value, const std::string& where) {
+void fromJson(Settings& s, const SettingInfo& info, const Json& value, const std::string& where) {
   std::visit(
-      [&](auto member) {
-        using T = std::decay_t<decltype(s.*member)>;
-        if constexpr (std::is_same_v<T, bool>) {
-          if (!value.is_boolean()) throw SettingsJsonError(where + ": expected true or false, got " + value.dump());
-          s.*member = value.get<bool>();
-        } else if constexpr (std::is_same_v<T, Components>) {
-          Components c;
-          if (!value.is_string() || !parseComponents(value.get<std::string>(), c))
-            throw SettingsJsonError(where + ": expected \"all\", \"direct\" or \"indirect\", got " + value.dump());
-          s.*member = c;
-        } else if constexpr (std::is_same_v<T, Stage>) {
-          Stage st;
-          if (!value.is_string() || !parseStage(value.get<std::string>(), st))
-            throw SettingsJsonError(where + ": expected \"auto\", \"none\" or \"studio\", got " + value.dump());
-          s.*member = st;
-        } else if constexpr (std::is_same_v<T, VisibilityMethod>) {
-          VisibilityMethod v;
-          if (!value.is_string() || !parseVisibilityMethod(value.get<std::string>(), v))
-            throw SettingsJsonError(where + ": expected \"cube\" or \"ism\", got " + value.dump());
-          s.*member = v;
-        } else if constexpr (std::is_same_v<T, VplGeneration>) {
-          VplGeneration g;
-          if (!value.is_string() || !parseGeneration(value.get<std::string>(), g))
-            throw SettingsJsonError(where + ": expected \"light\", \"bidirectional\" or \"metropolis\", got " +
-                                    value.dump());
-          s.*member = g;
-        } else if constexpr (std::is_same_v<T, float>) {
+      [&](const auto& member) {
+        using M = std::decay_t<decltype(member)>;
+        if constexpr (std::is_same_v<M, SettingChoice>) {
           if (value.is_string()) {
-            const std::string text = value.get<std::string>();
-            if (text != "inf" && text != "-inf")
-              throw SettingsJsonError(where + ": expected a number or \"inf\", got " + value.dump());
-            s.*member = text == "inf" ? kInfinity : -kInfinity;
-          } else if (value.is_number()) {
-            double d = value.get<double>();
-            if (std::abs(d) > std::numeric_limits<float>::max())
-              throw SettingsJsonError(where + ": " + value.dump() + " does not fit a float");
-            s.*member = static_cast<float>(d);
-          } else {
-            throw SettingsJsonError(where + ": expected a number, got " + value.dump());
+            try {
+              return parseSetting(s, info, value.get<std::string>());
+            } catch (const std::invalid_argument& e) {
+              throw SettingsJsonError(where + ": " + e.what() + ", got " + excerpt(value));
+            }
           }
+          throw SettingsJsonError(where + ": expected a string, got " + excerpt(value));
         } else {
-          bool integral = value.is_number_integer() ||
-                          (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>());
-          if (!integral) throw SettingsJsonError(where + ": expected an integer, got " + value.dump());
-          double d = value.get<double>();
-          if (d < static_cast<double>(std::numeric_limits<T>::min()) ||
-              d > static_cast<double>(std::numeric_limits<T>::max()))
-            throw SettingsJsonError(where + ": " + value.dump() + " is out of range");
-          s.*member = static_cast<T>(d);
+          using T = std::decay_t<decltype(s.*member)>;
+          if constexpr (std::is_same_v<T, bool>) {
+            if (!value.is_boolean()) throw SettingsJsonError(where + ": expected true or false, got " + excerpt(value));
+            s.*member = value.get<bool>();
+          } else if constexpr (std::is_same_v<T, float>) {
+            if (value.is_string()) {
+              const std::string text = value.get<std::string>();
+              if (text != "inf" && text != "-inf")
+                throw SettingsJsonError(where + ": expected a number or \"inf\", got " + excerpt(value));
+              s.*member = text == "inf" ? kInfinity : -kInfinity;
+            } else if (value.is_number()) {
+              double d = value.get<double>();
+              if (std::abs(d) > std::numeric_limits<float>::max())
+                throw SettingsJsonError(where + ": " + excerpt(value) + " does not fit a float");
+              s.*member = static_cast<float>(d);
+            } else {
+              throw SettingsJsonError(where + ": expected a number, got " + excerpt(value));
+            }
+          } else {
+            bool integral = value.is_number_integer() ||
+                            (value.is_number_float() && std::floor(value.get<double>()) == value.get<double>());
+            if (!integral) throw SettingsJsonError(where + ": expected an integer, got " + excerpt(value));
+            double d = value.get<double>();
+            if (d < static_cast<double>(std::numeric_limits<T>::min()) ||
+                d > static_cast<double>(std::numeric_limits<T>::max()))
+              throw SettingsJsonError(where + ": " + excerpt(value) + " is out of range");
+            s.*member = static_cast<T>(d);
+          }
         }
       },
-      f.member);
+      info.member);
+}
+
+/// Settings are one flat object: nesting deeper than this is rejected before parsing (a recursive parser would
+/// otherwise run out of stack on a hostile file).
+constexpr int kMaxJsonDepth = 64;
+
+void requireShallow(const std::string& json, const std::string& source) {
+  int depth = 0;
+  bool inString = false, escaped = false;
+  for (char c : json) {
+    if (inString) {
+      if (escaped)
+        escaped = false;
+      else if (c == '\\')
+        escaped = true;
+      else if (c == '"')
+        inString = false;
+    } else if (c == '"') {
+      inString = true;
+    } else if (c == '{' || c == '[') {
+      if (++depth > kMaxJsonDepth)
+        throw SettingsJsonError(source + ": nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
+    } else if (c == '}' || c == ']') {
+      --depth;
+    }
+  }
 }
 
 // validateSettings() messages start with the member name, which is also the JSON key.
@@ -167,7 +140,7 @@ void validateOrThrow(const Settings& s, const std::string& source) {
 const std::vector<std::string>& settingsJsonKeys() {
   static const std::vector<std::string> keys = [] {
     std::vector<std::string> k;
-    for (const Field& f : fields()) k.emplace_back(f.key);
+    for (const SettingInfo& info : settingsTable()) k.emplace_back(info.key);
     return k;
   }();
   return keys;
@@ -175,40 +148,42 @@ const std::vector<std::string>& settingsJsonKeys() {
 
 std::string settingsToJson(const Settings& settings) {
   Json j = Json::object();
-  for (const Field& f : fields()) j[f.key] = toJson(settings, f);
+  for (const SettingInfo& info : settingsTable()) j[info.key] = toJson(settings, info);
   return j.dump(2) + "\n";
 }
 
 void applySettingsJson(const std::string& json, Settings& settings, const std::string& source) {
+  requireShallow(json, source);
   Json parsed;
   try {
     parsed = Json::parse(json);
   } catch (const Json::parse_error& e) {
-    throw SettingsJsonError(source + ": not valid JSON: " + e.what());
+    throw SettingsJsonError(source + ": not valid JSON: " + excerpt(std::string(e.what())));
   }
   if (!parsed.is_object()) throw SettingsJsonError(source + ": expected a JSON object of settings");
   Settings result = settings;
   for (const auto& [key, value] : parsed.items()) {
-    const Field* f = findField(key);
-    if (!f) throw SettingsJsonError(source + ": unknown key " + quoted(key));
-    fromJson(result, *f, value, source + ": " + quoted(key));
+    const SettingInfo* info = findSetting(key);
+    if (!info) throw SettingsJsonError(source + ": unknown key " + quoted(excerpt(key)));
+    fromJson(result, *info, value, source + ": " + quoted(key));
   }
   validateOrThrow(result, source);
   settings = result;
 }
 
 void setSettingFromText(Settings& settings, const std::string& key, const std::string& value) {
-  const Field* f = findField(key);
-  if (!f) throw SettingsJsonError("unknown setting " + quoted(key));
+  const SettingInfo* info = findSetting(key);
+  if (!info) throw SettingsJsonError("unknown setting " + quoted(excerpt(key)));
   // Numbers and booleans parse as JSON; anything else (an enum name, "inf") is taken as a string.
   Json parsed;
   try {
+    requireShallow(value, quoted(key));
     parsed = Json::parse(value);
-  } catch (const Json::parse_error&) {
+  } catch (const std::exception&) {
     parsed = value;
   }
   Settings result = settings;
-  fromJson(result, *f, parsed, quoted(key));
+  fromJson(result, *info, parsed, quoted(key));
   validateOrThrow(result, quoted(key));
   settings = result;
 }
@@ -222,10 +197,11 @@ void loadSettingsFile(const std::string& path, Settings& settings) {
 }
 
 void saveSettingsFile(const std::string& path, const Settings& settings) {
-  std::ofstream out(path);
-  if (!out) throw SettingsJsonError(path + ": cannot open for writing");
-  out << settingsToJson(settings);
-  if (!out) throw SettingsJsonError(path + ": write failed");
+  try {
+    writeFileAtomically(path, settingsToJson(settings));
+  } catch (const FileWriteError& e) {
+    throw SettingsJsonError(e.what());
+  }
 }
 
 }  // namespace vplab

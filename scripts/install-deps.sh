@@ -9,6 +9,7 @@ packages=(
   libimgui-dev libtinygltf-dev libglm-dev libembree-dev libtbb-dev libstb-dev nlohmann-json3-dev
   libtinyexr-dev libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth python3-glad
   assimp-testmodels  # third-party glTF 2.0 files the tests load (tests/third_party_scenes_test.cpp)
+  parallel           # GNU parallel: bench shards in the tests and the documented multi-machine recipe
 )
 
 missing=()

@@ -17,8 +17,8 @@ echo "no DISPLAY: rendering $scene headless into $out (run 'vplab edit' with a d
 vplab="$build/app/vplab"
 # The path-traced reference (Embree), then the GL preview of the same scene and settings (EGL or OSMesa), then the
 # error of the preview against the reference.
-"$vplab" reference "$scene" --spp 256 --size 512x512 --out "$out/reference.exr" --png "$out/reference.png"
-"$vplab" preview "$scene" --size 512x512 --clamp 20 --ssbc 2 --interleave 2 \
-  --out "$out/preview.png" --exr "$out/preview.exr"
+"$vplab" reference "$scene" --samples-per-pixel 256 --size 512x512 --out "$out/reference.exr" --png "$out/reference.png"
+"$vplab" preview "$scene" --size 512x512 --clamp-bound 20 --ssbc-steps 2 --interleave 2 \
+  --out "$out/preview.exr" --png "$out/preview.png"
 "$vplab" compare "$out/preview.exr" "$out/reference.exr" --heatmap "$out/preview-error.png"
 echo "images: $out/reference.png $out/preview.png $out/preview-error.png"

@@ -234,9 +234,9 @@ TEST(EditorOffline, ExactRendersTakeTheirOwnSampleCountAndEstimateTheTimeLeft) {
   Settings s;
   s.samplesPerPixel = 64;
   s.exactSamplesPerPixel = 3;
-  EXPECT_EQ(ui::offlineRenderSettings(s, Method::Reference).samplesPerPixel, 64);
+  EXPECT_EQ(offlineRenderSettings(s, Method::Reference).samplesPerPixel, 64);
   for (Method m : {Method::Vpl, Method::VplKK, Method::Vsl})
-    EXPECT_EQ(ui::offlineRenderSettings(s, m).samplesPerPixel, 3) << toString(m);
+    EXPECT_EQ(offlineRenderSettings(s, m).samplesPerPixel, 3) << toString(m);
   EXPECT_DOUBLE_EQ(ui::estimateSecondsLeft(10.0, 0.25f), 30.0);
   EXPECT_DOUBLE_EQ(ui::estimateSecondsLeft(4.0, 1.0f), 0.0);
   EXPECT_LT(ui::estimateSecondsLeft(10.0, 0.01f), 0.0) << "too little done to extrapolate";

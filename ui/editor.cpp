@@ -7,6 +7,7 @@
 #include "renderer/image/tonemap.h"
 #include "renderer/invalidation.h"
 #include "renderer/offline/offline_scene.h"
+#include "renderer/core/atomic_file.h"
 #include "renderer/offline/light_sampler.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
@@ -316,8 +317,14 @@ Editor::~Editor() {
   if (window_) glfwDestroyWindow(window_);
   glfwTerminate();
   if (script_.empty() && !recentFilesPath().empty()) {
-    std::ofstream out(recentFilesPath());
-    for (std::size_t i = 0; i < recent_.size() && i < 10; ++i) out << recent_[i] << "\n";
+    // Best effort at exit: a list that cannot be saved is not worth an error, but it is never left cut.
+    std::string text;
+    for (std::size_t i = 0; i < recent_.size() && i < 10; ++i) text += recent_[i] + "\n";
+    try {
+      writeFileAtomically(recentFilesPath(), text);
+    } catch (const FileWriteError& e) {
+      std::fprintf(stderr, "vplab edit: %s\n", e.what());
+    }
   }
 }
 

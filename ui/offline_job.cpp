@@ -22,12 +22,6 @@ Method exactCounterpartOf(const Settings& s) {
   return Method::Vpl;
 }
 
-Settings offlineRenderSettings(const Settings& settings, Method method) {
-  Settings s = settings;
-  if (method != Method::Reference) s.samplesPerPixel = settings.exactSamplesPerPixel;
-  return s;
-}
-
 double estimateSecondsLeft(double elapsedSeconds, float progress) {
   if (!(progress >= 0.02f) || !(elapsedSeconds >= 0.25)) return -1.0;
   return elapsedSeconds * (1.0 - static_cast<double>(progress)) / static_cast<double>(progress);

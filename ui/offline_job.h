@@ -21,10 +21,6 @@ namespace vplab::ui {
 /// preview compensates the bound (SSBC), else the clamped VPL render.
 Method exactCounterpartOf(const Settings& settings);
 
-/// The settings an offline render of `method` runs with: the reference takes samplesPerPixel, an exact VPL render
-/// exactSamplesPerPixel.
-Settings offlineRenderSettings(const Settings& settings, Method method);
-
 /// Seconds an offline render still needs, extrapolated from its progress: elapsed (1 - p) / p. Negative while too
 /// little is done to tell (the first 2 %, or under a quarter of a second).
 double estimateSecondsLeft(double elapsedSeconds, float progress);

@@ -1,5 +1,6 @@
 #include "renderer/gl/resources.h"
 
+#include <cstdio>
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -167,8 +168,11 @@ void GlFramebuffer::finalize(int colorCount) {
   else
     glNamedFramebufferDrawBuffer(id(), GL_NONE);
   GLenum status = glCheckNamedFramebufferStatus(id(), GL_FRAMEBUFFER);
-  if (status != GL_FRAMEBUFFER_COMPLETE)
-    throw GlError("incomplete framebuffer (status 0x" + std::to_string(status) + ")");
+  if (status != GL_FRAMEBUFFER_COMPLETE) {
+    char hex[16];
+    std::snprintf(hex, sizeof hex, "0x%04X", static_cast<unsigned>(status));
+    throw GlError(std::string("incomplete framebuffer (status ") + hex + ")");
+  }
 }
 
 void GlFramebuffer::bind(int width, int height) const {

@@ -5,6 +5,8 @@
 // libtinyexr1d ships the compiled implementation, so only the declarations are included here.
 #include <tinyexr.h>
 
+#include <nlohmann/json.hpp>
+
 #include <algorithm>
 #include <bit>
 #include <cassert>
@@ -13,9 +15,12 @@
 #include <cstdint>
 #include <cstdlib>
 #include <cstring>
+#include <filesystem>
 #include <fstream>
 #include <iterator>
 #include <limits>
+
+#include "renderer/core/atomic_file.h"
 
 namespace vplab {
 
@@ -69,7 +74,67 @@ int pfmDimension(const std::string& token, const std::string& path) {
   return static_cast<int>(v);
 }
 
+// Writes the encoded bytes in place of path; a failure keeps the old file and names the reason.
+void writeBytes(const std::string& path, std::string_view bytes) {
+  try {
+    writeFileAtomically(path, bytes);
+  } catch (const FileWriteError& e) {
+    throw ImageIoError(e.what());
+  }
+}
+
+constexpr const char* kInfoPrefix = "vplab.";
+
 }  // namespace
+
+bool isLinearFormat(ImageFormat format) {
+  return format != ImageFormat::Png;
+}
+
+std::string pfmSidecarPath(const std::string& path) {
+  return path + ".json";
+}
+
+ImageInfo readImageInfo(const std::string& path) {
+  ImageInfo info;
+  switch (imageFormatFromPath(path)) {
+    case ImageFormat::Png: return info;
+    case ImageFormat::Pfm: {
+      std::ifstream in(pfmSidecarPath(path));
+      if (!in) return info;
+      nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+      if (!j.is_object()) fail(pfmSidecarPath(path), "not a JSON object of image information");
+      for (const auto& [key, value] : j.items())
+        if (value.is_string()) info[key] = value.get<std::string>();
+      return info;
+    }
+    case ImageFormat::Exr: {
+      requireReadable(path);
+      EXRVersion version;
+      if (ParseEXRVersionFromFile(&version, path.c_str()) != TINYEXR_SUCCESS) fail(path, "not an OpenEXR file");
+      EXRHeader header;
+      InitEXRHeader(&header);
+      const char* err = nullptr;
+      if (ParseEXRHeaderFromFile(&header, &version, path.c_str(), &err) != TINYEXR_SUCCESS) {
+        std::string message = err ? err : "unreadable header";
+        if (err) FreeEXRErrorMessage(err);
+        fail(path, "cannot read OpenEXR header: " + message);
+      }
+      const std::string prefix = kInfoPrefix;
+      for (int i = 0; i < header.num_custom_attributes; ++i) {
+        const EXRAttribute& a = header.custom_attributes[i];
+        std::string name = a.name;
+        if (name.rfind(prefix, 0) != 0 || std::string(a.type) != "string" || a.size < 0) continue;
+        std::string value(reinterpret_cast<const char*>(a.value), static_cast<std::size_t>(a.size));
+        while (!value.empty() && value.back() == '\0') value.pop_back();
+        info[name.substr(prefix.size())] = value;
+      }
+      FreeEXRHeader(&header);
+      return info;
+    }
+  }
+  return info;
+}
 
 ImageFormat imageFormatFromPath(const std::string& path) {
   std::string ext = lowerExtension(path);
@@ -88,10 +153,10 @@ Image readImage(const std::string& path) {
   fail(path, "unhandled image format");
 }
 
-void writeImage(const std::string& path, const Image& image, float exposure) {
+void writeImage(const std::string& path, const Image& image, float exposure, const ImageInfo& info) {
   switch (imageFormatFromPath(path)) {
-    case ImageFormat::Exr: writeExr(path, image); return;
-    case ImageFormat::Pfm: writePfm(path, image); return;
+    case ImageFormat::Exr: writeExr(path, image, info); return;
+    case ImageFormat::Pfm: writePfm(path, image, info); return;
     case ImageFormat::Png: writePng(path, image, exposure); return;
   }
 }
@@ -115,16 +180,68 @@ Image readExr(const std::string& path) {
   return image;
 }
 
-void writeExr(const std::string& path, const Image& image) {
+void writeExr(const std::string& path, const Image& image, const ImageInfo& info) {
   requireWritable(path, image);
+  // Planar channels in B, G, R order, as OpenEXR viewers expect; 32-bit float: half would round radiance to 11 bits
+  // and break exact round trips of references.
+  const std::size_t n = image.size();
+  std::vector<float> planes[3];
+  for (int c = 0; c < 3; ++c) {
+    planes[c].resize(n);
+    for (std::size_t i = 0; i < n; ++i) planes[c][i] = image.pixels[i][2 - c];
+  }
+  float* planePointers[3] = {planes[0].data(), planes[1].data(), planes[2].data()};
+  EXRImage exrImage;
+  InitEXRImage(&exrImage);
+  exrImage.num_channels = 3;
+  exrImage.images = reinterpret_cast<unsigned char**>(planePointers);
+  exrImage.width = image.width;
+  exrImage.height = image.height;
+
+  EXRHeader header;
+  InitEXRHeader(&header);
+  // ZIP for all but tiny images, as tinyexr's own SaveEXR does.
+  header.compression_type =
+      image.width < 16 && image.height < 16 ? TINYEXR_COMPRESSIONTYPE_NONE : TINYEXR_COMPRESSIONTYPE_ZIP;
+  EXRChannelInfo channels[3] = {};
+  int pixelTypes[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
+  int requestedTypes[3] = {TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT, TINYEXR_PIXELTYPE_FLOAT};
+  const char* names[3] = {"B", "G", "R"};
+  for (int c = 0; c < 3; ++c) std::strncpy(channels[c].name, names[c], sizeof(channels[c].name) - 1);
+  header.num_channels = 3;
+  header.channels = channels;
+  header.pixel_types = pixelTypes;
+  header.requested_pixel_types = requestedTypes;
+
+  std::vector<EXRAttribute> attributes;
+  std::vector<std::string> values;
+  values.reserve(info.size());
+  for (const auto& [key, value] : info) {
+    EXRAttribute a = {};
+    std::string name = kInfoPrefix + key;
+    if (name.size() >= sizeof(a.name)) fail(path, "image information key too long: " + key.substr(0, 40));
+    std::strncpy(a.name, name.c_str(), sizeof(a.name) - 1);
+    std::strncpy(a.type, "string", sizeof(a.type) - 1);
+    values.push_back(value);
+    a.value = reinterpret_cast<unsigned char*>(values.back().data());
+    a.size = static_cast<int>(values.back().size());
+    attributes.push_back(a);
+  }
+  header.num_custom_attributes = static_cast<int>(attributes.size());
+  header.custom_attributes = attributes.empty() ? nullptr : attributes.data();
+
+  unsigned char* memory = nullptr;
   const char* err = nullptr;
-  // 32-bit float channels: half would round radiance to 11 bits and break exact round trips of references.
-  int ret = SaveEXR(&image.pixels[0].x, image.width, image.height, 3, /*save_as_fp16=*/0, path.c_str(), &err);
-  if (ret != TINYEXR_SUCCESS) {
-    std::string message = err ? err : "tinyexr error " + std::to_string(ret);
+  std::size_t size = SaveEXRImageToMemory(&exrImage, &header, &memory, &err);
+  if (size == 0) {
+    std::string message = err ? err : "tinyexr could not encode the image";
     if (err) FreeEXRErrorMessage(err);
+    std::free(memory);
     fail(path, "cannot write OpenEXR: " + message);
   }
+  std::string bytes(reinterpret_cast<const char*>(memory), size);
+  std::free(memory);
+  writeBytes(path, bytes);
 }
 
 Image readPfm(const std::string& path) {
@@ -168,12 +285,12 @@ Image readPfm(const std::string& path) {
   return image;
 }
 
-void writePfm(const std::string& path, const Image& image) {
+void writePfm(const std::string& path, const Image& image, const ImageInfo& info) {
   requireWritable(path, image);
-  std::ofstream out(path, std::ios::binary);
-  if (!out) fail(path, "cannot open file for writing");
-  out << "PF\n" << image.width << " " << image.height << "\n-1.0\n";
-  std::vector<std::uint32_t> row(static_cast<std::size_t>(image.width) * 3);
+  std::string bytes = "PF\n" + std::to_string(image.width) + " " + std::to_string(image.height) + "\n-1.0\n";
+  std::size_t header = bytes.size();
+  bytes.resize(header + image.size() * 12);
+  char* out = bytes.data() + header;
   for (int y = image.height - 1; y >= 0; --y) {
     for (int x = 0; x < image.width; ++x) {
       const glm::vec3& p = image.at(x, y);
@@ -181,12 +298,17 @@ void writePfm(const std::string& path, const Image& image) {
         std::uint32_t word;
         std::memcpy(&word, &p[c], 4);
         if constexpr (std::endian::native != std::endian::little) word = __builtin_bswap32(word);
-        row[static_cast<std::size_t>(x) * 3 + c] = word;
+        std::memcpy(out, &word, 4);
+        out += 4;
       }
     }
-    out.write(reinterpret_cast<const char*>(row.data()), static_cast<std::streamsize>(row.size() * 4));
   }
-  if (!out) fail(path, "write error");
+  // The sidecar first: a PFM on disk never carries the information of an older render.
+  if (!info.empty())
+    writeBytes(pfmSidecarPath(path), nlohmann::json(info).dump(2) + "\n");
+  else if (std::filesystem::exists(pfmSidecarPath(path)))
+    std::filesystem::remove(pfmSidecarPath(path));
+  writeBytes(path, bytes);
 }
 
 Image readPng(const std::string& path) {
@@ -219,8 +341,12 @@ void writePng(const std::string& path, const Image& image, float exposure) {
 void writePngRgb8(const std::string& path, int width, int height, const std::vector<std::uint8_t>& rgb) {
   assert(rgb.size() == static_cast<std::size_t>(width) * static_cast<std::size_t>(height) * 3);
   if (width <= 0 || height <= 0) fail(path, "cannot write an empty image");
-  if (!stbi_write_png(path.c_str(), width, height, 3, rgb.data(), width * 3))
-    fail(path, "cannot write PNG (is the folder there and writable?)");
+  std::string bytes;
+  auto append = [](void* context, void* data, int size) {
+    static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
+  };
+  if (!stbi_write_png_to_func(append, &bytes, width, height, 3, rgb.data(), width * 3)) fail(path, "cannot encode PNG");
+  writeBytes(path, bytes);
 }
 
 }  // namespace vplab

@@ -5,6 +5,8 @@
 #include <fstream>
 #include <sstream>
 
+#include "renderer/core/atomic_file.h"
+
 namespace vplab {
 
 namespace {
@@ -102,10 +104,11 @@ VplSet vplSetFromJson(const std::string& text) {
 }
 
 void saveVplSet(const std::string& path, const VplSet& set) {
-  std::ofstream out(path, std::ios::binary);
-  if (!out) throw VplJsonError(path + ": cannot open for writing");
-  out << vplSetToJson(set) << '\n';
-  if (!out) throw VplJsonError(path + ": write failed");
+  try {
+    writeFileAtomically(path, vplSetToJson(set) + "\n");
+  } catch (const FileWriteError& e) {
+    throw VplJsonError(e.what());
+  }
 }
 
 VplSet loadVplSet(const std::string& path) {
