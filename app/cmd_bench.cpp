@@ -16,25 +16,47 @@ namespace vplab::app {
 
 int cmdBench(const Args& args) {
   cli::CommandLine cl(
-      "vplab bench <scene.gltf>... [--out dir] [--size WxH] [--quick] [--methods list] [--ref-spp N]",
+      "vplab bench <scene.gltf>... [--out dir] [--size WxH] [--quick] [--methods list] [--ref-spp N] [--shard i/n]\n"
+      "       vplab bench --merge <shard dir>... [--out dir]",
       {{"out", "DIR", "output folder: bench.csv, charts/, images/, references/, report.md (default bench-out)"},
        {"size", "WxH", "image size (default 128x128)"},
        {"quick", "", "fewer parameter values and VPLs (a minute per scene instead of several)"},
        {"methods", "LIST", "comma-separated subset of vpl,clamp,ssbc,vsl,reject,vpl-kk (default all)"},
        {"ref-spp", "N", "reference samples per pixel (default 1024, 256 with --quick)"},
        {"samples-per-pixel", "N", "samples per pixel of the CPU VPL renders (default 4, 2 with --quick)"},
-       {"components", "indirect|all", "what is compared with the reference (default indirect)"}});
+       {"components", "indirect|all", "what is compared with the reference (default indirect)"},
+       {"shard", "i/n", "run only part i of n of the sweep (1 <= i <= n): runs k with k mod n = i - 1"},
+       {"merge", "", "the arguments are shard folders: join their bench.csv into --out and write its report"}});
   cl.addOptions(cli::sweepOptions("variants"));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     std::printf(
         "Re-running with the same --out reuses the cached reference and skips the runs already in bench.csv;\n"
-        "an interrupted sweep keeps every row measured so far.\n");
+        "an interrupted sweep keeps every row measured so far. Shards (--shard) of one sweep run on any machines\n"
+        "with the same arguments; --merge joins their folders (docs/guide.md has GNU parallel and Slurm recipes).\n");
+    return 0;
+  }
+  BenchConfig config;
+  config.outDir = cl.getString("out", "bench-out");
+  if (cl.has("merge")) {
+    cl.requirePositional(1, 100000, "one or more shard folders");
+    if (cl.has("shard")) throw cli::CliError("--merge joins shards; it takes no --shard");
+    cli::requireOutputFolder(config.outDir, {});
+    BenchOutcome out = mergeBench(cl.positional(), config);
+    std::printf("runs        %zu merged, %zu already in %s\n", out.rowsMeasured, out.rowsReused, out.csvPath.c_str());
+    for (const std::string& c : out.charts) std::printf("chart       %s\n", c.c_str());
+    std::printf("report      %s\n", out.reportPath.c_str());
     return 0;
   }
   cl.requirePositional(1, 64, "one or more scene files");
-  BenchConfig config;
-  config.outDir = cl.getString("out", "bench-out");
+  if (auto shard = cl.value("shard")) {
+    int i = 0, n = 0;
+    char rest = 0;
+    if (std::sscanf(shard->c_str(), "%d/%d%c", &i, &n, &rest) != 2 || n < 1 || n > 100000 || i < 1 || i > n)
+      throw cli::CliError("option --shard: '" + *shard + "' is not i/n with 1 <= i <= n (for example 2/8)");
+    config.shardIndex = i - 1;
+    config.shardCount = n;
+  }
   config.quick = cl.has("quick");
   config.referenceSpp = config.quick ? 256 : 1024;
   config.cpuSpp = config.quick ? 2 : 4;
@@ -68,6 +90,12 @@ int cmdBench(const Args& args) {
 
   BenchOutcome out = runBench(cl.positional(), config);
   std::printf("runs        %zu measured, %zu reused from %s\n", out.rowsMeasured, out.rowsReused, out.csvPath.c_str());
+  if (config.shardCount > 1) {
+    if (!out.glNote.empty()) std::printf("note        %s\n", out.glNote.c_str());
+    std::printf("shard       %d/%d: join the shard folders with vplab bench --merge\n", config.shardIndex + 1,
+                config.shardCount);
+    return 0;
+  }
   if (!out.glNote.empty()) std::printf("note        %s\n", out.glNote.c_str());
   for (const std::string& c : out.charts) std::printf("chart       %s\n", c.c_str());
   std::printf("report      %s\n", out.reportPath.c_str());

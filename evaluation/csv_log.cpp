@@ -105,12 +105,12 @@ void CsvLog::save() const {
   }
 }
 
-void CsvLog::append(const std::vector<std::string>& values) {
+void CsvLog::append(const std::vector<std::string>& values, bool saveNow) {
   assert(values.size() == header_.size());
   CsvRow row;
   for (std::size_t i = 0; i < values.size(); ++i) row[header_[i]] = values[i];
   rows_.push_back(std::move(row));
-  save();
+  if (saveNow) save();
   keys_.insert(join(std::vector<std::string>(values.begin(), values.begin() + static_cast<long>(keyColumns_))));
 }
 

@@ -34,8 +34,10 @@ class CsvLog {
 
   /// True when a row with these key fields (the first keyColumns values, in header order) is already logged.
   bool contains(const std::vector<std::string>& key) const { return keys_.count(join(key)) > 0; }
-  /// Appends one row and rewrites the file (values in header order; the count must match the header).
-  void append(const std::vector<std::string>& values);
+  /// Appends one row (values in header order; the count must match the header) and, with saveNow, rewrites the file.
+  void append(const std::vector<std::string>& values, bool saveNow = true);
+  /// Rewrites the file with every row (after appends without saving).
+  void save() const;
 
   const std::vector<std::string>& header() const { return header_; }
   /// Every row in the file, loaded and appended, in order.
@@ -49,7 +51,6 @@ class CsvLog {
   std::size_t keyColumns_;
   std::set<std::string> keys_;
   std::vector<CsvRow> rows_;
-  void save() const;
 };
 
 /// Reads a whole CSV file with a header line into rows (throws CsvError naming the file when it cannot be read).

@@ -220,12 +220,21 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
   CsvLog log(config.outDir + "/bench.csv", benchCsvHeader(), benchCsvKeyColumns());
   PreviewBench gl(config.glBackend);
   std::vector<std::string> names;
+  std::size_t run = 0;  // counts every scene's cases: the shard split
 
   for (const std::string& path : scenePaths) {
     const std::string name = sceneStem(path);
     names.push_back(name);
     OfflineScene setup(loadScene(path));
     std::vector<BenchCase> cases = benchCases(setup.scene(), config);
+    const std::size_t firstRun = run;
+    run += cases.size();
+    auto inShard = [&](std::size_t i) {
+      return (firstRun + i) % static_cast<std::size_t>(config.shardCount) == static_cast<std::size_t>(config.shardIndex);
+    };
+    bool anyInShard = false;
+    for (std::size_t i = 0; i < cases.size(); ++i) anyInShard = anyInShard || inShard(i);
+    if (!anyInShard) continue;
 
     Settings refSettings;
     refSettings.width = config.width;
@@ -250,6 +259,7 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
 
     std::map<std::string, VplSet> vplCache;
     for (std::size_t i = 0; i < cases.size(); ++i) {
+      if (!inShard(i)) continue;
       const BenchCase& c = cases[i];
       std::vector<std::string> key = keyOf(name, c, config);
       std::string head = name + " [" + std::to_string(i + 1) + "/" + std::to_string(cases.size()) + "] " + c.method +
@@ -305,10 +315,57 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
       say(config, head + line);
     }
   }
+  if (config.shardCount > 1) {
+    // A shard's rows are a part of the sweep: its report is the merged one.
+    outcome.csvPath = log.path();
+    return outcome;
+  }
   BenchOutcome report = writeBenchReport(names, config);
   report.rowsMeasured = outcome.rowsMeasured;
   report.rowsReused = outcome.rowsReused;
   report.glNote = outcome.glNote;
+  return report;
+}
+
+BenchOutcome mergeBench(const std::vector<std::string>& shardDirs, BenchConfig config) {
+  fs::create_directories(config.outDir);
+  CsvLog log(config.outDir + "/bench.csv", benchCsvHeader(), benchCsvKeyColumns());
+  const std::vector<std::string>& header = benchCsvHeader();
+  BenchOutcome outcome;
+  std::vector<std::vector<std::string>> added;
+  for (const std::string& dir : shardDirs) {
+    std::vector<std::string> found;
+    std::vector<CsvRow> rows = readCsv(dir + "/bench.csv", &found);
+    if (found != header) throw CsvError(dir + "/bench.csv: the header differs from this version's columns");
+    for (const CsvRow& r : rows) {
+      std::vector<std::string> values;
+      for (const std::string& column : header) values.push_back(r.at(column));
+      std::vector<std::string> key(values.begin(), values.begin() + static_cast<long>(benchCsvKeyColumns()));
+      if (log.contains(key)) {
+        ++outcome.rowsReused;
+        continue;
+      }
+      log.append(values, /*save=*/false);
+      ++outcome.rowsMeasured;
+    }
+    // The per-run images the report links to, under the same names.
+    if (fs::is_directory(dir + "/images"))
+      fs::copy(dir + "/images", config.outDir + "/images", fs::copy_options::recursive | fs::copy_options::skip_existing);
+  }
+  log.save();
+  std::vector<std::string> names;
+  for (const CsvRow& r : log.rows()) {
+    if (std::find(names.begin(), names.end(), r.at("scene")) == names.end()) names.push_back(r.at("scene"));
+    Components c;
+    if (!parseComponents(r.at("components"), c))
+      throw CsvError(log.path() + ": unknown components '" + r.at("components") + "'");
+    if (&r != &log.rows().front() && c != config.components)
+      throw CsvError(log.path() + ": the runs compare different components; merge shards of one sweep");
+    config.components = c;
+  }
+  BenchOutcome report = writeBenchReport(names, config);
+  report.rowsMeasured = outcome.rowsMeasured;
+  report.rowsReused = outcome.rowsReused;
   return report;
 }
 

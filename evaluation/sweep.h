@@ -1,5 +1,5 @@
 #pragma once
-// Speed-versus-accuracy sweeps (MANYLIGHTS.md section 10): every many-light method (plain VPLs, clamp, clamp + SSBC,
+// Speed-versus-accuracy sweeps (docs/theory.md §10): every many-light method (plain VPLs, clamp, clamp + SSBC,
 // VSL, rejection, Kollig-Keller) on the CPU and in the GL preview, over its parameters (N, b, r, epsilon, k,
 // shadow-map size), each run measured as time and error against a path-traced reference. Writes bench.csv (one row
 // per run, flushed as measured; a restart with the same output folder skips the rows already there), SVG charts and
@@ -46,6 +46,10 @@ struct BenchConfig {
   uint32_t seed = 1;
   int threads = 0;
   bool writeImages = true;  ///< per-run PNG and relative-error heatmap under images/
+  /// A deterministic part of the sweep: run k (counted over every scene's cases, in order) belongs to shard
+  /// k mod shardCount. Shards write their own bench.csv and no report; mergeBench() joins them. [0, shardCount).
+  int shardIndex = 0;
+  int shardCount = 1;
   /// Progress lines (stderr in the CLI). May be empty.
   std::function<void(const std::string&)> log;
 };
@@ -78,6 +82,12 @@ struct BenchOutcome {
 /// Runs the sweep on every scene file and writes the outputs under config.outDir. Throws (SceneError, ImageIoError,
 /// CsvError) on runtime failures, naming the file.
 BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchConfig& config);
+
+/// Joins the bench.csv (and per-run images) of shard folders into config.outDir, then writes its charts and
+/// report.md. Rows already in config.outDir/bench.csv are kept and a row of a run already there is not added again,
+/// so merging twice, or merging into a folder an unsharded sweep wrote, changes nothing. Throws CsvError when a shard
+/// has another header or the shards compared different components.
+BenchOutcome mergeBench(const std::vector<std::string>& shardDirs, BenchConfig config);
 
 /// Rewrites the charts and report.md of config.outDir from its bench.csv (what runBench does at its end).
 BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const BenchConfig& config);

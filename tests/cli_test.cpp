@@ -10,10 +10,13 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <sstream>
 #include <string>
 
+#include "evaluation/csv_log.h"
 #include "evaluation/harness.h"
+#include "evaluation/sweep.h"
 #include "renderer/core/atomic_file.h"
 #include "renderer/image/image_io.h"
 #include "renderer/scene/gltf_loader.h"
@@ -332,6 +335,66 @@ TEST(SettingsJsonLimits, DeepNestingAndHugeKeysGiveShortErrors) {
   } catch (const SettingsJsonError& e) {
     EXPECT_LT(std::string(e.what()).size(), 200u);
   }
+}
+
+// --- sweeps across machines -----------------------------------------------------------------------------------
+
+/// bench.csv as key -> every column that does not measure time (times differ from run to run, the rest must not).
+std::map<std::string, std::string> benchRows(const std::string& csv) {
+  std::map<std::string, std::string> rows;
+  std::vector<std::string> header;
+  std::vector<CsvRow> all = readCsv(csv, &header);
+  for (const CsvRow& r : all) {
+    std::string key, rest;
+    for (std::size_t i = 0; i < header.size(); ++i) {
+      const std::string& c = header[i];
+      if (c == "gen_ms" || c == "render_ms" || c == "time_ms") continue;
+      (i < benchCsvKeyColumns() ? key : rest) += r.at(c) + ",";
+    }
+    EXPECT_EQ(rows.count(key), 0u) << "a run appears twice in " << csv << ": " << key;
+    rows[key] = rest;
+  }
+  return rows;
+}
+
+TEST(BenchShards, FourShardsThroughGnuParallelMergeToTheUnshardedSweep) {
+  ASSERT_EQ(std::system("parallel --version > /dev/null 2>&1"), 0)
+      << "GNU parallel is missing (Debian package 'parallel', installed by scripts/install-deps.sh)";
+  const std::string dir = tmp("shards");
+  fs::remove_all(dir);
+  fs::create_directories(dir);
+  const std::string sweep = kScene + " --quick --size 12x12 --ref-spp 8 --samples-per-pixel 1 --methods vpl,clamp,vsl,reject"
+                            " --gl off --threads 1";
+  CliRun full = vplab("bench " + sweep + " --out " + dir + "/full");
+  ASSERT_EQ(full.status, 0) << full.out;
+  // One shard per job slot, as over ssh hosts or a Slurm array: each shard its own process and folder.
+  std::string command = "cd " + dir + " && parallel -j 2 --halt now,fail=1 " + std::string(VPLAB_BINARY) + " bench " +
+                        sweep + " --shard {}/4 --out shard-{} ::: 1 2 3 4 > parallel.log 2>&1";
+  ASSERT_EQ(std::system(command.c_str()), 0) << readFile(dir + "/parallel.log");
+  CliRun merge = vplab("bench --merge " + dir + "/shard-1 " + dir + "/shard-2 " + dir + "/shard-3 " + dir +
+                       "/shard-4 --out " + dir + "/merged");
+  ASSERT_EQ(merge.status, 0) << merge.out;
+
+  std::map<std::string, std::string> whole = benchRows(dir + "/full/bench.csv");
+  std::map<std::string, std::string> merged = benchRows(dir + "/merged/bench.csv");
+  EXPECT_GE(whole.size(), 8u) << "a sweep long enough that every shard has runs";
+  EXPECT_EQ(merged, whole) << "the merged shards must hold exactly the unsharded sweep's runs and results";
+  std::size_t shardRows = 0;
+  for (int i = 1; i <= 4; ++i) {
+    std::size_t n = benchRows(dir + "/shard-" + std::to_string(i) + "/bench.csv").size();
+    EXPECT_GT(n, 0u) << "shard " << i << " ran nothing";
+    shardRows += n;
+  }
+  EXPECT_EQ(shardRows, whole.size()) << "the shards split the runs: none twice, none missing";
+  EXPECT_TRUE(fs::exists(dir + "/merged/report.md"));
+
+  // Idempotent: merging again, or into the unsharded folder, adds nothing.
+  CliRun again = vplab("bench --merge " + dir + "/shard-1 " + dir + "/shard-3 --out " + dir + "/merged");
+  EXPECT_EQ(again.status, 0);
+  EXPECT_TRUE(contains(again.out, "0 merged")) << again.out;
+  EXPECT_EQ(benchRows(dir + "/merged/bench.csv"), whole);
+  CliRun intoFull = vplab("bench --merge " + dir + "/shard-2 --out " + dir + "/full");
+  EXPECT_TRUE(contains(intoFull.out, "0 merged")) << intoFull.out;
 }
 
 // --- caches ----------------------------------------------------------------------------------------------------
