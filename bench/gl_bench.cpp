@@ -1,11 +1,11 @@
 // GL preview benchmark: per-pass GPU times (GL_TIME_ELAPSED) and frames/s of the headless preview on the Cornell box
 // for N VPLs x interleave k, plus the gather pass's pixel x VPL evaluations/s. A "frame" is what a camera move costs
 // (G-buffer, direct, gather, SSBC, tonemap; VPL shadow maps are kept); shadow-map time is reported on its own.
-// Every configuration is warmed up first (llvmpipe compiles shaders on first use, STACK.md pitfall 5), then timed
+// Every configuration is warmed up first (llvmpipe compiles shaders on first use), then timed
 // over several frames; the table shows the median frame.
 // Beside every configuration, on the same context and at the same size, a ceiling probe
-// (shaders/bench/ceiling_probe.frag.glsl: per pixel and light 2 UBO reads + 1 shadow fetch + ~40 flops, STACK.md
-// "Measured speed") runs the same number of pixel x light evaluations as the gather; "of ceiling" is the gather's
+// (shaders/bench/ceiling_probe.frag.glsl: per pixel and light 2 UBO reads + 1 shadow fetch + ~40 flops)
+// runs the same number of pixel x light evaluations as the gather; "of ceiling" is the gather's
 // evaluation rate over the probe's. The probe is timed with glFinish and the wall clock (llvmpipe's first timer query
 // is unreliable), median of 5 draws after a warm-up draw. The gather's time includes the geometry-aware de-interleave
 // ("merge"); "draws" is the rate of the gather's own draws, without it, over the probe's.

@@ -1,5 +1,5 @@
 #pragma once
-// The stability suite (MANYLIGHTS.md sections 9 and 10):
+// The stability suite (docs/theory.md §9, §10):
 //   1 flicker: a scripted small motion of the light, and separately of the camera, over F frames; per method the mean
 //     |I_t - I_{t-1}| against the same measure of path-traced frames, for coherent QMC VPLs (one seed: a small light
 //     move moves every VPL a little) and for VPLs reshuffled every frame (a new seed per frame);

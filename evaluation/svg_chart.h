@@ -1,5 +1,5 @@
 #pragma once
-// Charts of the speed-versus-accuracy sweeps (MANYLIGHTS.md section 10) as standalone SVG 1.1 text, written without
+// Charts of the speed-versus-accuracy sweeps (docs/theory.md §10) as standalone SVG 1.1 text, written without
 // any plotting dependency: scatter/line series on linear or log axes, an optional Pareto front, a legend.
 //
 // The output is meant to be read by people and checked by tests: every series is one <g class="series"

@@ -1,6 +1,5 @@
 #pragma once
-// Which work a change makes stale (DESIGN.md "Performance model": never re-do work that a parameter did not
-// invalidate). Pure logic over Settings values, no GL: the editor asks it after every edit and re-runs exactly the
+// Which work a change makes stale (never re-do work that a parameter did not invalidate). Pure logic over Settings values, no GL: the editor asks it after every edit and re-runs exactly the
 // stages it names; the tests check it against the dependency list below.
 //
 // Stage dependencies:

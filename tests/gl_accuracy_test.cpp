@@ -1,5 +1,5 @@
-// The GL preview against the CPU renderer on the same VplSet and Settings (DESIGN.md "Equal estimators, one
-// definition"): exact point VPLs, VSLs, interleaving, screen-space bias compensation, extremes, determinism, and the
+// The GL preview against the CPU renderer on the same VplSet and Settings (one estimator, one definition, two
+// implementations): exact point VPLs, VSLs, interleaving, screen-space bias compensation, extremes, determinism, and the
 // two shadow-map failures (light leaks, acne). Every test runs on OSMesa and on EGL; a context that cannot be made is
 // a failure, not a skip.
 //
@@ -181,7 +181,7 @@ TEST_P(GlAccuracy, InterleavedMatchesFullGather) {
   EXPECT_NEAR(m.energyRatioOverall, 1.0, 0.02);
 }
 
-// --- screen-space bias compensation (MANYLIGHTS 6) -------------------------------------------------------------
+// --- screen-space bias compensation (docs/theory.md §6) -------------------------------------------------------------
 // Energy: the removed energy is measured against the preview's own unclamped gather of the same VPLs (b = inf). Per
 // VPL, min(G, b) + max(G - b, 0) = G, so "clamped + exact residual" is the unclamped image of these VPLs; the same
 // shadow maps are in both, and the first test above shows it equals the CPU exact render (relMSE ~3e-4).
@@ -397,7 +397,7 @@ TEST_P(GlAccuracy, VplShadowMapsDependOnlyOnPositions) {
   EXPECT_EQ(renderer.counters().vplShadowMaps, maps + 1);
 }
 
-// --- shadow-map failures (MANYLIGHTS 9) ----------------------------------------------------------------------------
+// --- shadow-map failures (docs/theory.md §9) ----------------------------------------------------------------------------
 // A 2 x 2 floor at z = 0 facing up, seen from straight above.
 Scene floorScene(uint32_t& material) {
   Scene s;

@@ -1,5 +1,5 @@
 // Many-light methods on the CPU: VPL generation, rejection, the exact VPL renderer with the clamp bound,
-// Kollig-Keller compensation and virtual spherical lights (MANYLIGHTS.md sections 2-5, 7).
+// Kollig-Keller compensation and virtual spherical lights (docs/theory.md §2-§5, §7).
 
 #include "renderer/image/metrics.h"
 #include "renderer/offline/embree_scene.h"

@@ -1,5 +1,5 @@
 #pragma once
-// The speed-versus-accuracy chart (MANYLIGHTS.md section 10): every preview configuration tried is a point
+// The speed-versus-accuracy chart (docs/theory.md §10): every preview configuration tried is a point
 // (frame time, relMSE against the current reference); the Pareto front joins the points no other point beats on
 // both axes. Its colours, markers and method names are the bench's SVG charts' (evaluation/svg_chart.h), so a method
 // looks the same on screen and in docs/benchmarks.md. The data, the front, the axes and the legend are plain

@@ -270,7 +270,7 @@ Editor::Editor(const EditorOptions& options) : options_(options), settings_(opti
     throw std::runtime_error("cannot create a window with an OpenGL 4.5 core context");
   }
   glfwMakeContextCurrent(window_);
-  // STACK.md pitfall 1: load every gl* through the window system's own getProcAddress.
+  // Load every gl* through the window system's own getProcAddress, never libGL's exported symbols.
   if (!gladLoadGL(glfwGetProcAddress)) throw std::runtime_error("cannot load OpenGL functions through GLFW");
   glfwSwapInterval(script_.empty() ? 1 : 0);
   glfwSetWindowUserPointer(window_, this);
@@ -304,7 +304,7 @@ Editor::Editor(const EditorOptions& options) : options_(options), settings_(opti
     recent_.erase(std::remove(recent_.begin(), recent_.end(), options.scenePath), recent_.end());
     recent_.insert(recent_.begin(), options.scenePath);
   }
-  // UI windows are hidden on their first frame (STACK.md pitfall 3): scripts start after two.
+  // UI windows are hidden on their first frame (ImGui lays a window out before it shows it): scripts start after two.
   framesPending_ = script_.empty() ? 0 : 2;
 }
 
@@ -418,7 +418,7 @@ void Editor::measureClampEnergy() {
     return;
   }
   // Energy removed by G_b over camera-visible points: sum(unclamped - clamped) / sum(unclamped) of the luminance of
-  // every visible VPL contribution (MANYLIGHTS 4). A few hundred points suffice for a percentage.
+  // every visible VPL contribution (docs/theory.md §4). A few hundred points suffice for a percentage.
   Settings pointSettings = settings_;
   pointSettings.importancePoints = std::max(16, std::min(256, 65536 / static_cast<int>(vpls_.vpls.size() + 1)));
   scene_.camera = camera_.camera();

@@ -1,5 +1,5 @@
 #pragma once
-// The editor's offline pass (STYLE.md 5): the Embree reference or the exact VPL render of the same scene, camera,
+// The editor's offline pass: the Embree reference or the exact VPL render of the same scene, camera,
 // settings and VPLs, on a worker thread with progress, cancellation and the running mean, while the UI stays
 // responsive. The job owns copies of everything it reads, so the editor may edit its own scene meanwhile.
 

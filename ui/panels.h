@@ -1,5 +1,5 @@
 #pragma once
-// Editor panels as free functions over data the editor owns (STYLE.md 4): each returns true when it changed a
+// Editor panels as free functions over data the editor owns (plain data in, a bool out): each returns true when it changed a
 // value, and the caller marks exactly the dependent work stale with renderer/invalidation.h.
 
 #include "renderer/scene/scene.h"

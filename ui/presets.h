@@ -1,6 +1,6 @@
 #pragma once
 // Teaching presets: one click sets up a classic many-light artifact, or its remedy, on one of the bundled scenes
-// (SCENES.md), with a few sentences on what to look at and why it happens (MANYLIGHTS.md section 9).
+// (docs/scenes.md), with a few sentences on what to look at and why it happens (docs/theory.md §9).
 
 #include "renderer/settings.h"
 #include "ui/view_mode.h"

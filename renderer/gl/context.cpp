@@ -215,7 +215,7 @@ struct HeadlessGlContext::Impl {
   }
 
   std::string tryOsMesa() {
-    // A 4.6 request returns NULL on Mesa 22 (STACK.md): ask for exactly 4.5 core.
+    // A 4.6 request returns NULL on Mesa 22 (Mesa 22 tops out at 4.5): ask for exactly 4.5 core.
     const int attribs[] = {OSMESA_FORMAT,
                            OSMESA_RGBA,
                            OSMESA_DEPTH_BITS,

@@ -1,8 +1,8 @@
 #pragma once
-// Headless OpenGL 4.5 core contexts (DESIGN.md "GL contexts"): EGL (a GPU device where one exists, else Mesa's
+// Headless OpenGL 4.5 core contexts (docs/guide.md, "Install and build"): EGL (a GPU device where one exists, else Mesa's
 // surfaceless platform) and OSMesa (pure software, the CI default). The context loads the glad function table from
 // its own getProcAddress, so that nothing in vplab ever calls libGL's or libOSMesa's exported gl* symbols directly
-// (STACK.md pitfall 1). Rendering goes into framebuffer objects; there is no default framebuffer to draw to.
+// (they belong to whichever GL library was linked first, not to the context). Rendering goes into framebuffer objects; there is no default framebuffer to draw to.
 
 #include <functional>
 #include <memory>

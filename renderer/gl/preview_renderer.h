@@ -1,5 +1,5 @@
 #pragma once
-// The interactive instant-radiosity preview (DESIGN.md, MANYLIGHTS 1, 4, 6, 7, 8), rasterised with OpenGL 4.5:
+// The interactive instant-radiosity preview (docs/theory.md §1, §4, §6-§8), rasterised with OpenGL 4.5:
 //   1 G-buffer  2 direct light (shadow-mapped area samples + punctual lights)  3 VPL cube shadow maps
 //   4 VPL gather (G_b, VSL, interleaved k x k) + geometry-aware de-interleave  5 screen-space bias compensation
 //   6 tonemap.

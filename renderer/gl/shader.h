@@ -1,5 +1,5 @@
 #pragma once
-// GLSL programs built from files under shaders/ (STYLE.md 9: `shaders/<pass>.<stage>.glsl`, shared code in
+// GLSL programs built from files under shaders/ (`shaders/<pass>.<stage>.glsl`, shared code in
 // shaders/common/*.glsl). A small preprocessor resolves `#include "common/x.glsl"` (each file once per stage) and
 // emits #line directives, so compiler messages are rewritten to name the real file and line.
 // Needs a current GL context; headers stay free of GL types so that callers do not need the loader.

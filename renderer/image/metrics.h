@@ -1,5 +1,5 @@
 #pragma once
-// Error of an image I against a reference R (MANYLIGHTS 10): RMSE, relMSE = mean((I-R)^2 / (R^2 + 0.01)) over pixels
+// Error of an image I against a reference R (docs/theory.md §10): RMSE, relMSE = mean((I-R)^2 / (R^2 + 0.01)) over pixels
 // and channels, and the energy ratio mean(I)/mean(R) (clamping shows as < 1). Plus the counts that explain a bad
 // number: NaN/Inf pixels and negative pixels.
 

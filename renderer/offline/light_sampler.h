@@ -1,7 +1,7 @@
 #pragma once
 // Sampling the scene's lights: emissive triangles (one-sided area lights) and KHR_lights_punctual lights (point,
 // spot, directional), chosen in proportion to their power. Used for next-event estimation (sampleLi / pdfLi) and for light tracing when VPLs are
-// generated (sampleEmission, MANYLIGHTS.md section 2).
+// generated (sampleEmission, docs/theory.md §2).
 
 #include "renderer/scene/scene.h"
 

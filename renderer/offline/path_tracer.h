@@ -1,5 +1,5 @@
 #pragma once
-// The path-traced reference (MANYLIGHTS.md section 10): the ground truth every many-light method is measured
+// The path-traced reference (docs/theory.md §10): the ground truth every many-light method is measured
 // against. Unidirectional path tracing with next-event estimation and MIS against BRDF sampling at every vertex,
 // Russian roulette on the throughput, one-sided emitters and a box pixel filter.
 

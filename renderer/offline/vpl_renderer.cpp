@@ -102,7 +102,7 @@ glm::vec3 vslContribution(const Context& ctx, const ShadingPoint& sp, std::size_
   return vpl.flux * sum * (1.0f / (static_cast<float>(ctx.vslSamples) * kPi * radius * radius));
 }
 
-/// sum_i C_i(x1) V(x1, x2_i) with batched exact shadow rays (MANYLIGHTS 1, 4, 7).
+/// sum_i C_i(x1) V(x1, x2_i) with batched exact shadow rays (docs/theory.md §1, §4, §7).
 /// trackUnclamped: also trace rays for VPLs whose clamped contribution is zero (b = 0), for the energy statistic.
 glm::vec3 gatherVpls(const Context& ctx, const ShadingPoint& sp, Rng& rng, GatherTally& tally, bool trackUnclamped) {
   std::array<ShadowRay, kShadowBatch> rays;
@@ -145,7 +145,7 @@ glm::vec3 gatherVpls(const Context& ctx, const ShadingPoint& sp, Rng& rng, Gathe
   return sum;
 }
 
-/// Kollig & Keller 2004 compensation K(x1) of the residual transport T_r (MANYLIGHTS 5; see vpl_renderer.h).
+/// Kollig & Keller 2004 compensation K(x1) of the residual transport T_r (docs/theory.md §5; see vpl_renderer.h).
 glm::vec3 compensation(const Context& ctx, const ShadingPoint& sp, Rng& rng, int depth, GatherTally& tally) {
   // Step 1: sample w from f(x1) cos and trace to x2.
   glm::vec3 u(rng.next1D(), rng.next1D(), rng.next1D());

@@ -9,12 +9,12 @@
 //
 // Method::Vpl, VplKK: C_i = f(x1; wo, w) G_b f(x2; w_in, -w) Phi_i, G_b = min(G, clampBound)
 //   (vpl_contribution.h; clampBound = inf is bit-identical to no clamp).
-// Method::VplKK: K(x1) is Kollig & Keller's 2004 compensation of the residual transport T_r (MANYLIGHTS 5):
+// Method::VplKK: K(x1) is Kollig & Keller's 2004 compensation of the residual transport T_r (docs/theory.md §5):
 //   draw w ~ f(x1) cos (pdf p) and trace to x2; if G(x1, x2) > b:
 //     K(x1) = f(x1; wo, w) (1 - b / G) cos1 L_r(x2 -> x1) / p,
 //     L_r(x2 -> x1) = estimateDirectLight(x2) + sum_i C_i(x2) V + K(x2)      (never Le(x2): T_r acts on L - Le)
 //   else K(x1) = 0 (x2 lies outside the bounded region: the recursion ends). Depth is capped at Settings::maxDepth.
-// Method::Vsl (Hasan et al. 2009, MANYLIGHTS 7), clampBound ignored, r_i = vslRadii() (Vpl::radius):
+// Method::Vsl (Hasan et al. 2009, docs/theory.md §7), clampBound ignored, r_i = vslRadii() (Vpl::radius):
 //   C_i = Phi_i T_i,   T_i = 1 / (pi r^2) * integral over Omega of f(x1; wo, w) f(x2; w_in, -w) cos1 cos2 dw
 //   Omega: the cone from x1 subtended by the sphere (centre x2, radius r); the whole sphere of directions when
 //   |x2 - x1| <= r (so points inside the sphere stay finite). cos1 = max(0, n1.w), cos2 = max(0, n2.(-w)), and w

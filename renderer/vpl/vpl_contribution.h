@@ -1,6 +1,6 @@
 #pragma once
 // The point-VPL transfer, written once for every CPU user (rejection importance, the exact VPL renderer, Kollig-Keller
-// compensation); shaders mirror it. MANYLIGHTS.md sections 1 and 4:
+// compensation); shaders mirror it. docs/theory.md §1, §4:
 //
 //   L(x1 -> wo) += f(x1; wo, w) * G_b(x1, x2) * V(x1, x2) * f(x2; w_in, -w) * Phi
 //   w = (x2 - x1) / |x2 - x1|,  G = max(0, n1.w) max(0, n2.(-w)) / |x2 - x1|^2,  G_b = min(G, b)
@@ -49,7 +49,7 @@ inline glm::vec3 vplUnoccludedContribution(const ShadingPoint& sp, const Vpl& vp
   glm::vec3 w = d * (1.0f / std::sqrt(dist2));
   // One-sided surfaces: both ends must face each other geometrically.
   if (glm::dot(sp.hit.geometricNormal, w) <= 0.0f || glm::dot(vpl.geometricNormal, w) >= 0.0f) return glm::vec3(0.0f);
-  // Geometry term with cosines clamped at zero (MANYLIGHTS 1).
+  // Geometry term with cosines clamped at zero (docs/theory.md §1).
   float cos1 = glm::dot(sp.hit.shadingNormal, w);
   float cos2 = -glm::dot(vpl.normal, w);
   if (cos1 <= 0.0f || cos2 <= 0.0f) return glm::vec3(0.0f);
@@ -60,7 +60,7 @@ inline glm::vec3 vplUnoccludedContribution(const ShadingPoint& sp, const Vpl& vp
   glm::vec3 base = f1 * f2 * vpl.flux;
   if (geometryTerm) *geometryTerm = g;
   if (unclamped) *unclamped = base * g;
-  // Bounded geometry term G_b = min(G, b) (MANYLIGHTS 4).
+  // Bounded geometry term G_b = min(G, b) (docs/theory.md §4).
   return base * std::min(g, clampBound);
 }
 

@@ -1,6 +1,5 @@
 #version 450 core
-// Fragment-shading ceiling of the VPL gather on this GL implementation (bench/gl_bench.cpp; STACK.md "Measured
-// speed"): per pixel and light exactly 2 uniform-buffer reads, 1 sampler2DArrayShadow fetch and ~40 flops of a point
+// Fragment-shading ceiling of the VPL gather on this GL implementation (bench/gl_bench.cpp; docs/benchmarks.md): per pixel and light exactly 2 uniform-buffer reads, 1 sampler2DArrayShadow fetch and ~40 flops of a point
 // light's clamped geometry term, with no branch and no G-buffer read, so that nothing but that work is timed. The
 // light index is uniform across the draw, as in the gather's deinterleaved layout. The sum is written out, so the
 // compiler cannot drop any of it.

@@ -1,4 +1,4 @@
-// Pass 4, VPL gather (MANYLIGHTS 1, 4, 7, 8), included by preview/gather.frag.glsl (GATHER_VSL 0: point VPLs only)
+// Pass 4, VPL gather (docs/theory.md §1, §4, §7, §8), included by preview/gather.frag.glsl (GATHER_VSL 0: point VPLs only)
 // and preview/gather_vsl.frag.glsl (GATHER_VSL 1: point VPLs and VSLs). llvmpipe executes both sides of a branch under
 // a lane mask even when the condition is uniform, so the VSL code would cost every point-VPL evaluation ~30% of the
 // gather; the renderer picks the variant from the VPL set.
@@ -91,7 +91,7 @@ void main() {
     float invDist = inversesqrt(max(dist2, 1e-30));
     vec3 w = d * invDist;
     float cos1 = dot(n1, w), cos2 = -dot(n2, w);
-    // One-sided surfaces at both ends, clamped cosines, G bounded by b (MANYLIGHTS 4).
+    // One-sided surfaces at both ends, clamped cosines, G bounded by b (docs/theory.md §4).
     bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 && cos2 > 0.0;
     float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, dist2 * invDist, ng);
     float gv = contributes ? min(cos1 * cos2 * invDist * invDist, uClampBound) * v : 0.0;
@@ -109,7 +109,7 @@ void main() {
     vec3 w = d * inversesqrt(dist2);
     // One-sided surfaces: both ends must face each other geometrically.
     if (dot(ng, w) <= 0.0 || dot(vpl.geoNormal.xyz, w) >= 0.0) continue;
-    // Geometry term with clamped cosines, bounded by b (MANYLIGHTS 4).
+    // Geometry term with clamped cosines, bounded by b (docs/theory.md §4).
     float cos1 = dot(n1, w), cos2 = -dot(n2, w);
     if (cos1 <= 0.0 || cos2 <= 0.0) continue;
     float g = min(cos1 * cos2 / dist2, uClampBound);

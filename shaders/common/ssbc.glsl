@@ -1,4 +1,4 @@
-// One step of screen-space bias compensation at one pixel (Novak, Engelhardt, Dachsbacher 2011; MANYLIGHTS 6):
+// One step of screen-space bias compensation at one pixel (Novak, Engelhardt, Dachsbacher 2011; docs/theory.md §6):
 //   T_r(I)(p) = sum over pixels q in the footprint of the sphere of radius 1/sqrt(b) around x1 of
 //               f(x1; wo, w) max(G(x1, x2) - b, 0) L_I(x2 -> x1) dA(q),
 //   dA(q) = omega_pix(q) |x2 - camera|^2 / |cos theta_q|,  omega_pix = A_pix cos^3(alpha) / f^2  (pinhole, f in px)
@@ -75,7 +75,7 @@ bool ssbcReceiver(ivec2 px, out SsbcReceiver r) {
   r.wo = normalize(uCameraPosition - r.x1);
   r.pc = vec2(px) + 0.5;
   r.size = textureSize(gPosition, 0);
-  // Footprint: the residual is non-zero only where |x1 - x2| < 1/sqrt(b) (MANYLIGHTS 4).
+  // Footprint: the residual is non-zero only where |x1 - x2| < 1/sqrt(b) (docs/theory.md §4).
   float radius = inversesqrt(uClampBound);
   float z = max(dot(r.x1 - uCameraPosition, uCameraForward), 1e-4);
   float radiusPx = radius * uFocalPixels / z;
@@ -111,7 +111,7 @@ vec3 ssbcTap(SsbcReceiver r, ivec2 q, int level, ivec2 levelSize, bool use) {
   float dist2 = dot(d, d);
   vec3 w = d * inversesqrt(max(dist2, 1e-12));
   float cos1 = max(dot(r.n1, w), 0.0), cos2 = max(-dot(n2, w), 0.0);
-  // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (MANYLIGHTS 4).
+  // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (docs/theory.md §4).
   float excess = max(cos1 * cos2 / max(dist2, 1e-12) - uClampBound, 0.0);
   bool take = use && all(equal(q, qc)) && dist2 > 1e-12 && tap.w >= 0.0;
 #ifdef BRDF_LAMBERT_ONLY

@@ -1,5 +1,5 @@
 #version 450 core
-// final = Le + I0 + R1 + R2 with I0 = direct + de-interleaved indirect (MANYLIGHTS 6).
+// final = Le + I0 + R1 + R2 with I0 = direct + de-interleaved indirect (docs/theory.md §6).
 #include "common/fullscreen.glsl"
 
 layout(binding = 6) uniform sampler2D uI0;         // direct + indirect (deinterleave.frag.glsl)

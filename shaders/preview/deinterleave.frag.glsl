@@ -1,5 +1,5 @@
 #version 450 core
-// Geometry-aware de-interleaving (MANYLIGHTS 8): average the k x k window, which holds every VPL subset once, over
+// Geometry-aware de-interleaving (docs/theory.md §8): average the k x k window, which holds every VPL subset once, over
 // neighbours on the same surface (relative depth and normal tests), renormalised by the accepted weight so that
 // rejected neighbours do not darken the result. The direct light and the VPL gather are interleaved alike, so the
 // merge is linear in them: the row pass reads both and merges uWeights.x direct + uWeights.y indirect (1, 1 per frame:
