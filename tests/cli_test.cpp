@@ -256,12 +256,34 @@ TEST(SettingsTable, ValidationNamesTheSpellingTheUserTyped) {
   ASSERT_EQ(validateSettings(s).size(), 1u);
   EXPECT_EQ(validateSettings(s)[0], "vplCount = -3 is outside [0, 1048576]");
   EXPECT_EQ(validateSettings(s, SettingSpelling::Flag)[0], "--vpl-count = -3 is outside [0, 1048576]");
+  // A share that must be positive, a power of two, and a rule between two settings.
+  Settings t;
+  t.birLightShare = 0.0f;
+  t.ismTileSize = 48;
+  t.rejection = true;
+  t.generation = VplGeneration::Metropolis;
+  std::vector<std::string> problems = validateSettings(t, SettingSpelling::Flag);
+  ASSERT_EQ(problems.size(), 3u);
+  EXPECT_EQ(problems[0], "--bir-light-share = 0 is outside (0, 1]");
+  EXPECT_EQ(problems[1], "--ism-tile-size = 48 is not a power of two");
+  EXPECT_EQ(problems[2], "--rejection = true needs --generation = light (metropolis already chooses its VPLs by "
+                         "importance)");
+  t = Settings{};
+  t.birLightShare = 1.0f;
+  t.ismTileSize = 128;
+  EXPECT_TRUE(validateSettings(t).empty());
 }
 
 TEST(CliFlags, ErrorsNameTheFlagTyped) {
   CliRun r = vplab("render " + kScene + " --size 8x8 -o " + tmp("f.exr") + " --vpl-count -3");
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.out, "--vpl-count = -3 is outside")) << r.out;
+  CliRun rule = vplab("render " + kScene + " --size 8x8 -o " + tmp("f.exr") + " --generation metropolis --rejection");
+  EXPECT_EQ(rule.status, 2);
+  EXPECT_TRUE(contains(rule.out, "--rejection = true needs --generation = light")) << rule.out;
+  CliRun choice = vplab("preview " + kScene + " --size 8x8 -o " + tmp("f.png") + " --visibility rays");
+  EXPECT_EQ(choice.status, 2);
+  EXPECT_TRUE(contains(choice.out, "option --visibility: 'rays': expected one of cube, ism")) << choice.out;
   CliRun old = vplab("render " + kScene + " -o " + tmp("f.exr") + " --clamp 3");
   EXPECT_EQ(old.status, 2);
   EXPECT_TRUE(contains(old.out, "did you mean --clamp-bound?")) << old.out;
