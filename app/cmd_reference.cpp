@@ -49,14 +49,15 @@ int cmdReference(const Args& args) {
   ProgressiveResult result = renderReference(offline, settings, &control, {}, &stats);
   progress.finish();
 
-  ImageInfo info = cli::renderInfo(settings, toString(Method::Reference), result.samplesPerPixel);
+  ImageInfo info = cli::renderInfo(settings, toString(Method::Reference), result);
   if (out) writeImage(*out, result.image, settings.exposure, info);
   if (png) writeImage(*png, result.image, settings.exposure);
 
   double raysPerSecond = result.seconds > 0.0 ? static_cast<double>(stats.totalRays()) / result.seconds : 0.0;
   std::printf("scene       %s; BVH + light table %.1f ms\n", cli::sceneSummary(scene).c_str(), 1e3 * buildSeconds);
-  std::printf("image       %dx%d, %d spp, components %s, max depth %d, seed %u\n", settings.width, settings.height,
-              result.samplesPerPixel, toString(settings.components), settings.maxDepth, settings.seed);
+  std::printf("image       %dx%d, %s, components %s, max depth %d, seed %u\n", settings.width, settings.height,
+              cli::describeSamples("reference", result).c_str(), toString(settings.components), settings.maxDepth,
+              settings.seed);
   std::printf("time        %.3f s on %d threads\n", result.seconds, resolveThreadCount(settings.threads));
   std::printf("rays        %llu (camera %llu, bounce %llu, shadow %llu): %.2f Mrays/s\n",
               static_cast<unsigned long long>(stats.totalRays()), static_cast<unsigned long long>(stats.cameraRays),

@@ -31,9 +31,10 @@ int cmdRender(const Args& args) {
   cl.addOptions(cli::settingOptions(settings, use));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
-    std::printf("Generates VPLs by --generation (light tracing: --vpl-count is the expected count, with --rejection the\n"
-                "expected accepted count; bidirectional: exactly --vpl-count; metropolis: about --vpl-count), then sums\n"
-                "them at every pixel sample with exact shadow rays.\n");
+    std::printf(
+        "Generates VPLs by --generation (light tracing: --vpl-count is the expected count, with --rejection the\n"
+        "expected accepted count; bidirectional: exactly --vpl-count; metropolis: about --vpl-count), then sums\n"
+        "them at every pixel sample with exact shadow rays.\n");
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
@@ -75,13 +76,14 @@ int cmdRender(const Args& args) {
 
   if (out)
     writeImage(*out, result.image, settings.exposure,
-               cli::renderInfo(settings, toString(method), result.samplesPerPixel));
+               cli::renderInfo(settings, toString(method), result));
   if (png) writeImage(*png, result.image, settings.exposure);
 
   const VplStats& st = vpls.stats;
   std::printf("scene       %s\n", cli::sceneSummary(scene).c_str());
-  std::printf("method      %s, %dx%d, %d spp, components %s, seed %u\n", toString(method), settings.width,
-              settings.height, result.samplesPerPixel, toString(settings.components), settings.seed);
+  std::printf("method      %s, %dx%d, %s, components %s, seed %u\n", toString(method), settings.width,
+              settings.height, cli::describeSamples("render", result).c_str(), toString(settings.components),
+              settings.seed);
   std::printf("vpls        %s\n", describeVplStats(st).c_str());
   for (const std::string& w : st.warnings) std::fprintf(stderr, "vplab render: warning: %s\n", w.c_str());
   std::printf("clamp       b = %g, energy removed %.2f%%\n", settings.clampBound, 100.0 * result.clampEnergyRemoved);

@@ -2,6 +2,7 @@
 
 #include <sys/resource.h>
 
+#include <cstdio>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -98,6 +99,22 @@ ImageInfo renderInfo(const Settings& settings, const char* method, int samplesPe
           {"method", method},
           {"spp", std::to_string(samplesPerPixel)},
           {"settings", settingsToJson(settings)}};
+}
+
+ImageInfo renderInfo(const Settings& settings, const char* method, const ProgressiveResult& result) {
+  ImageInfo info = renderInfo(settings, method, result.samplesPerPixel);
+  info["nonFiniteSamples"] = std::to_string(result.nonFiniteSamples);
+  return info;
+}
+
+std::string describeSamples(const char* command, const ProgressiveResult& result) {
+  const auto bad = static_cast<unsigned long long>(result.nonFiniteSamples);
+  if (bad > 0)
+    std::fprintf(stderr,
+                 "vplab %s: warning: %llu samples were NaN or infinite and are left out of their pixels' means (a "
+                 "defect of the estimator, not of the scene)\n",
+                 command, bad);
+  return std::to_string(result.samplesPerPixel) + " spp, " + std::to_string(bad) + " NaN/Inf samples";
 }
 
 namespace {

@@ -8,6 +8,7 @@
 
 #include "app/cli.h"
 #include "renderer/image/image_io.h"
+#include "renderer/offline/progressive.h"
 #include "renderer/settings.h"
 
 namespace vplab::cli {
@@ -50,6 +51,11 @@ void requireOutputFolder(const std::string& folder, const std::vector<std::strin
 
 /// What a render writes with its linear image (image_io.h ImageInfo): components, method, spp and every setting.
 ImageInfo renderInfo(const Settings& settings, const char* method, int samplesPerPixel);
+/// renderInfo() of a finished offline render: its samples per pixel and the NaN/Inf samples it left out
+/// ("nonFiniteSamples").
+ImageInfo renderInfo(const Settings& settings, const char* method, const ProgressiveResult& result);
+/// "4 spp, 0 NaN/Inf samples" for a command's summary; a warning on stderr when any sample was not finite.
+std::string describeSamples(const char* command, const ProgressiveResult& result);
 
 /// Throws CliError when a buffer of `bytes` (what: "the 16384x16384 reference image") exceeds the memory this process
 /// may still use (MemAvailable, and the address-space limit when one is set), before the work that needs it starts.

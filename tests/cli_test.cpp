@@ -151,6 +151,8 @@ TEST(CliRender, LinearOutputsRecordWhatTheyHold) {
   EXPECT_EQ(info["components"], "indirect");
   EXPECT_EQ(info["method"], "reference");
   EXPECT_EQ(info["spp"], "2");
+  EXPECT_EQ(info["nonFiniteSamples"], "0");
+  EXPECT_TRUE(contains(r.out, "2 spp, 0 NaN/Inf samples")) << r.out;
   Settings s;
   applySettingsJson(info["settings"], s);
   EXPECT_EQ(s.width, 8);

@@ -6,6 +6,7 @@
 #include "renderer/offline/direct_light.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
+#include "renderer/offline/progressive.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
 #include "tests/test_scenes.h"
@@ -13,6 +14,7 @@
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <limits>
 #include <string>
 
 namespace vplab {
@@ -349,6 +351,42 @@ TEST_F(ReferenceCornell, MatchesStoredHighSppReference) {
   Image darker = image;
   for (glm::vec3& p : darker.pixels) p *= 0.95f;
   EXPECT_GT(std::abs(compareImages(darker, reference).energyRatioOverall - 1.0), kEnergyTolerance);
+}
+
+// --- non-finite samples: counted, and left out of their pixel's mean -------------------------------------------
+
+TEST(ProgressiveNonFinite, InjectedNanAndInfSamplesAreCountedAndLeftOutOfTheMean) {
+  const float nan = std::numeric_limits<float>::quiet_NaN();
+  const float inf = std::numeric_limits<float>::infinity();
+  // 4x3 pixels, 8 samples in passes of 3: one NaN, one +Inf, and a pixel whose every sample is -Inf.
+  PixelEstimator estimator = [&](int x, int y, uint32_t sample, Rng&) {
+    if (x == 1 && y == 0 && sample == 2) return glm::vec3(nan, 0.0f, 0.0f);
+    if (x == 2 && y == 1 && sample == 7) return glm::vec3(0.0f, inf, 0.0f);
+    if (x == 3 && y == 2) return glm::vec3(-inf);
+    return glm::vec3(0.5f);
+  };
+  for (int threads : {1, 2}) {
+    ProgressiveOptions o;
+    o.width = 4;
+    o.height = 3;
+    o.samplesPerPixel = 8;
+    o.samplesPerPass = 3;
+    o.threads = threads;
+    int passes = 0;
+    o.onPass = [&](const Image& mean, int) {
+      ++passes;
+      EXPECT_FLOAT_EQ(mean.at(1, 0).x, 0.5f) << "a running mean is over the finite samples too";
+    };
+    ProgressiveResult r = renderProgressive(o, estimator);
+    EXPECT_EQ(passes, 3);
+    EXPECT_EQ(r.samplesPerPixel, 8);
+    EXPECT_EQ(r.nonFiniteSamples, 1u + 1u + 8u) << threads << " threads";
+    for (int y = 0; y < 3; ++y)
+      for (int x = 0; x < 4; ++x) {
+        glm::vec3 expected = x == 3 && y == 2 ? glm::vec3(0.0f) : glm::vec3(0.5f);
+        EXPECT_EQ(r.image.at(x, y), expected) << x << "," << y;
+      }
+  }
 }
 
 }  // namespace

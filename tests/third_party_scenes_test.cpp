@@ -95,8 +95,9 @@ TEST(ThirdPartyScenes, EveryFileFailsCleanlyOrGivesAFiniteStagedReference) {
     if (!scene) continue;
     EXPECT_TRUE(scene->hasLights());
     OfflineScene offline(*scene);
-    Image image = renderReference(offline, tinySettings()).image;
-    EXPECT_EQ(nonFinite(image), 0u);
+    ProgressiveResult result = renderReference(offline, tinySettings());
+    EXPECT_EQ(result.nonFiniteSamples, 0u);
+    EXPECT_EQ(nonFinite(result.image), 0u);
     ++rendered;
   }
   // Most of the files are valid models; the malformed ones are the minority.

@@ -406,7 +406,9 @@ TEST(VplExtremes, EveryExtremeParameterGivesAFiniteImage) {
     if (c.vpls == 0) {
       EXPECT_TRUE(set.vpls.empty());
     }
-    Image image = render(*l, set, c.method, s).image;
+    VplRenderResult result = render(*l, set, c.method, s);
+    const Image& image = result.image;
+    EXPECT_EQ(result.nonFiniteSamples, 0u) << c.name;  // non-finite samples are left out of the image, so count them
     EXPECT_EQ(nonFinite(image), 0u) << c.name;
     EXPECT_GT(meanLuminance(image), 0.0) << c.name;  // direct light is always there
   }

@@ -931,6 +931,9 @@ void Editor::drawRightPanel() {
       if (!offlineImage_.empty())
         ImGui::Text("%s%s: %d spp in %.2f s%s", toString(offlineImageMethod_), job_.cancelled() ? " (cancelled)" : "",
                     job_.samplesPerPixel(), offlineSeconds_, offlineStale_ ? "  STALE" : "");
+      if (!offlineImage_.empty() && job_.nonFiniteSamples() > 0)
+        ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%llu NaN/Inf samples left out",
+                           static_cast<unsigned long long>(job_.nonFiniteSamples()));
       if (!job_.error().empty()) ImGui::TextColored(ImVec4(1, 0.4f, 0.4f, 1), "%s", job_.error().c_str());
     }
     if (!offlineImage_.empty() && !previewLinear_.empty() && offlineImage_.width == previewLinear_.width &&

@@ -59,6 +59,7 @@ void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& v
   method_ = method;
   cancelled_ = false;
   samples_ = 0;
+  nonFiniteSamples_ = 0;
   clampEnergyRemoved_ = 0.0;
   startTime_ = now();
   {
@@ -88,6 +89,7 @@ void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& v
       }
       cancelled_ = result.cancelled;
       samples_ = result.samplesPerPixel;
+      nonFiniteSamples_ = result.nonFiniteSamples;
       std::lock_guard lock(mutex_);
       image_ = std::move(result.image);
       imageChanged_ = true;

@@ -50,6 +50,8 @@ class OfflineJob {
   bool takeFinished();
   bool cancelled() const { return cancelled_; }
   int samplesPerPixel() const { return samples_; }
+  /// Samples that were NaN or infinite, left out of the image (ProgressiveResult::nonFiniteSamples).
+  uint64_t nonFiniteSamples() const { return nonFiniteSamples_; }
   /// Energy removed by the clamp, measured by the exact VPL render (0 for the reference).
   double clampEnergyRemoved() const { return clampEnergyRemoved_; }
   /// The message of an exception thrown by the render, empty when none.
@@ -72,6 +74,7 @@ class OfflineJob {
   std::atomic<double> seconds_{0.0};
   bool cancelled_ = false;
   int samples_ = 0;
+  uint64_t nonFiniteSamples_ = 0;
   double clampEnergyRemoved_ = 0.0;
 };
 

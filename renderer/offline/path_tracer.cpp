@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cassert>
 #include <cmath>
+#include <limits>
 #include <vector>
 
 namespace vplab {
@@ -61,7 +62,12 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
     if (cosI <= 0.0f) break;
     // Path throughput update: beta *= f cos / pdf (the Monte Carlo estimator of the rendering equation).
     throughput *= bs.f * (cosI / bs.pdf);
-    if (!finite3(throughput)) break;
+    // A non-finite throughput is a defect of a BRDF or pdf: the sample becomes NaN, which renderProgressive leaves
+    // out of the mean and counts, instead of a silently shortened path.
+    if (!finite3(throughput)) {
+      radiance = glm::vec3(std::numeric_limits<float>::quiet_NaN());
+      break;
+    }
 
     glm::vec3 next = embree.offsetOrigin(hit->position, hit->geometricNormal, bs.wi);
     std::optional<SurfaceHit> nextHit = embree.intersect(next, bs.wi);
@@ -88,7 +94,7 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
     stats->bounceRays += bounceRays;
     stats->shadowRays += shadowRays;
   }
-  return finite3(radiance) ? radiance : glm::vec3(0.0f);
+  return radiance;
 }
 
 ProgressiveResult renderReference(const OfflineScene& offline, const Settings& settings, RenderControl* control,

@@ -30,6 +30,7 @@ struct ReferenceStats {
 /// Radiance arriving at the camera along one primary ray, restricted to `components`: Direct is emission seen
 /// directly plus light after exactly one reflection; Indirect is every path with two or more reflections.
 /// The random numbers drawn do not depend on `components`, so Direct + Indirect equals All sample by sample.
+/// NaN when the path's throughput became non-finite (renderProgressive counts such samples).
 glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& lights, const glm::vec3& origin,
                             const glm::vec3& direction, int maxDepth, Components components, Rng& rng,
                             ReferenceStats* stats = nullptr);

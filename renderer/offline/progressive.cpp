@@ -32,8 +32,9 @@ ProgressiveResult renderProgressive(const ProgressiveOptions& o, const PixelEsti
   result.image = Image(o.width, o.height);
   if (o.width <= 0 || o.height <= 0 || o.samplesPerPixel <= 0) return result;
 
-  // Sums in double so that thousands of samples do not lose the low bits.
+  // Sums in double so that thousands of samples do not lose the low bits; per pixel, the finite samples summed.
   std::vector<glm::dvec3> sum(static_cast<std::size_t>(o.width) * o.height, glm::dvec3(0.0));
+  std::vector<uint32_t> finiteCount(sum.size(), 0);
   const int perPass = std::max(1, o.samplesPerPass);
   const int64_t pixels = static_cast<int64_t>(o.width) * o.height;
   // Rows are the work items: big enough to amortise scheduling, small enough to balance two cores.
@@ -43,6 +44,11 @@ ProgressiveResult renderProgressive(const ProgressiveOptions& o, const PixelEsti
 
   int taken = 0;
   std::vector<glm::dvec3> passSum(sum.size());
+  std::vector<uint32_t> passFinite(sum.size());
+  // The mean of a pixel's finite samples; black for a pixel none of whose samples was finite.
+  auto meanAt = [&](int64_t i) {
+    return finiteCount[i] > 0 ? glm::vec3(sum[i] / static_cast<double>(finiteCount[i])) : glm::vec3(0.0f);
+  };
   for (int pass = 0; pass < totalPasses; ++pass) {
     const int first = taken;
     const int count = std::min(perPass, o.samplesPerPixel - taken);
@@ -55,13 +61,18 @@ ProgressiveResult renderProgressive(const ProgressiveOptions& o, const PixelEsti
       for (int y = y0; y < y1; ++y)
         for (int x = 0; x < o.width; ++x) {
           glm::dvec3 acc(0.0);
+          uint32_t finite = 0;
           uint64_t pixelIndex = static_cast<uint64_t>(y) * o.width + x;
           for (int s = first; s < first + count; ++s) {
             Rng rng(hashKey(o.seed, pixelIndex, static_cast<uint64_t>(s)));
             glm::vec3 L = estimator(x, y, static_cast<uint32_t>(s), rng);
-            if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)) acc += glm::dvec3(L);
+            if (std::isfinite(L.x) && std::isfinite(L.y) && std::isfinite(L.z)) {
+              acc += glm::dvec3(L);
+              ++finite;
+            }
           }
           passSum[pixelIndex] = acc;
+          passFinite[pixelIndex] = finite;
         }
       int64_t done = itemsDone.fetch_add(1) + 1;
       if (control && control->onProgress && (done % 16 == 0 || done == items))
@@ -71,18 +82,21 @@ ProgressiveResult renderProgressive(const ProgressiveOptions& o, const PixelEsti
       result.cancelled = true;
       break;
     }
-    for (int64_t i = 0; i < pixels; ++i) sum[i] += passSum[i];
+    for (int64_t i = 0; i < pixels; ++i) {
+      sum[i] += passSum[i];
+      finiteCount[i] += passFinite[i];
+      result.nonFiniteSamples += static_cast<uint64_t>(count) - passFinite[i];
+    }
     taken += count;
     if (o.onPass) {
       Image mean(o.width, o.height);
-      for (int64_t i = 0; i < pixels; ++i) mean.pixels[i] = glm::vec3(sum[i] / static_cast<double>(taken));
+      for (int64_t i = 0; i < pixels; ++i) mean.pixels[i] = meanAt(i);
       o.onPass(mean, taken);
     }
   }
 
   result.samplesPerPixel = taken;
-  if (taken > 0)
-    for (int64_t i = 0; i < pixels; ++i) result.image.pixels[i] = glm::vec3(sum[i] / static_cast<double>(taken));
+  for (int64_t i = 0; i < pixels; ++i) result.image.pixels[i] = meanAt(i);
   result.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return result;
 }

@@ -32,14 +32,18 @@ struct ProgressiveResult {
   int samplesPerPixel = 0; ///< samples actually taken (fewer when cancelled)
   double seconds = 0.0;
   bool cancelled = false;
+  /// Samples whose estimate had a NaN or infinite channel, over the passes taken. They are left out of their pixel's
+  /// mean (which averages the pixel's finite samples) and every caller reports the count: any is a defect of an
+  /// estimator, never a property of the scene.
+  uint64_t nonFiniteSamples = 0;
 };
 
 /// The image size, samples per pixel, seed and thread count of `settings`, with the given pass size and callback.
 ProgressiveOptions progressiveOptions(const Settings& settings, int samplesPerPass,
                                       std::function<void(const Image& mean, int samplesSoFar)> onPass);
 
-/// Runs the estimator samplesPerPixel times per pixel. Non-finite samples are dropped (and counted in the
-/// progress line by callers that care); a cancelled render returns the passes completed so far.
+/// Runs the estimator samplesPerPixel times per pixel. Non-finite samples are left out of the mean and counted
+/// (ProgressiveResult::nonFiniteSamples); a cancelled render returns the passes completed so far.
 ProgressiveResult renderProgressive(const ProgressiveOptions& options, const PixelEstimator& estimator,
                                     RenderControl* control = nullptr);
 
