@@ -370,6 +370,16 @@ TEST(EditorWindow, FailedExpectationExitsWithStatusOne) {
   EXPECT_NE(run.output.find("VPL generation(s) since the mark"), std::string::npos) << run.output;
 }
 
+TEST(EditorWindow, PanelsDrawEveryGenerationMethodAndVisibility) {
+  // The panels take each control's label, tooltip and member from the settings table; every branch is drawn once.
+  ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
+  RunResult run = runEditor("set width 32\nset height 32\nset vplCount 16\nset generation bidirectional\nframes 1\n"
+                            "set generation metropolis\nframes 1\nset generation light\nset rejection true\n"
+                            "set visibility ism\nset clampBound 5\nset vslRadius 0.05\nframes 1\n",
+                            "");
+  EXPECT_EQ(run.status, 0) << run.output;
+}
+
 TEST(EditorWindow, BadSceneFileIsAnErrorBeforeAnyWindow) {
   // No display needed: the scene is loaded before the window is opened.
   std::string cmd = std::string(VPLAB_BINARY) + " edit " + tmp("missing.gltf") + " > " + tmp("bad.log") + " 2>&1";

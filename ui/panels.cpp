@@ -8,21 +8,63 @@
 #include <algorithm>
 #include <cmath>
 #include <set>
+#include <stdexcept>
+#include <string>
+#include <variant>
 
 namespace vplab::ui {
 
 namespace {
 
-bool sliderInt(const char* label, int* v, int lo, int hi, const char* help, ImGuiSliderFlags flags = 0) {
-  bool changed = ImGui::SliderInt(label, v, lo, hi, "%d", flags | ImGuiSliderFlags_AlwaysClamp);
-  if (help && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", help);
+// Every control of a setting is labelled with the setting's one name (its settings-file key and script verb, the
+// command-line flag in kebab case) and shows the settings table's help and flag as its tooltip, so the editor, the
+// files and the command line speak of the same thing (renderer/settings.h, "the settings table").
+const SettingInfo& settingRow(const char* key) {
+  const SettingInfo* info = findSetting(key);
+  if (!info) throw std::logic_error(std::string("no setting '") + key + "'");
+  return *info;
+}
+
+void settingTooltip(const char* key, const char* more = nullptr) {
+  if (!ImGui::IsItemHovered()) return;
+  const SettingInfo& info = settingRow(key);
+  ImGui::SetTooltip("%s%s%s\n--%s", info.help, more ? "\n" : "", more ? more : "", settingFlag(key).c_str());
+}
+
+bool settingSliderInt(Settings& s, const char* key, int lo, int hi, ImGuiSliderFlags flags = 0) {
+  int* v = &(s.*std::get<int Settings::*>(settingRow(key).member));
+  bool changed = ImGui::SliderInt(key, v, lo, hi, "%d", flags | ImGuiSliderFlags_AlwaysClamp);
+  settingTooltip(key);
   return changed;
 }
 
-bool sliderFloat(const char* label, float* v, float lo, float hi, const char* format, const char* help,
-                 ImGuiSliderFlags flags = 0) {
-  bool changed = ImGui::SliderFloat(label, v, lo, hi, format, flags | ImGuiSliderFlags_AlwaysClamp);
-  if (help && ImGui::IsItemHovered()) ImGui::SetTooltip("%s", help);
+bool settingSliderFloat(Settings& s, const char* key, float lo, float hi, const char* format,
+                        ImGuiSliderFlags flags = 0, const char* more = nullptr) {
+  float* v = &(s.*std::get<float Settings::*>(settingRow(key).member));
+  bool changed = ImGui::SliderFloat(key, v, lo, hi, format, flags | ImGuiSliderFlags_AlwaysClamp);
+  settingTooltip(key, more);
+  return changed;
+}
+
+bool settingCombo(Settings& s, const char* key, const char* more = nullptr) {
+  const SettingChoice& choice = std::get<SettingChoice>(settingRow(key).member);
+  const int current = choice.get(s);
+  bool changed = false;
+  if (ImGui::BeginCombo(key, choice.names[static_cast<std::size_t>(current)].c_str())) {
+    for (int i = 0; i < static_cast<int>(choice.names.size()); ++i)
+      if (ImGui::Selectable(choice.names[static_cast<std::size_t>(i)].c_str(), i == current) && i != current) {
+        choice.set(s, i);
+        changed = true;
+      }
+    ImGui::EndCombo();
+  }
+  settingTooltip(key, more);
+  return changed;
+}
+
+bool settingCheckbox(Settings& s, const char* key) {
+  bool changed = ImGui::Checkbox(key, &(s.*std::get<bool Settings::*>(settingRow(key).member)));
+  settingTooltip(key);
   return changed;
 }
 
@@ -30,24 +72,44 @@ bool sliderFloat(const char* label, float* v, float lo, float hi, const char* fo
 
 bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRemoved) {
   bool changed = false;
-  ImGui::TextDisabled("VPL generation (light tracing)");
-  changed |= sliderInt("VPLs N", &s.vplCount, 1, 4096, "Expected number of VPLs (accepted ones with rejection)",
-                       ImGuiSliderFlags_Logarithmic);
-  changed |= sliderInt("bounces", &s.vplMaxBounces, 1, 64, "VPLs are stored at bounces 1..this");
+  ImGui::TextDisabled("VPL generation");
+  if (settingCombo(s, "generation")) {
+    // Rejection is a light-tracing method (validateSettings); the others choose their VPLs by importance already.
+    if (s.generation != VplGeneration::Light) s.rejection = false;
+    changed = true;
+  }
+  changed |= settingSliderInt(s, "vplCount", 1, 4096, ImGuiSliderFlags_Logarithmic);
+  changed |= settingSliderInt(s, "vplMaxBounces", 1, 64);
   int seed = static_cast<int>(std::min<uint32_t>(s.seed, 1u << 30));
   if (ImGui::InputInt("seed", &seed) && seed >= 0) {
     s.seed = static_cast<uint32_t>(seed);
     changed = true;
   }
+  settingTooltip("seed");
   ImGui::Text("VPLs %llu from %llu paths, %.1f ms", static_cast<unsigned long long>(stats.accepted),
               static_cast<unsigned long long>(stats.pathsTraced), stats.generationSeconds * 1e3);
 
-  ImGui::Separator();
-  ImGui::TextDisabled("Rejection (Georgiev & Slusallek 2010)");
-  changed |= ImGui::Checkbox("rejection", &s.rejection);
+  if (s.generation == VplGeneration::Bidirectional) {
+    changed |= settingSliderInt(s, "birCandidateFactor", 1, 64, ImGuiSliderFlags_Logarithmic);
+    changed |= settingSliderFloat(s, "birLightShare", 0.01f, 1.0f, "%.2f");
+    changed |= settingSliderFloat(s, "birEpsilon", 0.0f, 1.0f, "%.2f");
+  } else if (s.generation == VplGeneration::Metropolis) {
+    changed |= settingSliderInt(s, "mirChains", 1, 256, ImGuiSliderFlags_Logarithmic);
+    changed |= settingSliderFloat(s, "mirLargeStepProbability", 0.01f, 1.0f, "%.2f");
+    changed |= settingSliderInt(s, "mirBurnIn", 0, 64);
+    changed |= settingSliderInt(s, "mirBootstrapPaths", 16, 16384, ImGuiSliderFlags_Logarithmic);
+    changed |= settingSliderFloat(s, "mirEpsilon", 0.0f, 1.0f, "%.2f");
+  }
+  if (s.generation != VplGeneration::Light || s.rejection)
+    changed |= settingSliderInt(s, "importancePoints", 1, 4096, ImGuiSliderFlags_Logarithmic);
+  if (s.generation == VplGeneration::Light) {
+    ImGui::Separator();
+    ImGui::TextDisabled("Rejection (Georgiev & Slusallek 2010)");
+    changed |= settingCheckbox(s, "rejection");
+  }
   if (s.rejection) {
-    changed |= sliderFloat("epsilon", &s.rejectionEpsilon, 0.0f, 1.0f, "%.3f",
-                           "p_i = min(Phi_i / Phi_v + epsilon, 1); 0 rejects VPLs that miss every sample point");
+    changed |= settingSliderFloat(s, "rejectionEpsilon", 0.0f, 1.0f, "%.3f", 0,
+                                  "0 rejects VPLs that miss every importance point");
     ImGui::Text("acceptance %.1f %% of %llu candidates%s", 100.0 * stats.acceptanceRate,
                 static_cast<unsigned long long>(stats.candidates), stats.candidateCapReached ? " (cap reached)" : "");
   }
@@ -59,18 +121,18 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     s.clampBound = bounded ? 20.0f : kInfinity;
     changed = true;
   }
+  settingTooltip("clampBound", "off: clampBound = inf");
   if (bounded) {
-    changed |= sliderFloat("b [1/m^2]", &s.clampBound, 0.01f, 10000.0f, "%.3g",
-                           "Clamp bound on cos1 cos2 / d^2; the residual is local: d < 1/sqrt(b)",
-                           ImGuiSliderFlags_Logarithmic);
+    changed |= settingSliderFloat(s, "clampBound", 0.01f, 10000.0f, "%.3g", ImGuiSliderFlags_Logarithmic,
+                                  "b on cos1 cos2 / d^2; the residual is local: d < 1/sqrt(b)");
     ImGui::Text("residual range 1/sqrt(b) = %.3g m", 1.0 / std::sqrt(std::max(s.clampBound, 1e-6f)));
   }
   if (clampEnergyRemoved >= 0.0)
     ImGui::Text("clamp removes %.1f %% of the indirect light", 100.0 * clampEnergyRemoved);
   else
     ImGui::TextDisabled("clamp energy removed: not measured");
-  changed |= sliderInt("SSBC steps", &s.ssbcSteps, 0, 2, "Screen-space bias compensation (Novak et al. 2011)");
-  changed |= ImGui::Checkbox("SSBC coarse rings on a 4 px grid", &s.ssbcCoarseRings);
+  changed |= settingSliderInt(s, "ssbcSteps", 0, 2);
+  changed |= settingCheckbox(s, "ssbcCoarseRings");
 
   ImGui::Separator();
   ImGui::TextDisabled("Virtual spherical lights (Hasan et al. 2009)");
@@ -79,51 +141,40 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     s.vslRadius = vsl ? 0.05f : 0.0f;
     changed = true;
   }
+  settingTooltip("vslRadius", "off: vslRadius = 0");
   if (vsl) {
-    changed |=
-        sliderFloat("radius r [m]", &s.vslRadius, 0.001f, 1.0f, "%.4f", "0 = point VPLs", ImGuiSliderFlags_Logarithmic);
-    changed |= ImGui::Checkbox("r from VPL density", &s.vslRadiusFromDensity);
-    changed |= sliderInt("VSL samples", &s.vslSamples, 1, 64, "cone + BRDF samples per VSL, exact render (MIS)");
+    changed |= settingSliderFloat(s, "vslRadius", 0.001f, 1.0f, "%.4f", ImGuiSliderFlags_Logarithmic);
+    changed |= settingCheckbox(s, "vslRadiusFromDensity");
+    changed |= settingSliderInt(s, "vslSamples", 1, 64);
   }
 
   ImGui::Separator();
   ImGui::TextDisabled("GL preview");
-  changed |= sliderInt("interleave k", &s.interleave, 1, 8, "k x k VPL subsets, one per pixel; 1 = off");
-  int visibility = s.visibility == VisibilityMethod::Ism ? 1 : 0;
-  if (ImGui::Combo("VPL visibility", &visibility, "cube shadow maps\0imperfect shadow maps\0")) {
-    s.visibility = visibility == 1 ? VisibilityMethod::Ism : VisibilityMethod::Cube;
-    changed = true;
-  }
-  if (ImGui::IsItemHovered())
-    ImGui::SetTooltip("cube: one rasterised map per VPL, sharp, costs VPLs x triangles; ISM: a point-splatted tile per "
-                      "VPL, cost independent of the triangle count, leaks through thin walls");
+  changed |= settingSliderInt(s, "interleave", 1, 8);
+  changed |= settingCombo(s, "visibility",
+                          "cube: one rasterised map per VPL, sharp, costs VPLs x triangles; ism: a point-splatted "
+                          "tile per VPL, cost independent of the triangle count, leaks through thin walls");
   // A power-of-two size: the slider moves its exponent.
-  auto powerOfTwoSlider = [&](const char* label, int& value, int minLog, int maxLog) {
+  auto powerOfTwoSlider = [&](const char* key, int minLog, int maxLog) {
+    int& value = s.*std::get<int Settings::*>(settingRow(key).member);
     int sizeLog = static_cast<int>(std::lround(std::log2(std::max(value, 1 << minLog))));
-    if (ImGui::SliderInt(label, &sizeLog, minLog, maxLog, "")) {
+    if (ImGui::SliderInt(key, &sizeLog, minLog, maxLog, "")) {
       value = 1 << sizeLog;
       changed = true;
     }
+    settingTooltip(key);
     ImGui::SameLine();
     ImGui::Text("%d", value);
   };
   if (s.visibility == VisibilityMethod::Ism) {
-    powerOfTwoSlider("ISM tile", s.ismTileSize, 4, 8);
-    int pointsLog = static_cast<int>(std::lround(std::log2(std::max(s.ismPointBudget, 1024))));
-    if (ImGui::SliderInt("ISM points", &pointsLog, 10, 25, "")) {
-      s.ismPointBudget = 1 << pointsLog;
-      changed = true;
-    }
-    ImGui::SameLine();
-    ImGui::Text("%d", s.ismPointBudget);
+    powerOfTwoSlider("ismTileSize", 4, 8);
+    powerOfTwoSlider("ismPointBudget", 10, 25);
   } else {
-    powerOfTwoSlider("shadow map", s.shadowMapSize, 4, 11);
+    powerOfTwoSlider("shadowMapSize", 4, 11);
   }
-  changed |= sliderFloat("shadow bias", &s.shadowBias, 0.0f, 0.1f, "%.4f", "fraction of the scene diagonal",
-                         ImGuiSliderFlags_Logarithmic);
-  changed |= sliderInt("direct samples", &s.directLightSamples, 1, 256, "shadow-mapped area-light samples",
-                       ImGuiSliderFlags_Logarithmic);
-  changed |= sliderFloat("exposure [EV]", &s.exposure, -10.0f, 10.0f, "%.1f", "display only");
+  changed |= settingSliderFloat(s, "shadowBias", 0.0f, 0.1f, "%.4f", ImGuiSliderFlags_Logarithmic);
+  changed |= settingSliderInt(s, "directLightSamples", 1, 256, ImGuiSliderFlags_Logarithmic);
+  changed |= settingSliderFloat(s, "exposure", -10.0f, 10.0f, "%.1f");
   return changed;
 }
 
@@ -135,10 +186,9 @@ bool drawOfflineSettingsPanel(Settings& s) {
     s.height = size[1];
     changed = true;
   }
-  changed |= sliderInt("spp", &s.samplesPerPixel, 1, 4096, "reference samples per pixel", ImGuiSliderFlags_Logarithmic);
-  changed |= sliderInt("exact spp", &s.exactSamplesPerPixel, 1, 4096,
-                       "samples per pixel of the exact VPL render (each sums every VPL)", ImGuiSliderFlags_Logarithmic);
-  changed |= sliderInt("max depth", &s.maxDepth, 1, 64, "reference path length in bounces");
+  changed |= settingSliderInt(s, "samplesPerPixel", 1, 4096, ImGuiSliderFlags_Logarithmic);
+  changed |= settingSliderInt(s, "exactSamplesPerPixel", 1, 4096, ImGuiSliderFlags_Logarithmic);
+  changed |= settingSliderInt(s, "maxDepth", 1, 64);
   return changed;
 }
 
