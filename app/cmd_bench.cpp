@@ -23,7 +23,7 @@ int cmdBench(const Args& args) {
        {"quick", "", "fewer parameter values and VPLs (a minute per scene instead of several)"},
        {"methods", "LIST", "comma-separated subset of vpl,clamp,ssbc,vsl,reject,vpl-kk (default all)"},
        {"ref-spp", "N", "reference samples per pixel (default 1024, 256 with --quick)"},
-       {"samples-per-pixel", "N", "samples per pixel of the CPU VPL renders (default 4, 2 with --quick)"},
+       {"exact-samples-per-pixel", "N", "samples per pixel of the exact CPU VPL renders (default 4, 2 with --quick)"},
        {"components", "indirect|all", "what is compared with the reference (default indirect)"},
        {"shard", "i/n", "run only part i of n of the sweep (1 <= i <= n): runs k with k mod n = i - 1"},
        {"merge", "", "the arguments are shard folders: join their bench.csv into --out and write its report"}});
@@ -62,9 +62,9 @@ int cmdBench(const Args& args) {
   config.cpuSpp = config.quick ? 2 : 4;
   cl.getSize("size", config.width, config.height);
   config.referenceSpp = cl.getInt("ref-spp", config.referenceSpp);
-  config.cpuSpp = cl.getInt("samples-per-pixel", config.cpuSpp);
+  config.cpuSpp = cl.getInt("exact-samples-per-pixel", config.cpuSpp);
   if (config.referenceSpp < 1 || config.cpuSpp < 1)
-    throw cli::CliError("--ref-spp and --samples-per-pixel must be >= 1");
+    throw cli::CliError("--ref-spp and --exact-samples-per-pixel must be >= 1");
   if (config.width < 1 || config.height < 1 || config.width > 4096 || config.height > 4096)
     throw cli::CliError("option --size: each side must be in [1, 4096]");
   if (auto m = cl.value("methods")) {

@@ -387,7 +387,7 @@ TEST(BenchShards, FourShardsThroughGnuParallelMergeToTheUnshardedSweep) {
   const std::string dir = tmp("shards");
   fs::remove_all(dir);
   fs::create_directories(dir);
-  const std::string sweep = kScene + " --quick --size 12x12 --ref-spp 8 --samples-per-pixel 1 --methods vpl,clamp,vsl,reject"
+  const std::string sweep = kScene + " --quick --size 12x12 --ref-spp 8 --exact-samples-per-pixel 1 --methods vpl,clamp,vsl,reject"
                             " --gl off --threads 1";
   CliRun full = vplab("bench " + sweep + " --out " + dir + "/full");
   ASSERT_EQ(full.status, 0) << full.out;
