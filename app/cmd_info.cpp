@@ -50,18 +50,21 @@ int cmdInfo(const Args& args) {
   std::printf("bounds     %s .. %s  (extent %s, diagonal %.4g)\n", vec(scene.bounds.lower).c_str(),
               vec(scene.bounds.upper).c_str(), vec(scene.bounds.extent()).c_str(), scene.bounds.diagonal());
 
-  // A Lambertian emitter of radiance L and area A emits pi * L * A from its front side.
+  // A Lambertian emitter of radiance L and area A emits pi * L * A from its front side (L: the mean over the triangle
+  // when the emission is textured).
   std::map<uint32_t, std::pair<std::size_t, glm::vec3>> emitters;
   for (uint32_t t : scene.emissiveTriangles) {
     auto& e = emitters[scene.triangleMaterials[t]];
     ++e.first;
-    e.second += kPi * scene.materialOf(t).emission * scene.triangleArea(t);
+    e.second += kPi * scene.meanEmission(t) * scene.triangleArea(t);
   }
   std::printf("area lights (per material):\n");
   if (emitters.empty()) std::printf("  none\n");
-  for (const auto& [material, e] : emitters)
-    std::printf("  %-20s %zu triangles, radiance %s, power %s\n", scene.materials[material].name.c_str(), e.first,
-                vec(scene.materials[material].emission).c_str(), vec(e.second).c_str());
+  for (const auto& [material, e] : emitters) {
+    const Material& m = scene.materials[material];
+    std::printf("  %-20s %zu triangles, radiance %s%s, power %s\n", m.name.c_str(), e.first, vec(m.emission).c_str(),
+                m.emissiveTexture >= 0 ? " x emissive texture" : "", vec(e.second).c_str());
+  }
   std::printf("punctual lights:\n");
   if (scene.punctualLights.empty()) std::printf("  none\n");
   for (const PunctualLight& l : scene.punctualLights) {
@@ -86,6 +89,8 @@ int cmdInfo(const Args& args) {
       std::printf(" x texture '%s'", scene.textures[static_cast<std::size_t>(m.baseColorTexture)].name.c_str());
     std::printf(", metallic %.3g, roughness %.3g, specular %.3g", m.metallic, m.roughness, m.specular);
     if (m.isEmissive()) std::printf(", emission %s", vec(m.emission).c_str());
+    if (m.isEmissive() && m.emissiveTexture >= 0)
+      std::printf(" x texture '%s'", scene.textures[static_cast<std::size_t>(m.emissiveTexture)].name.c_str());
     std::printf("\n");
   }
 

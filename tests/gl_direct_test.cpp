@@ -12,6 +12,7 @@
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/path_tracer.h"
+#include "renderer/scene/gltf_loader.h"
 #include "tests/gl_test_util.h"
 #include "tests/test_scenes.h"
 
@@ -20,21 +21,10 @@ namespace {
 
 class GlDirect : public test::GlBackendTest {};
 
-Image boxFilterDown(const Image& image, int factor) {
-  Image out(image.width / factor, image.height / factor);
-  for (int y = 0; y < out.height; ++y)
-    for (int x = 0; x < out.width; ++x) {
-      glm::vec3 sum(0.0f);
-      for (int j = 0; j < factor; ++j)
-        for (int i = 0; i < factor; ++i) sum += image.at(x * factor + i, y * factor + j);
-      out.at(x, y) = sum / static_cast<float>(factor * factor);
-    }
-  return out;
-}
-
 // Preview direct light (Le seen directly included, as the reference's direct component has it) at 4x, box-filtered,
 // against the reference's direct component.
-ImageMetrics directAgainstReference(const OfflineScene& l, int size, int referenceSpp, const char* name) {
+ImageMetrics directAgainstReference(const OfflineScene& l, int size, int referenceSpp, const char* name,
+                                    Image* previewOut = nullptr) {
   Settings s;
   s.width = s.height = 4 * size;
   s.threads = 2;
@@ -42,7 +32,7 @@ ImageMetrics directAgainstReference(const OfflineScene& l, int size, int referen
   PreviewRenderer renderer;
   renderer.render(l.scene(), VplSet{}, s, l.scene().camera);
   // With no VPLs the final image is Le + direct.
-  Image preview = boxFilterDown(renderer.readLinear(PreviewOutput::Final), 4);
+  Image preview = blockAverage(renderer.readLinear(PreviewOutput::Final), 4);
   Settings r = s;
   r.width = r.height = size;
   r.samplesPerPixel = referenceSpp;
@@ -53,6 +43,7 @@ ImageMetrics directAgainstReference(const OfflineScene& l, int size, int referen
               "energy %.4f\n",
               name, 4 * size, size, referenceSpp, m.relMse, m.energyRatioOverall);
   EXPECT_EQ(m.nonFinitePixels, 0u);
+  if (previewOut) *previewOut = preview;
   return m;
 }
 
@@ -109,6 +100,17 @@ TEST_P(GlDirect, DirectionalLightMatchesReference) {
   ImageMetrics m = directAgainstReference(l, 64, 64, "cornell-box without ceiling, directional light");
   EXPECT_LE(m.relMse, 0.02);
   EXPECT_NEAR(m.energyRatioOverall, 1.0, 0.02);
+}
+
+// A glTF panel whose emissive texture is black on one half and white on the other (test::TexturedPanel): the
+// preview's camera-seen emission and direct light against the reference and against the closed form.
+TEST_P(GlDirect, TexturedEmitterMatchesReferenceAndClosedForm) {
+  OfflineScene l(loadScene(test::TexturedPanel::write("textured-panel.glb")));
+  Image preview;
+  ImageMetrics m = directAgainstReference(l, 32, 256, "textured panel", &preview);
+  EXPECT_LE(m.relMse, 0.005);
+  EXPECT_NEAR(m.energyRatioOverall, 1.0, 0.02);
+  test::TexturedPanel::expectClosedForm(preview, l.scene().camera, 0.005, 0.02, 0.03, "preview, textured panel");
 }
 
 // A plane lit at 80 degrees from its normal by a point light: every pixel is lit (nothing occludes), so any pixel

@@ -1,9 +1,16 @@
 #include "tests/test_scenes.h"
 
+#include "renderer/core/sampling.h"
+#include "renderer/image/metrics.h"
+#include "renderer/offline/progressive.h"
 #include "renderer/scene/gltf_loader.h"
+#include "tests/scene_test_util.h"
+
+#include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 namespace vplab::test {
@@ -209,6 +216,161 @@ double polygonIrradiance(const glm::dvec3& x, const glm::dvec3& n, const glm::dv
     sum += theta * glm::dot(n, gamma);
   }
   return le * 0.5 * std::abs(sum);
+}
+
+std::string TexturedPanel::write(const std::string& name) {
+  GltfBuilder b;
+  b.doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_specular"};
+  const int floorMaterial = b.push(
+      "materials", {{"name", "floor"},
+                    {"pbrMetallicRoughness",
+                     {{"baseColorFactor", {kFloorAlbedo, kFloorAlbedo, kFloorAlbedo, 1.0}}, {"metallicFactor", 0.0},
+                      {"roughnessFactor", 1.0}}},
+                    {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}});
+  // Strength 4 and factor (1, 0.5, 0.25): the product is kPanelRadiance.
+  const float strength = kPanelRadiance.r;
+  const glm::vec3 factor = kPanelRadiance / strength;
+  const int panelMaterial = b.push(
+      "materials", {{"name", "panel"},
+                    {"pbrMetallicRoughness", {{"baseColorFactor", {0.0, 0.0, 0.0, 1.0}}, {"metallicFactor", 0.0}}},
+                    {"emissiveFactor", {factor.r, factor.g, factor.b}},
+                    {"emissiveTexture", {{"index", 0}}},
+                    {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", strength}}},
+                                    {"KHR_materials_specular", {{"specularFactor", 0.0}}}}}});
+  const int texels = 256, rows = 4;
+  std::vector<glm::u8vec3> image(static_cast<std::size_t>(texels * rows));
+  for (int y = 0; y < rows; ++y)
+    for (int x = 0; x < texels; ++x)
+      image[static_cast<std::size_t>(y * texels + x)] = x < texels / 2 ? glm::u8vec3(0) : glm::u8vec3(255);
+  std::vector<unsigned char> bytes = bmp(texels, rows, image);
+  b.doc["images"] = {{{"bufferView", b.view(bytes.data(), bytes.size())}, {"mimeType", "image/bmp"}}};
+  b.doc["textures"] = {{{"source", 0}}};
+
+  const int floorPos = b.vec3({{-1, 0, -1}, {1, 0, -1}, {1, 0, 1}, {-1, 0, 1}});
+  const int floorNormal = b.vec3({{0, 1, 0}, {0, 1, 0}, {0, 1, 0}, {0, 1, 0}});
+  const int floorIdx = b.indicesU16({0, 2, 1, 0, 3, 2});
+  b.meshNode(b.mesh({GltfBuilder::primitive(floorPos, floorIdx, floorNormal, floorMaterial)}));
+
+  const int cells = 4;
+  std::vector<glm::vec3> pos, normal;
+  std::vector<glm::vec2> uv;
+  std::vector<uint16_t> idx;
+  for (int j = 0; j <= cells; ++j)
+    for (int i = 0; i <= cells; ++i) {
+      const float x = -kPanelHalf + 2.0f * kPanelHalf * static_cast<float>(i) / cells;
+      const float z = -kPanelHalf + 2.0f * kPanelHalf * static_cast<float>(j) / cells;
+      pos.emplace_back(x, kPanelHeight, z);
+      normal.emplace_back(0, -1, 0);
+      uv.emplace_back(0.25f + 0.5f * (x + kPanelHalf) / (2.0f * kPanelHalf), 0.25f + 0.5f * (z + kPanelHalf) / (2.0f * kPanelHalf));
+    }
+  for (int j = 0; j < cells; ++j)
+    for (int i = 0; i < cells; ++i) {
+      const auto a = static_cast<uint16_t>(j * (cells + 1) + i), c = static_cast<uint16_t>(a + cells + 1);
+      // Counter-clockwise seen from below (the loader also turns triangles to their normals' side).
+      idx.insert(idx.end(), {a, static_cast<uint16_t>(a + 1), static_cast<uint16_t>(c + 1), a,
+                             static_cast<uint16_t>(c + 1), c});
+    }
+  nlohmann::json panel = GltfBuilder::primitive(b.vec3(pos), b.indicesU16(idx), b.vec3(normal), panelMaterial);
+  panel["attributes"]["TEXCOORD_0"] = b.vec2(uv);
+  b.meshNode(b.mesh({panel}));
+
+  b.push("cameras", {{"type", "perspective"}, {"perspective", {{"yfov", 0.9}, {"znear", 0.01}, {"zfar", 100.0}}}});
+  b.node({{"camera", 0}, {"translation", {0.0, 0.15, 1.5}}});
+
+  if (name.size() > 4 && name.substr(name.size() - 4) == ".glb") {
+    writeBytes(tmpPath(name), b.glbBytes());
+    return tmpPath(name);
+  }
+  return b.writeGltf(name);
+}
+
+glm::vec3 TexturedPanel::panelRadiance(float x) {
+  // u = 0.5 + x / 2; texel centres at (i + 0.5) / 256: the last black texel's centre is u = 127.5 / 256 and the first
+  // white one's 128.5 / 256, with a linear blend between.
+  const double u = 0.25 + 0.5 * (static_cast<double>(x) + kPanelHalf) / (2.0 * kPanelHalf);
+  const double t = std::clamp(u * 256.0 - 127.5, 0.0, 1.0);
+  return kPanelRadiance * static_cast<float>(t);
+}
+
+glm::vec3 TexturedPanel::radianceAlong(const glm::vec3& origin, const glm::vec3& dir) {
+  // The panel first (it is the nearer surface where both lie along the ray), seen from below only.
+  if (dir.y > 0.0f && origin.y < kPanelHeight) {
+    const float t = (kPanelHeight - origin.y) / dir.y;
+    const glm::vec3 p = origin + t * dir;
+    if (std::abs(p.x) <= kPanelHalf && std::abs(p.z) <= kPanelHalf) return panelRadiance(p.x);
+  }
+  if (dir.y < 0.0f && origin.y > 0.0f) {
+    const float t = -origin.y / dir.y;
+    const glm::vec3 p = origin + t * dir;
+    if (std::abs(p.x) <= 1.0f && std::abs(p.z) <= 1.0f) {
+      const glm::dvec3 white[4] = {{0.0, kPanelHeight, -kPanelHalf},
+                                   {kPanelHalf, kPanelHeight, -kPanelHalf},
+                                   {kPanelHalf, kPanelHeight, kPanelHalf},
+                                   {0.0, kPanelHeight, kPanelHalf}};
+      const double e = polygonIrradiance(glm::dvec3(p.x, 0.0, p.z), {0.0, 1.0, 0.0}, white, 4, 1.0);
+      return kPanelRadiance * static_cast<float>(kFloorAlbedo * e / kPi);
+    }
+  }
+  return glm::vec3(0.0f);
+}
+
+Image TexturedPanel::closedForm(const Camera& camera, int size, int sub) {
+  Image image(size, size);
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      glm::vec3 sum(0.0f);
+      for (int j = 0; j < sub; ++j)
+        for (int i = 0; i < sub; ++i) {
+          const float px = static_cast<float>(x) + (static_cast<float>(i) + 0.5f) / static_cast<float>(sub);
+          const float py = static_cast<float>(y) + (static_cast<float>(j) + 0.5f) / static_cast<float>(sub);
+          sum += radianceAlong(camera.position, cameraRayDirection(camera, px, py, size, size));
+        }
+      image.at(x, y) = sum / static_cast<float>(sub * sub);
+    }
+  return image;
+}
+
+void TexturedPanel::expectClosedForm(const Image& image, const Camera& camera, double relMseTolerance,
+                                     double energyTolerance, double floorHalfTolerance, const char* what) {
+  const Image expected = closedForm(camera, image.width);
+  const ImageMetrics m = compareImages(image, expected);
+  // Pixels that lie wholly on one surface (all four corner rays agree), by surface and by half of the image.
+  auto surface = [&](float px, float py) {
+    const glm::vec3 dir = cameraRayDirection(camera, px, py, image.width, image.height);
+    if (dir.y > 0.0f) {
+      const glm::vec3 p = camera.position + (kPanelHeight - camera.position.y) / dir.y * dir;
+      return std::abs(p.x) <= kPanelHalf && std::abs(p.z) <= kPanelHalf ? 1 : 0;
+    }
+    if (dir.y < 0.0f) {
+      const glm::vec3 p = camera.position - camera.position.y / dir.y * dir;
+      return std::abs(p.x) <= 1.0f && std::abs(p.z) <= 1.0f ? 2 : 0;
+    }
+    return 0;
+  };
+  double sum[3][2] = {}, sumExpected[3][2] = {};
+  for (int y = 0; y < image.height; ++y)
+    for (int x = 0; x < image.width; ++x) {
+      const auto fx = static_cast<float>(x), fy = static_cast<float>(y);
+      const int kind = surface(fx, fy);
+      if (surface(fx + 1, fy) != kind || surface(fx, fy + 1) != kind || surface(fx + 1, fy + 1) != kind) continue;
+      const int half = 2 * x < image.width ? 0 : 1;
+      sum[kind][half] += luminance(image.at(x, y));
+      sumExpected[kind][half] += luminance(expected.at(x, y));
+    }
+  const double floorLeft = sum[2][0] / sumExpected[2][0], floorRight = sum[2][1] / sumExpected[2][1];
+  const double panelRight = sum[1][1] / sumExpected[1][1];
+  // The black half, relative to the white one (the closed form's is the texture's blend in the column at x = 0).
+  const double panelLeft = sum[1][0] / sumExpected[1][1], expectedPanelLeft = sumExpected[1][0] / sumExpected[1][1];
+  std::printf("[ measured ] %s vs closed form: relMSE %.5f, energy %.4f; floor left half %.4f, right half %.4f; "
+              "panel white half %.4f, black half %.2g of the white (closed form %.2g)\n",
+              what, m.relMse, m.energyRatioOverall, floorLeft, floorRight, panelRight, panelLeft, expectedPanelLeft);
+  EXPECT_EQ(m.nonFinitePixels, 0u) << what;
+  EXPECT_LE(m.relMse, relMseTolerance) << what;
+  EXPECT_NEAR(m.energyRatioOverall, 1.0, energyTolerance) << what;
+  EXPECT_NEAR(floorLeft, 1.0, floorHalfTolerance) << what;
+  EXPECT_NEAR(floorRight, 1.0, floorHalfTolerance) << what;
+  EXPECT_NEAR(panelRight, 1.0, energyTolerance) << what;
+  EXPECT_NEAR(panelLeft, expectedPanelLeft, 0.01) << what;
 }
 
 }  // namespace vplab::test

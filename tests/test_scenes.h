@@ -2,6 +2,7 @@
 // Scenes for the tests: built in code with a closed-form answer (independent of the glTF loader and the generated
 // assets), or loaded from assets/scenes/ together with their BVH and light sampler.
 
+#include "renderer/image/image.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
@@ -56,6 +57,35 @@ Scene makePlaneUnderPointLight(float planeHalf, const glm::vec3& position, float
 /// here) and deliver irradiance `irradiance` (lux) to a surface facing them.
 Scene makePlaneUnderDirectionalLight(float planeHalf, const glm::vec3& direction, float irradiance,
                                      float albedo = 1.0f);
+
+/// A glTF scene with a textured emitter and a closed-form answer (tests/emissive_texture_test.cpp):
+/// - a floor [-1,1]^2 at y = 0 facing +y, pure Lambert (albedo 0.5, KHR_materials_specular 0);
+/// - a panel x, z in [-0.5, 0.5] at y = 0.5 facing down, a 4 x 4 grid of quads (32 triangles), base colour 0,
+///   emissiveFactor x KHR_materials_emissive_strength = kPanelRadiance times an emissive texture of 256 x 4 texels,
+///   black for u < 0.5 and white above; the panel's u runs from 0.25 at x = -0.5 to 0.75 at x = 0.5, so the half
+///   x < 0 is black and x > 0 emits kPanelRadiance (the bilinear lookup blends the two over |u - 0.5| < 1/512);
+/// - the file's camera at (0, 0.15, 1.5) looking down -z (yfov 0.9), seeing the panel's underside and the floor.
+struct TexturedPanel {
+  static constexpr float kFloorAlbedo = 0.5f;
+  static constexpr float kPanelHeight = 0.5f;
+  static constexpr float kPanelHalf = 0.5f;
+  static inline const glm::vec3 kPanelRadiance{4.0f, 2.0f, 1.0f};
+  /// Writes the scene to VPLAB_TEST_TMP/<name> (.gltf, or .glb with everything embedded) and returns the path.
+  static std::string write(const std::string& name);
+  /// Emitted radiance at panel point x (the texture's bilinear ramp included).
+  static glm::vec3 panelRadiance(float x);
+  /// Radiance toward the camera along the ray from `origin` along `dir`: the panel's front (textured Le), the floor
+  /// (albedo / pi x the white half's polygon irradiance), or 0.
+  static glm::vec3 radianceAlong(const glm::vec3& origin, const glm::vec3& dir);
+  /// The closed-form image for `camera`: each pixel the mean of radianceAlong() over sub x sub positions in it.
+  static Image closedForm(const Camera& camera, int size, int sub = 64);
+  /// Expects (gtest) `image` (square, seen by `camera`) to match closedForm(): relMSE at most relMseTolerance, the
+  /// energy of the whole image and of the panel's white half (pixels wholly on it) within energyTolerance, the black
+  /// half as dark as the closed form (within 1 % of the white half), and the floor's light under each half (pixels wholly on the floor, left and right of the image's
+  /// centre) within floorHalfTolerance. Prints the figures, labelled `what`.
+  static void expectClosedForm(const Image& image, const Camera& camera, double relMseTolerance,
+                               double energyTolerance, double floorHalfTolerance, const char* what);
+};
 
 /// Irradiance at point x with unit normal n from a one-sided Lambertian polygon of uniform radiance le
 /// (Lambert 1760; Arvo 1994, eq. 3): E = le/2 sum_i Theta_i (n . Gamma_i), unoccluded, polygon fully above x.

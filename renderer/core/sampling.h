@@ -122,6 +122,26 @@ inline glm::vec2 sampleUniformTriangle(glm::vec2 u) {
   return {b0, b1};
 }
 
+/// The radical inverse of `index` in `base` (the Halton sequence's coordinate for that base), in [0, 1).
+inline float radicalInverse(uint32_t base, uint64_t index) {
+  const double invBase = 1.0 / base;
+  double factor = invBase, result = 0.0;
+  while (index > 0) {
+    result += factor * static_cast<double>(index % base);
+    index /= base;
+    factor *= invBase;
+  }
+  return std::fmin(static_cast<float>(result), kOneMinusEpsilon);
+}
+
+/// u shifted by `offset` modulo 1 (a Cranley-Patterson rotation: a seed moves a low-discrepancy set without
+/// breaking its stratification), in [0, 1).
+inline float rotateUnit(float u, float offset) {
+  u += offset;
+  if (u >= 1.0f) u -= 1.0f;
+  return std::fmin(u, kOneMinusEpsilon);
+}
+
 /// Veach's power heuristic with beta = 2.
 inline float powerHeuristic(float pdfA, float pdfB) {
   float a = pdfA * pdfA, b = pdfB * pdfB;

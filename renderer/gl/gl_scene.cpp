@@ -21,13 +21,17 @@ GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_ca
   for (const Texture& tex : scene.textures) size = std::max({size, tex.width, tex.height});
   size = std::min(size, kMaxTextureSize);
   struct MaterialGpu {
-    glm::vec4 baseColor, emission, params;
+    glm::vec4 baseColor, emission, params, emissiveUvRow0, emissiveUvRow1;
   };
   std::vector<MaterialGpu> m(scene.materials.size());
   for (std::size_t i = 0; i < m.size(); ++i) {
     const Material& mat = scene.materials[i];
-    m[i] = {glm::vec4(mat.baseColor, static_cast<float>(mat.baseColorTexture)), glm::vec4(mat.emission, 0.0f),
-            glm::vec4(mat.metallic, mat.roughness, mat.specular, 0.0f)};
+    const glm::mat3& uv = mat.emissiveUvTransform;  // column-major: uv[column][row]
+    m[i] = {glm::vec4(mat.baseColor, static_cast<float>(mat.baseColorTexture)),
+            glm::vec4(mat.emission, static_cast<float>(mat.emissiveTexture)),
+            glm::vec4(mat.metallic, mat.roughness, mat.specular, 0.0f),
+            glm::vec4(uv[0][0], uv[1][0], uv[2][0], 0.0f),
+            glm::vec4(uv[0][1], uv[1][1], uv[2][1], 0.0f)};
   }
   positions_.assign(p.data(), p.size() * sizeof(glm::vec4));
   normals_.assign(n.data(), n.size() * sizeof(glm::vec4));

@@ -1,6 +1,6 @@
 #pragma once
 // The Scene uploaded for rasterisation: vertex and triangle SSBOs (bindings 0-4, see shaders/common/scene.glsl) and
-// the base-colour textures resampled into one texture array (layers share one size, so every texture is resampled
+// the base-colour and emissive textures resampled into one texture array (layers share one size, so every texture is resampled
 // with Texture::sample, the CPU renderer's own bilinear lookup, at the array's texel centres).
 
 #include "renderer/gl/resources.h"
@@ -10,7 +10,7 @@ namespace vplab {
 
 class GlScene {
  public:
-  /// Largest side of the base-colour texture array, in texels.
+  /// Largest side of the texture array, in texels.
   static constexpr int kMaxTextureSize = 1024;
 
   explicit GlScene(const Scene& scene);

@@ -58,7 +58,7 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
     double power = 0.0;
     for (uint32_t t : g.triangles) {
       const glm::uvec3& v = scene.triangles[t];
-      double p = luminance(scene.materialOf(t).emission) * scene.triangleArea(t);
+      double p = luminance(scene.meanEmission(t)) * scene.triangleArea(t);
       weighted += p * glm::dvec3(scene.positions[v.x] + scene.positions[v.y] + scene.positions[v.z]) / 3.0;
       power += p;
     }

@@ -304,30 +304,43 @@ void PreviewRenderer::uploadDirectLights(const Scene& scene, const Settings& set
     for (uint32_t t : groups[g].triangles) groupOf[t] = static_cast<int>(g);
     lightCasters_.push_back({groups[g].centre, groups[g].radius});
   }
-  // Area lights: K points y_k chosen with p(triangle) proportional to its power (luminance(Le) x area) and uniform
-  // on the triangle, so p_A(y) = p_t / A_t; each carries Le / (K p_A), making the sum an unbiased estimate of the
-  // unshadowed T Le; the visibility comes from the sample's emitter map.
+  // Area lights: K points y_k chosen with p(triangle) proportional to its power (luminance of its mean textured Le
+  // x area, as the offline light sampler chooses) and uniform on the triangle, so p_A(y) = p_t / A_t; each carries
+  // Le(y) / (K p_A), Le looked up at y, making the sum an unbiased estimate of the unshadowed T Le; the visibility
+  // comes from the sample's emitter map.
   std::vector<float> cdf;
+  std::vector<uint32_t> emitters;  // triangles with power > 0 (a black part of a textured emitter is never chosen)
   float total = 0.0f;
   for (uint32_t t : scene.emissiveTriangles) {
-    total += luminance(scene.materialOf(t).emission) * scene.triangleArea(t);
+    float power = luminance(scene.meanEmission(t)) * scene.triangleArea(t);
+    if (!(power > 0.0f)) continue;
+    total += power;
     cdf.push_back(total);
+    emitters.push_back(t);
   }
   if (total > 0.0f) {
     int k = settings.directLightSamples;
+    // Sample s is Halton point s in bases 2 (the light choice) and 3, 5 (the point on the triangle), rotated by the
+    // seed: deterministic (the same settings give the same samples, hence a stable preview) and stratified, so the
+    // K samples cover the emitters evenly (independent random samples left errors of +-20 % at K = 64 where an
+    // emitter is seen at grazing angles; these give +-3 %).
+    Rng rotation(hashKey(settings.seed, 0x646972656374ull));
+    const float offsetLight = rotation.next1D();
+    const glm::vec2 offsetPoint = rotation.next2D();
     for (int s = 0; s < k; ++s) {
-      // Deterministic per (seed, sample): the same settings give the same samples, hence a stable preview.
-      Rng rng(hashKey(settings.seed, static_cast<uint64_t>(s), 0x646972656374ull));
-      float u = rng.next1D() * total;
+      const auto index = static_cast<uint64_t>(s);
+      float u = rotateUnit(radicalInverse(2, index), offsetLight) * total;
       std::size_t i = static_cast<std::size_t>(std::upper_bound(cdf.begin(), cdf.end(), u) - cdf.begin());
       i = std::min(i, cdf.size() - 1);
-      uint32_t tri = scene.emissiveTriangles[i];
+      uint32_t tri = emitters[i];
       float pTri = (cdf[i] - (i ? cdf[i - 1] : 0.0f)) / total;
-      glm::vec2 b = sampleUniformTriangle(rng.next2D());
+      glm::vec2 b = sampleUniformTriangle(
+          {rotateUnit(radicalInverse(3, index), offsetPoint.x), rotateUnit(radicalInverse(5, index), offsetPoint.y)});
       const glm::uvec3& v = scene.triangles[tri];
       glm::vec3 y = b.x * scene.positions[v.x] + b.y * scene.positions[v.y] + (1.0f - b.x - b.y) * scene.positions[v.z];
       float pdfA = pTri / scene.triangleArea(tri);
-      glm::vec3 weight = scene.materialOf(tri).emission / (static_cast<float>(k) * pdfA);
+      glm::vec3 weight =
+          scene.emissionAt(scene.triangleMaterials[tri], scene.uvAt(tri, b)) / (static_cast<float>(k) * pdfA);
       const int g = groupOf.at(tri);
       const LightShadowCaster& caster = lightCasters_[static_cast<std::size_t>(g)];
       lights.push_back({glm::vec4(y, 0.0f), glm::vec4(scene.geometricNormal(tri), 0.0f), glm::vec4(weight, 0.0f),

@@ -37,7 +37,7 @@ glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& light
 glm::vec3 misWeightedEmission(const LightSampler& lights, const glm::vec3& from, const SurfaceHit& emitterHit,
                               const glm::vec3& wi, float brdfPdf) {
   // One-sided emitters: Le only toward the side the winding normal faces.
-  glm::vec3 le = lights.emittedRadiance(emitterHit.triangle, emitterHit.geometricNormal, -wi);
+  glm::vec3 le = lights.emittedRadiance(emitterHit.triangle, emitterHit.geometricNormal, emitterHit.uv, -wi);
   if (le.r <= 0.0f && le.g <= 0.0f && le.b <= 0.0f) return glm::vec3(0.0f);
   // The solid-angle pdf with which next-event estimation would have produced this point: power heuristic.
   float lightPdf = lights.pdfLi(from, emitterHit.triangle, emitterHit.position, emitterHit.geometricNormal);

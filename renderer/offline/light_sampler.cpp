@@ -10,10 +10,17 @@ namespace vplab {
 
 namespace {
 
-glm::vec3 pointOnTriangle(const Scene& scene, uint32_t triangle, glm::vec2 u) {
+/// A point uniform on the triangle's area and the radiance it emits (the emissive texture looked up there).
+struct EmitterPoint {
+  glm::vec3 position;
+  glm::vec3 radiance;
+};
+
+EmitterPoint pointOnTriangle(const Scene& scene, uint32_t triangle, glm::vec2 u) {
   glm::vec2 b = sampleUniformTriangle(u);
   const glm::uvec3& t = scene.triangles[triangle];
-  return b.x * scene.positions[t.x] + b.y * scene.positions[t.y] + (1.0f - b.x - b.y) * scene.positions[t.z];
+  return {b.x * scene.positions[t.x] + b.y * scene.positions[t.y] + (1.0f - b.x - b.y) * scene.positions[t.z],
+          scene.emissionAt(scene.triangleMaterials[triangle], scene.uvAt(triangle, b))};
 }
 
 float selectionWeight(const glm::vec3& power) {
@@ -29,8 +36,9 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene), triangleToLight_
     diskRadius_ = 0.5f * scene.geometryBounds.diagonal();
   }
   for (uint32_t tri : scene.emissiveTriangles) {
-    // A one-sided Lambertian emitter of radiance L and area A emits pi A L.
-    glm::vec3 power = kPi * scene.triangleArea(tri) * scene.materialOf(tri).emission;
+    // A one-sided Lambertian emitter of radiance L and area A emits pi A L; a textured one pi A times its mean L, so
+    // that triangles are chosen by the power the texture gives them (a black part of an emitter is never chosen).
+    glm::vec3 power = kPi * scene.triangleArea(tri) * scene.meanEmission(tri);
     float w = selectionWeight(power);
     if (!(w > 0.0f)) continue;
     triangleToLight_[tri] = static_cast<int32_t>(lights_.size());
@@ -105,7 +113,8 @@ LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2
   }
 
   // Uniform point on the triangle: pdf_A = 1/A, turned into solid angle by d^2 / cos_light.
-  s.position = pointOnTriangle(scene_, light.index, uPoint);
+  const EmitterPoint y = pointOnTriangle(scene_, light.index, uPoint);
+  s.position = y.position;
   s.normal = scene_.geometricNormal(light.index);
   glm::vec3 d = s.position - x;
   float dist2 = glm::dot(d, d);
@@ -114,7 +123,7 @@ LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2
   s.wi = d / s.distance;
   float cosLight = -glm::dot(s.normal, s.wi);
   if (cosLight <= 0.0f) return LightSampleLi{};  // back of a one-sided emitter
-  s.radiance = scene_.materialOf(light.index).emission;
+  s.radiance = y.radiance;
   s.pdf = pLight * dist2 / (cosLight * scene_.triangleArea(light.index));
   s.emissionPdfDirection = cosLight * kInvPi;
   return s;
@@ -132,9 +141,10 @@ float LightSampler::pdfLi(const glm::vec3& x, uint32_t triangle, const glm::vec3
   return pLight * dist2 / (cosLight * scene_.triangleArea(triangle));
 }
 
-glm::vec3 LightSampler::emittedRadiance(uint32_t triangle, const glm::vec3& emitterNormal, const glm::vec3& w) const {
+glm::vec3 LightSampler::emittedRadiance(uint32_t triangle, const glm::vec3& emitterNormal, glm::vec2 uv,
+                                        const glm::vec3& w) const {
   if (glm::dot(emitterNormal, w) <= 0.0f) return glm::vec3(0.0f);
-  return scene_.materialOf(triangle).emission;
+  return scene_.emissionAt(scene_.triangleMaterials[triangle], uv);
 }
 
 EmissionSample LightSampler::sampleEmission(float uLight, glm::vec2 uPoint, glm::vec2 uDirection) const {
@@ -178,14 +188,15 @@ EmissionSample LightSampler::sampleEmission(float uLight, glm::vec2 uPoint, glm:
   }
 
   // Area light: uniform point (pdf_A = 1/A), cosine-weighted direction (pdf = cos/pi):
-  // alpha_0 = Le cos / (p_light pdf_A pdf_dir) = Le pi A / p_light.
-  s.position = pointOnTriangle(scene_, light.index, uPoint);
+  // alpha_0 = Le(y) cos / (p_light pdf_A pdf_dir) = Le(y) pi A / p_light.
+  const EmitterPoint y = pointOnTriangle(scene_, light.index, uPoint);
+  s.position = y.position;
   s.normal = scene_.geometricNormal(light.index);
   glm::vec3 local = sampleCosineHemisphere(uDirection);
   if (!(local.z > 0.0f)) return EmissionSample{};
   s.direction = glm::normalize(Frame(s.normal).toWorld(local));
   s.pdfDirection = local.z * kInvPi;
-  s.weight = scene_.materialOf(light.index).emission * (kPi * scene_.triangleArea(light.index)) / pLight;
+  s.weight = y.radiance * (kPi * scene_.triangleArea(light.index)) / pLight;
   s.valid = true;
   return s;
 }

@@ -52,14 +52,15 @@ class LightSampler {
   /// Total emitted power (luminance-weighted RGB average of every light's flux), for statistics.
   glm::vec3 totalPower() const { return totalPower_; }
 
-  /// Next-event estimation: a point on a light chosen by power (uLight), uniform on its area (uPoint).
+  /// Next-event estimation: a light chosen by power (uLight; an emissive triangle by its mean textured radiance), a
+  /// point uniform on its area (uPoint) carrying the radiance emitted there.
   LightSampleLi sampleLi(const glm::vec3& x, float uLight, glm::vec2 uPoint) const;
   /// Solid-angle pdf with which sampleLi() returns point y with normal ny on emissive `triangle` as seen from x.
   float pdfLi(const glm::vec3& x, uint32_t triangle, const glm::vec3& y, const glm::vec3& ny) const;
-  /// Radiance leaving an emissive triangle toward w (zero on its back side).
-  glm::vec3 emittedRadiance(uint32_t triangle, const glm::vec3& emitterNormal, const glm::vec3& w) const;
+  /// Radiance leaving an emissive triangle at texture coordinates uv toward w (zero on its back side).
+  glm::vec3 emittedRadiance(uint32_t triangle, const glm::vec3& emitterNormal, glm::vec2 uv, const glm::vec3& w) const;
 
-  /// Light tracing: light by power, point uniform on the area, direction cosine-weighted (area) or uniform over the
+  /// Light tracing: light by power, point uniform on the area (its own textured radiance), direction cosine-weighted (area) or uniform over the
   /// sphere / spot cone (point, spot). A directional light starts its paths uniformly on a disk of radius R (the
   /// geometry's bounding sphere) perpendicular to its direction, outside the scene: pdf_A = 1 / (pi R^2), the
   /// direction is fixed (a delta), and the disk's flux E pi R^2 is the light's power (docs/methods.md).

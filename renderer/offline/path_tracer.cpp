@@ -33,7 +33,7 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
 
   // Primary ray; emission seen directly belongs to the Direct component (zero reflections).
   std::optional<SurfaceHit> hit = embree.intersect(origin, dir);
-  if (hit && wantDirect) radiance += lights.emittedRadiance(hit->triangle, hit->geometricNormal, -dir);
+  if (hit && wantDirect) radiance += lights.emittedRadiance(hit->triangle, hit->geometricNormal, hit->uv, -dir);
 
   // Vertex `bounce` is the bounce-th reflection: light leaving it toward the camera has been reflected `bounce`
   // times, so bounce 1 feeds Direct and bounces >= 2 feed Indirect.

@@ -223,7 +223,7 @@ VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Met
     sp.wo = -dir;
     glm::vec3 radiance(0.0f);
     // Step 2: emission seen directly, as the reference counts it (one-sided emitters).
-    if (wantDirect) radiance += lights.emittedRadiance(hit->triangle, hit->geometricNormal, sp.wo);
+    if (wantDirect) radiance += lights.emittedRadiance(hit->triangle, hit->geometricNormal, hit->uv, sp.wo);
     if (!facesDirection(*hit, sp.wo)) return radiance;
     sp.brdf = brdfParamsAt(scene, hit->material, hit->uv);
     // Step 3: direct light, the reference's estimator (next-event estimation + BRDF sampling, MIS).

@@ -604,7 +604,20 @@ uint32_t Loader::materialIndex(int gltfMaterial, const std::string& where) {
   }
   if (pbr.metallicRoughnessTexture.index >= 0)
     warn(at + ".pbrMetallicRoughness.metallicRoughnessTexture", "ignored; the factors are used");
-  if (g.emissiveTexture.index >= 0) warn(at + ".emissiveTexture", "ignored; emissiveFactor is used");
+  if (g.emissiveTexture.index >= 0) {
+    std::string texAt = at + ".emissiveTexture";
+    if (g.emissiveTexture.texCoord != 0) warn(texAt, "texCoord other than 0 not supported; TEXCOORD_0 used");
+    m.emissiveTexture = textureIndex(g.emissiveTexture.index, texAt);
+    // The UVs will carry the base colour's transform (baked at load); the emissive lookup undoes it first.
+    const glm::mat3& base = uvTransforms_[static_cast<std::size_t>(gltfMaterial)];
+    glm::mat3 own = textureTransform(g.emissiveTexture.extensions, texAt);
+    if (std::abs(glm::determinant(base)) > 1e-12f) {
+      m.emissiveUvTransform = own * glm::inverse(base);
+    } else {
+      warn(texAt, "the base colour's KHR_texture_transform is singular; the emissive texture uses its coordinates");
+      m.emissiveUvTransform = glm::mat3(1.0f);
+    }
+  }
 
   // Emitted radiance = emissiveFactor x KHR_materials_emissive_strength (default 1).
   num(g.emissiveFactor, 3, "emissiveFactor");

@@ -25,6 +25,7 @@ const char* typeName(PunctualLight::Type t) {
 }
 
 Json vec(const glm::vec3& v) { return Json::array({v.x, v.y, v.z}); }
+Json vec(const glm::vec2& v) { return Json::array({v.x, v.y}); }
 
 /// Reads the file's values with the loader's bounds, naming the key of anything wrong.
 class Reader {
@@ -41,6 +42,10 @@ class Reader {
   glm::vec3 vec3(const Json& j, const std::string& where, double bound) const {
     if (!j.is_array() || j.size() != 3) fail(where, "expected 3 numbers");
     return {number(j[0], where, bound), number(j[1], where, bound), number(j[2], where, bound)};
+  }
+  glm::vec2 vec2(const Json& j, const std::string& where, double bound) const {
+    if (!j.is_array() || j.size() != 2) fail(where, "expected 2 numbers");
+    return {number(j[0], where, bound), number(j[1], where, bound)};
   }
   const Json& member(const Json& object, const char* key, const std::string& where) const {
     if (!object.is_object() || !object.contains(key)) fail(where, std::string("missing '") + key + "'");
@@ -71,15 +76,19 @@ std::string lightsToJson(const Scene& scene) {
   std::vector<int> entryOf(scene.materials.size(), -1);
   for (uint32_t t : scene.emissiveTriangles) {
     uint32_t m = scene.triangleMaterials[t];
+    // A textured emitter (emissive or base colour texture) keeps its texture coordinates, one triple per triangle.
+    const bool textured = scene.materials[m].emissiveTexture >= 0 || scene.materials[m].baseColorTexture >= 0;
     if (entryOf[m] < 0) {
       entryOf[m] = static_cast<int>(area.size());
       area.push_back({{"material", scene.materials[m].name},
                       {"emission", vec(scene.materials[m].emission)},
                       {"triangles", Json::array()}});
+      if (textured) area.back()["uvs"] = Json::array();
     }
     const glm::uvec3& tri = scene.triangles[t];
-    area[static_cast<std::size_t>(entryOf[m])]["triangles"].push_back(
-        {vec(scene.positions[tri.x]), vec(scene.positions[tri.y]), vec(scene.positions[tri.z])});
+    Json& entry = area[static_cast<std::size_t>(entryOf[m])];
+    entry["triangles"].push_back({vec(scene.positions[tri.x]), vec(scene.positions[tri.y]), vec(scene.positions[tri.z])});
+    if (textured) entry["uvs"].push_back({vec(scene.uvs[tri.x]), vec(scene.uvs[tri.y]), vec(scene.uvs[tri.z])});
   }
   return Json({{"punctualLights", punctual}, {"areaLights", area}}).dump(2) + "\n";
 }
@@ -147,6 +156,7 @@ void applyLightsFile(const std::string& path, Scene& scene) {
     std::string material;
     glm::vec3 emission;
     std::vector<glm::vec3> corners;  ///< three per triangle
+    std::vector<glm::vec2> uvs;      ///< three per triangle, or empty (untextured: zero)
   };
   std::vector<Area> areas;
   const Json& areaList = r.member(doc, "areaLights", "areaLights");
@@ -166,6 +176,15 @@ void applyLightsFile(const std::string& path, Scene& scene) {
       std::string tAt = at + ".triangles[" + std::to_string(t) + "]";
       if (!tris[t].is_array() || tris[t].size() != 3) r.fail(tAt, "expected 3 corners");
       for (int k = 0; k < 3; ++k) a.corners.push_back(r.vec3(tris[t][static_cast<std::size_t>(k)], tAt, kMaxCoordinate));
+    }
+    if (j.contains("uvs")) {
+      const Json& uvs = j["uvs"];
+      if (!uvs.is_array() || uvs.size() != tris.size()) r.fail(at + ".uvs", "expected one triple per triangle");
+      for (std::size_t t = 0; t < uvs.size(); ++t) {
+        std::string tAt = at + ".uvs[" + std::to_string(t) + "]";
+        if (!uvs[t].is_array() || uvs[t].size() != 3) r.fail(tAt, "expected 3 texture coordinates");
+        for (int k = 0; k < 3; ++k) a.uvs.push_back(r.vec2(uvs[t][static_cast<std::size_t>(k)], tAt, kMaxCoordinate));
+      }
     }
     areas.push_back(std::move(a));
   }
@@ -201,7 +220,7 @@ void applyLightsFile(const std::string& path, Scene& scene) {
       for (int k = 0; k < 3; ++k) {
         scene.positions.push_back(a.corners[c + static_cast<std::size_t>(k)]);
         scene.normals.push_back(glm::normalize(n));
-        scene.uvs.emplace_back(0.0f);
+        scene.uvs.push_back(a.uvs.empty() ? glm::vec2(0.0f) : a.uvs[c + static_cast<std::size_t>(k)]);
       }
       scene.triangles.emplace_back(base, base + 1, base + 2);
       scene.triangleMaterials.push_back(material);

@@ -18,7 +18,8 @@ struct LightsJsonError : std::runtime_error {
 /// `scenePath` + ".lights.json".
 std::string lightsSidecarPath(const std::string& scenePath);
 
-/// Every punctual light, and every area light as its emissive material's name and radiance with its triangles.
+/// Every punctual light, and every area light as its emissive material's name and radiance with its triangles (and
+/// their texture coordinates when the material has a texture, so that an emissive texture keeps its place).
 std::string lightsToJson(const Scene& scene);
 /// Writes lightsToJson() through a temporary file renamed into place, so a failed write leaves no partial file.
 void saveLightsFile(const std::string& path, const Scene& scene);

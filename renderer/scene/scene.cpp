@@ -78,6 +78,43 @@ glm::vec3 Scene::baseColorAt(uint32_t material, glm::vec2 uv) const {
   return m.baseColor * textures[static_cast<std::size_t>(m.baseColorTexture)].sample(uv);
 }
 
+glm::vec3 Scene::emissionAt(uint32_t material, glm::vec2 uv) const {
+  const Material& m = materials[material];
+  if (m.emissiveTexture < 0) return m.emission;
+  glm::vec2 st = glm::vec2(m.emissiveUvTransform * glm::vec3(uv, 1.0f));
+  return m.emission * textures[static_cast<std::size_t>(m.emissiveTexture)].sample(st);
+}
+
+glm::vec3 Scene::computeEmissionTextureMean(uint32_t triangle) const {
+  const Material& m = materialOf(triangle);
+  const Texture& tex = textures[static_cast<std::size_t>(m.emissiveTexture)];
+  // The triangle's footprint in texels decides the resolution: the triangle is cut into n^2 equal sub-triangles
+  // (n per edge) with about two per texel of footprint, and the texture is averaged at their centroids. Every texel
+  // whose bilinear support the triangle covers is then sampled, so a triangle that emits anywhere gets a positive
+  // mean (the light sampler never chooses a zero-mean triangle). n is capped at 256 (65536 lookups): beyond that the
+  // mean is an estimate, which only shifts the sampling density, never the radiance a sample carries.
+  const glm::uvec3& t = triangles[triangle];
+  glm::vec2 st[3];
+  for (int c = 0; c < 3; ++c) st[c] = glm::vec2(m.emissiveUvTransform * glm::vec3(uvs[t[c]], 1.0f));
+  glm::vec2 e1 = st[1] - st[0], e2 = st[2] - st[0];
+  double texels = 0.5 * std::abs(static_cast<double>(e1.x) * e2.y - static_cast<double>(e1.y) * e2.x) *
+                  static_cast<double>(tex.width) * static_cast<double>(tex.height);
+  const int n = static_cast<int>(std::clamp(std::ceil(std::sqrt(2.0 * texels)), 1.0, 256.0));
+  glm::dvec3 sum(0.0);
+  auto at = [&](double bx, double by) {
+    glm::vec2 b(static_cast<float>(bx / n), static_cast<float>(by / n));
+    sum += glm::dvec3(tex.sample(b.x * st[0] + b.y * st[1] + (1.0f - b.x - b.y) * st[2]));
+  };
+  // Sub-triangle (i, j) of the grid, upright ones at barycentric centroid ((i + 1/3) / n, (j + 1/3) / n), the inverted
+  // ones between them at ((i + 2/3) / n, (j + 2/3) / n).
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      at(i + 1.0 / 3.0, j + 1.0 / 3.0);
+      if (i + j + 1 < n) at(i + 2.0 / 3.0, j + 2.0 / 3.0);
+    }
+  return glm::vec3(sum / (static_cast<double>(n) * n));
+}
+
 void Scene::finalize() {
   geometryBounds = Bounds{};
   for (const glm::vec3& p : positions) geometryBounds.extend(p);
@@ -93,6 +130,12 @@ void Scene::finalize() {
   emissiveTriangles.clear();
   for (uint32_t i = 0; i < triangles.size(); ++i)
     if (materialOf(i).isEmissive() && triangleArea(i) > 0.0f) emissiveTriangles.push_back(i);
+  emissionTextureMeans_.clear();
+  for (uint32_t i : emissiveTriangles) {
+    if (materialOf(i).emissiveTexture < 0) continue;
+    if (emissionTextureMeans_.empty()) emissionTextureMeans_.assign(triangles.size(), glm::vec3(1.0f));
+    emissionTextureMeans_[i] = computeEmissionTextureMean(i);
+  }
 }
 
 }  // namespace vplab

@@ -31,7 +31,13 @@ struct Material {
   float metallic = 0.0f;      ///< [0, 1]
   float roughness = 1.0f;     ///< perceptual roughness [0, 1]; GGX alpha = roughness^2
   float specular = 1.0f;      ///< KHR_materials_specular specularFactor [0, 1]; 0 = pure Lambert dielectric
-  glm::vec3 emission{0.0f};   ///< emitted radiance (emissiveFactor * KHR_materials_emissive_strength), cd/m^2
+  /// Emitted radiance (emissiveFactor * KHR_materials_emissive_strength), cd/m^2; multiplied by the emissive texture
+  /// when there is one (Scene::emissionAt).
+  glm::vec3 emission{0.0f};
+  int emissiveTexture = -1;  ///< index into Scene::textures (decoded from sRGB like the base colour), -1 for none
+  /// Maps Scene::uvs to the emissive texture's coordinates (homogeneous 2D affine map): the loader bakes the base
+  /// colour's KHR_texture_transform into the UVs, so this undoes it and applies the emissive texture's own.
+  glm::mat3 emissiveUvTransform{1.0f};
 
   bool isEmissive() const { return emission.r > 0.0f || emission.g > 0.0f || emission.b > 0.0f; }
 };
@@ -131,17 +137,35 @@ struct Scene {
   }
   /// Base colour at a surface point (factor times texture).
   glm::vec3 baseColorAt(uint32_t material, glm::vec2 uv) const;
+  /// Emitted radiance at a surface point (factor times emissive texture), cd/m^2.
+  glm::vec3 emissionAt(uint32_t material, glm::vec2 uv) const;
+  /// Mean emitted radiance over a triangle (emissionAt averaged over its area): its power is pi x area x this.
+  /// The texture's mean over the triangle's UV footprint is cached by finalize().
+  glm::vec3 meanEmission(uint32_t triangle) const {
+    const glm::vec3& factor = materialOf(triangle).emission;
+    return triangle < emissionTextureMeans_.size() ? factor * emissionTextureMeans_[triangle] : factor;
+  }
+  /// Texture coordinates at barycentrics b (weight b.x on corner x, b.y on y, 1 - b.x - b.y on z).
+  glm::vec2 uvAt(uint32_t triangle, glm::vec2 b) const {
+    const glm::uvec3& t = triangles[triangle];
+    return b.x * uvs[t.x] + b.y * uvs[t.y] + (1.0f - b.x - b.y) * uvs[t.z];
+  }
 
-  /// Recomputes bounds, geometryBounds, emissiveTriangles and the per-triangle normal/area caches from the geometry and materials.
+  /// Recomputes bounds, geometryBounds, emissiveTriangles and the per-triangle normal, area and emissive-texture mean
+  /// caches from the geometry and materials.
   /// Loaders and builders call it last, and so does anything that edits positions afterwards.
   void finalize();
 
  private:
   glm::vec3 computeGeometricNormal(uint32_t triangle) const;
   float computeTriangleArea(uint32_t triangle) const;
+  glm::vec3 computeEmissionTextureMean(uint32_t triangle) const;
   // Hit points, light samples and pdfs ask for these per ray: recomputing the cross product showed up in profiles.
   std::vector<glm::vec3> faceNormals_;
   std::vector<float> faceAreas_;
+  /// Per triangle, the mean of its material's emissive texture over the triangle (1 without a texture); empty when no
+  /// emissive material has a texture.
+  std::vector<glm::vec3> emissionTextureMeans_;
 };
 
 }  // namespace vplab

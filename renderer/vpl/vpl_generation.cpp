@@ -26,17 +26,6 @@ constexpr std::array<uint32_t, kHaltonDims> kHaltonBases = {2, 3, 5, 7, 11, 13, 
 /// Light paths per parallel work item (VPLs are concatenated in path order, so the set is thread-count independent).
 constexpr int64_t kPathsPerItem = 128;
 
-float radicalInverse(uint32_t base, uint64_t index) {
-  const double invBase = 1.0 / base;
-  double factor = invBase, result = 0.0;
-  while (index > 0) {
-    result += factor * static_cast<double>(index % base);
-    index /= base;
-    factor *= invBase;
-  }
-  return std::min(static_cast<float>(result), kOneMinusEpsilon);
-}
-
 double meanOf(const std::vector<double>& v) {
   double s = 0.0;
   for (double x : v) s += x;
@@ -158,10 +147,9 @@ std::array<float, kHaltonDims> haltonOffsets(uint32_t seed, uint64_t tag) {
 
 float HaltonPathSampler::next() {
   if (dim_ < kHaltonDims) {
-    float u = radicalInverse(kHaltonBases[dim_], index_) + offsets_[dim_];
+    float u = rotateUnit(radicalInverse(kHaltonBases[dim_], index_), offsets_[dim_]);
     ++dim_;
-    if (u >= 1.0f) u -= 1.0f;
-    return std::min(u, kOneMinusEpsilon);
+    return u;
   }
   ++dim_;
   return rng_.next1D();

@@ -1,9 +1,12 @@
 // The scene as the GL passes see it (renderer/gl/gl_scene.cpp uploads it): per-vertex SSBOs fetched by
 // gl_VertexID, per-triangle indices with the material in w, materials with the texture layer in baseColor.w.
 struct GlMaterial {
-  vec4 baseColor;  // rgb factor, w: layer in uBaseColorTextures or -1
-  vec4 emission;   // rgb emitted radiance
+  vec4 baseColor;  // rgb factor, w: layer in uSceneTextures or -1
+  vec4 emission;   // rgb emitted radiance factor, w: layer of the emissive texture or -1
   vec4 params;     // metallic, roughness, specular, 0
+  // Rows of the affine map from the vertex UVs to the emissive texture's coordinates (Material::emissiveUvTransform).
+  vec4 emissiveUvRow0;
+  vec4 emissiveUvRow1;
 };
 
 layout(std430, binding = 0) readonly buffer ScenePositions { vec4 scenePositions[]; };

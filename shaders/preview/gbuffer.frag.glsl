@@ -1,7 +1,7 @@
 #version 450 core
 #include "common/scene.glsl"
 
-layout(binding = 5) uniform sampler2DArray uBaseColorTextures;
+layout(binding = 5) uniform sampler2DArray uSceneTextures;  // base-colour and emissive textures
 
 in vec3 vPosition;
 in vec3 vNormal;
@@ -22,12 +22,17 @@ layout(location = 5) out vec4 outMergeKey;
 void main() {
   GlMaterial m = sceneMaterials[vMaterial];
   vec3 base = m.baseColor.rgb;
-  if (m.baseColor.w >= 0.0) base *= texture(uBaseColorTextures, vec3(vUv, m.baseColor.w)).rgb;
+  if (m.baseColor.w >= 0.0) base *= texture(uSceneTextures, vec3(vUv, m.baseColor.w)).rgb;
   outPosition = vec4(vPosition, 1.0);
   vec3 n = normalize(vNormal);
   outNormal = vec4(n, m.params.x);
   outMergeKey = vec4(n, length(vPosition - uCameraPosition));
   outBaseColor = vec4(base, m.params.y);
-  outEmission = vec4(m.emission.rgb, m.params.z);
+  vec3 emission = m.emission.rgb;
+  if (m.emission.w >= 0.0) {
+    vec2 st = vec2(dot(m.emissiveUvRow0.xyz, vec3(vUv, 1.0)), dot(m.emissiveUvRow1.xyz, vec3(vUv, 1.0)));
+    emission *= texture(uSceneTextures, vec3(st, m.emission.w)).rgb;
+  }
+  outEmission = vec4(emission, m.params.z);
   outGeoNormal = vec4(vGeoNormal, 0.0);
 }
