@@ -59,24 +59,11 @@ int cmdPreview(const Args& args) {
 
   // The context first: the machine's GL limits are checked before any work.
   HeadlessGlContext context(backend);
-  GLint maxTexture = 0, maxCube = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_SIZE, &maxTexture);
-  glGetIntegerv(GL_MAX_CUBE_MAP_TEXTURE_SIZE, &maxCube);
-  if (settings.width > maxTexture || settings.height > maxTexture)
-    throw cli::CliError("option --size: " + std::to_string(settings.width) + "x" + std::to_string(settings.height) +
-                        " exceeds this GL's largest texture, " + std::to_string(maxTexture) + " px (" +
-                        context.description() + ")");
-  // Every screen-space target (G-buffer, light, compensation, mips) is at most four floats per pixel; a dozen of
-  // them, and the VPLs' depth cube maps, in memory that llvmpipe takes from the host (a GPU has its own and is
-  // checked by GL itself).
-  cli::requireMemory(12.0 * 16.0 * settings.width * settings.height +
-                         6.0 * 4.0 * settings.shadowMapSize * settings.shadowMapSize * settings.vplCount,
-                     "the " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " preview");
-  if (settings.shadowMapSize > maxCube)
-    throw cli::CliError("option --shadow-map-size: " + std::to_string(settings.shadowMapSize) +
-                        " exceeds this GL's largest cube map, " + std::to_string(maxCube) + " px");
-
   Scene scene = cli::loadSceneForCommand("preview", cl.positional()[0], settings.stage);
+  // Image size, shadow maps and tiles against what this context holds (texture sizes, layers, memory), before the
+  // VPLs are traced.
+  if (std::string problem = previewFitProblem(scene, settings.vplCount, settings, queryGlLimits()); !problem.empty())
+    throw cli::CliError(problem + " (" + context.description() + ")");
   OfflineScene offline(scene);
   VplSet vpls = generateVpls(offline, settings);
 

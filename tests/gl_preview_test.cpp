@@ -323,5 +323,60 @@ TEST(GlPreview, CompensationAddsLightOnlyWithClamp) {
   EXPECT_GT(total, 0.0f);
 }
 
+// Settings the context cannot hold are refused with one sentence naming the limit and the options to lower, before
+// any GL work (a failed allocation reports GL_OUT_OF_MEMORY and can crash a driver).
+TEST(GlPreviewFit, RefusesWhatTheLimitsCannotHold) {
+  Scene scene = floorScene();
+  GlLimits limits;
+  limits.maxTextureSize = limits.maxFramebufferSize = 4096;
+  limits.maxArrayLayers = 256;
+  limits.memoryBytes = 512.0 * 1024 * 1024;
+  limits.memorySource = "test budget";
+  Settings settings = smallSettings();
+  EXPECT_EQ(previewFitProblem(scene, 256, settings, limits), "");
+
+  settings.shadowMapSize = 512;  // cube faces of 256^2: 768 KiB per VPL
+  std::string cube = previewFitProblem(scene, 20000, settings, limits);
+  EXPECT_NE(cube.find("--vpls"), std::string::npos) << cube;
+  EXPECT_NE(cube.find("--visibility ism"), std::string::npos) << cube;
+  EXPECT_NE(cube.find("test budget"), std::string::npos) << cube;
+  settings.visibility = VisibilityMethod::Ism;
+  EXPECT_EQ(previewFitProblem(scene, 20000, settings, limits), "") << "20000 ISM tiles of 64^2 take 160 MiB";
+  settings.ismTileSize = 512;
+  std::string layers = previewFitProblem(scene, 20000, settings, limits);
+  EXPECT_NE(layers.find("layers"), std::string::npos) << layers;
+  EXPECT_NE(layers.find("--ism-tile-size"), std::string::npos) << layers;
+
+  settings = smallSettings();
+  settings.width = 8192;
+  EXPECT_NE(previewFitProblem(scene, 1, settings, limits).find("--size"), std::string::npos);
+}
+
+TEST(GlPreviewFit, RenderThrowsBeforeAnyPass) {
+  HeadlessGlContext context;
+  Scene scene = floorScene();
+  // A million VPLs with cube faces of 1024^2 need 12 TiB: no context holds that.
+  VplSet vpls;
+  vpls.vpls.assign(1 << 20, oneVpl(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(1.0f)).vpls[0]);
+  Settings settings = smallSettings();
+  settings.shadowMapSize = 2048;
+  settings.vplCount = static_cast<int>(vpls.vpls.size());
+  PreviewRenderer renderer;
+  try {
+    renderer.render(scene, vpls, settings, scene.camera);
+    ADD_FAILURE() << "render() accepted 12 TiB of shadow maps";
+  } catch (const std::runtime_error& e) {
+    EXPECT_NE(std::string(e.what()).find("--shadow-map-size"), std::string::npos) << e.what();
+  }
+  EXPECT_EQ(renderer.counters().gbuffer, 0);
+  EXPECT_EQ(renderer.counters().vplShadowMaps, 0);
+  // The same renderer still renders what fits.
+  settings = smallSettings();
+  VplSet one = oneVpl(glm::vec3(0.3f, -0.2f, 1.0f), glm::vec3(10.0f));
+  PreviewTimings t = renderer.render(scene, one, settings, scene.camera);
+  EXPECT_TRUE(t.complete);
+  EXPECT_GT(renderer.readLinear(PreviewOutput::Indirect).at(kSize / 2, kSize / 2).g, 0.0f);
+}
+
 }  // namespace
 }  // namespace vplab

@@ -7,6 +7,7 @@
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <numeric>
+#include <sstream>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -392,10 +393,43 @@ void PreviewRenderer::uploadVpls(const Scene& scene, const VplSet& set) {
   vplBuffer_.assign(gpu.data(), gpu.size() * sizeof(VplGpu));
 }
 
+std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Settings& settings,
+                              const GlLimits& limits) {
+  std::ostringstream why;
+  const int largest = std::min(limits.maxTextureSize, limits.maxFramebufferSize);
+  if (settings.width > largest || settings.height > largest) {
+    why << "image size " << settings.width << "x" << settings.height << " exceeds this GL context's largest render target "
+        << largest << ": lower --size";
+    return why.str();
+  }
+  VisibilityFootprint vplMaps =
+      visibilityFootprint(settings.visibility, static_cast<int>(vplCount), settings, limits);
+  if (!vplMaps.problem.empty()) return vplMaps.problem;
+  // The screen targets (Targets: G-buffer, interleaved and merged results, compensation mips and rings), counted as 40
+  // RGBA32F-sized texels per pixel, an upper bound.
+  const double targetBytes = 40.0 * 16.0 * settings.width * settings.height;
+  // The lights' maps: an R32F cube per area-light group and per point or spot light, an R32F square per directional.
+  int cubes = scene.emissiveTriangles.empty() ? 0 : kMaxAreaGroups, squares = 0;
+  for (const PunctualLight& l : scene.punctualLights) (l.isDirectional() ? squares : cubes) += 1;
+  const double lightBytes = 4.0 * (6.0 * cubes * kLightShadowFaceSize * kLightShadowFaceSize +
+                                   static_cast<double>(squares) * kDirectionalShadowSize * kDirectionalShadowSize);
+  const double total = vplMaps.bytes + targetBytes + lightBytes;
+  if (total > limits.memoryBytes)
+    why << vplMaps.what << " need " << formatBytes(vplMaps.bytes) << "; with the " << settings.width << "x"
+        << settings.height << " targets and up to " << cubes + squares << " light shadow map(s) the preview needs "
+        << formatBytes(total) << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
+        << limits.memorySource << "): lower --vpls, --size or "
+        << (settings.visibility == VisibilityMethod::Ism ? "--ism-tile-size" : "--shadow-map-size, or use --visibility ism");
+  return why.str();
+}
+
 PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, const Settings& settings,
                                        const Camera& camera, double budgetMs) {
   auto frameStart = std::chrono::steady_clock::now();
   requireValidSettings(settings);
+  if (limits_.maxTextureSize == 0) limits_ = queryGlLimits();
+  if (std::string problem = previewFitProblem(scene, vpls.vpls.size(), settings, limits_); !problem.empty())
+    throw std::runtime_error(problem);
   PreviewTimings t;
   if (&scene != scene_ || sceneDirty_ || !glScene_) {
     glScene_ = std::make_unique<GlScene>(scene);

@@ -15,6 +15,7 @@
 #include <limits>
 #include <memory>
 
+#include "renderer/gl/gl_limits.h"
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/resources.h"
 #include "renderer/gl/shader.h"
@@ -75,6 +76,12 @@ struct BrdfVariants {
   BrdfVariants(const std::string& fragmentShader, const std::vector<std::string>& defines = {});
   ShaderProgram& operator[](bool lambert) { return lambert ? lambertOnly : general; }
 };
+
+/// Whether the preview of `scene` with `vplCount` VPLs under `settings` fits the context's limits: an empty string, or
+/// one sentence naming the limit exceeded (texture size, array layers, memory) and the options that lower the need.
+/// render() checks it before any GL work and throws it; commands call it before generating VPLs.
+std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Settings& settings,
+                              const GlLimits& limits);
 
 class PreviewRenderer {
  public:
@@ -168,6 +175,8 @@ class PreviewRenderer {
   Settings lastSettings_;
 
   PreviewCounters counters_;
+  /// Queried at the first render, before the renderer allocates anything, so its own maps do not count against it.
+  GlLimits limits_;
 
   /// Passes that are stale and have not run yet (render() with a budget can leave some for the next call).
   struct PendingPasses {

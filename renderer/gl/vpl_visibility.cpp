@@ -40,36 +40,38 @@ std::unique_ptr<VplVisibility> makeVplVisibility(VisibilityMethod method) {
   return std::make_unique<CubeVisibility>();
 }
 
-std::string visibilityFitProblem(VisibilityMethod method, int casters, const Settings& settings) {
-  const int maxSize = glInteger(GL_MAX_TEXTURE_SIZE), maxLayers = glInteger(GL_MAX_ARRAY_TEXTURE_LAYERS);
-  // What the driver can allocate is not queryable in core GL; a budget of texels keeps allocations far from what a
-  // software or GPU driver refuses (GL_OUT_OF_MEMORY leaves the context unusable on some drivers).
-  const double maxBytes = 2.0 * 1024 * 1024 * 1024;
+VisibilityFootprint visibilityFootprint(VisibilityMethod method, int casters, const Settings& settings,
+                                        const GlLimits& limits) {
+  VisibilityFootprint fit;
   std::ostringstream why;
   if (method == VisibilityMethod::Ism) {
-    if (settings.ismTileSize > maxSize) {
-      why << "ismTileSize " << settings.ismTileSize << " exceeds this GL context's texture size " << maxSize;
-      return why.str();
+    if (settings.ismTileSize > limits.maxTextureSize) {
+      why << "ismTileSize " << settings.ismTileSize << " exceeds this GL context's texture size "
+          << limits.maxTextureSize << ": lower --ism-tile-size";
+      fit.problem = why.str();
+      return fit;
     }
-    IsmLayout layout = ismLayout(casters, settings.ismTileSize, maxSize);
-    double bytes = 2.0 * layout.atlasSize() * layout.atlasSize() * layout.layers;
-    if (layout.layers > maxLayers || bytes > maxBytes)
-      why << casters << " VPLs with ISM tiles of " << settings.ismTileSize << "^2 need " << bytes / (1 << 20)
-          << " MiB of shadow tiles in " << layout.layers << " layers (this context allows " << maxLayers
-          << " layers, vplab at most " << maxBytes / (1 << 20) << " MiB): lower --vpls or --ism-tile-size";
-    return why.str();
+    IsmLayout layout = ismLayout(casters, settings.ismTileSize, limits.maxTextureSize);
+    fit.bytes = 2.0 * layout.atlasSize() * layout.atlasSize() * layout.layers;
+    fit.what = std::to_string(casters) + " VPLs with ISM tiles of " + std::to_string(settings.ismTileSize) + "^2";
+    if (layout.layers > limits.maxArrayLayers) {
+      why << fit.what << " need " << layout.layers << " atlas layers, over the " << limits.maxArrayLayers
+          << " this GL context allows: lower --vpls or --ism-tile-size";
+      fit.problem = why.str();
+    }
+    return fit;
   }
   const int face = std::max(8, settings.shadowMapSize / 2);
-  if (face > maxSize) {
-    why << "shadowMapSize " << settings.shadowMapSize << " exceeds this GL context's texture size";
-    return why.str();
+  if (face > limits.maxTextureSize) {
+    why << "shadowMapSize " << settings.shadowMapSize << " exceeds this GL context's texture size "
+        << limits.maxTextureSize << ": lower --shadow-map-size";
+    fit.problem = why.str();
+    return fit;
   }
-  double bytes = 2.0 * 6.0 * face * face * static_cast<double>(casters);
-  if (bytes > maxBytes)
-    why << casters << " VPLs with cube shadow maps of " << settings.shadowMapSize << " texels need " << bytes / (1 << 20)
-        << " MiB of shadow maps (vplab allows at most " << maxBytes / (1 << 20)
-        << " MiB): lower --vpls or --shadow-map-size, or use --visibility ism";
-  return why.str();
+  fit.bytes = 2.0 * 6.0 * face * face * static_cast<double>(casters);
+  fit.what = std::to_string(casters) + " VPLs with cube shadow maps of " + std::to_string(settings.shadowMapSize) +
+             " texels";
+  return fit;
 }
 
 // --- cube shadow maps -------------------------------------------------------------------------------------------

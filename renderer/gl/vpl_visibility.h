@@ -14,6 +14,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/gl/gl_limits.h"
 #include "renderer/gl/ism.h"
 #include "renderer/gl/resources.h"
 #include "renderer/gl/shader.h"
@@ -49,10 +50,16 @@ class VplVisibility {
 /// The technique a VisibilityMethod names.
 std::unique_ptr<VplVisibility> makeVplVisibility(VisibilityMethod method);
 
-/// Shadow-map size, GL limits and memory a visibility technique would need for `casters` VPLs under `settings`:
-/// an empty string when they fit what the current context reports, else one sentence saying which limit is exceeded
-/// and what to change. Checked before any rendering.
-std::string visibilityFitProblem(VisibilityMethod method, int casters, const Settings& settings);
+/// The maps a technique would allocate for `casters` VPLs under `settings`.
+struct VisibilityFootprint {
+  double bytes = 0;
+  /// What the bytes are for ("256 VPLs with ISM tiles of 64^2"), for a message about the total.
+  std::string what;
+  /// One sentence naming a GL limit the maps exceed and what to change; empty when none is.
+  std::string problem;
+};
+VisibilityFootprint visibilityFootprint(VisibilityMethod method, int casters, const Settings& settings,
+                                        const GlLimits& limits);
 
 class CubeVisibility final : public VplVisibility {
  public:
