@@ -3,7 +3,8 @@
 // 640x480, 256 VPLs, k = 4, 2 SSBC steps, b = 20 (the target configuration of docs/benchmarks.md):
 //   load       glTF load + BVH + light sampler (CPU)
 //   first      the first preview (scene upload, ISM points, every map, shader compiles)
-//   vpl change a new VPL set (the seed changed): generation + VPL maps + gather + SSBC + tonemap, wall time
+//   vpl change a new VPL set (the maximum VPL bounce changed, so positions move and the direct light stays):
+//              generation + VPL maps + gather + SSBC + tonemap, wall time and process CPU time, with its parts
 //   light move every punctual light moved 2 cm: light sampler, VPL generation, the lights' maps and the VPL maps,
 //              direct light, gather, SSBC, tonemap, wall time (scenes whose only lights are emissive triangles move
 //              geometry, which rebuilds the scene: not measured here)
@@ -16,6 +17,7 @@
 
 #include <algorithm>
 #include <chrono>
+#include <ctime>
 #include <cstdio>
 #include <fstream>
 #include <sstream>
@@ -37,6 +39,14 @@ using Clock = std::chrono::steady_clock;
 
 double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
 
+// Process CPU time (every thread, the GL driver's included): on a shared machine the wall time of a change grows with
+// the load; its CPU time does not, and CPU time / cores bounds the wall time on an idle machine of this kind.
+double processCpuMs() {
+  timespec ts{};
+  clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
+  return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
 double median(std::vector<double> v) {
   std::sort(v.begin(), v.end());
   return v.empty() ? 0.0 : v[v.size() / 2];
@@ -46,6 +56,8 @@ struct Row {
   std::string scene, visibility;
   std::size_t triangles = 0;
   double loadMs = 0, firstMs = 0, vplChangeMs = 0, lightMoveMs = -1, referenceMs = 0, vplMapsMs = 0, lightMapsMs = -1;
+  // The VPL change's parts (wall ms) and its process CPU time.
+  double generationMs = 0, gatherMs = 0, ssbcMs = 0, otherPassesMs = 0, vplChangeCpuMs = 0, lightMoveCpuMs = -1;
 };
 
 }  // namespace
@@ -113,23 +125,38 @@ int main(int argc, char** argv) {
       renderer.render(scene, vpls, s, scene.camera);
       row.firstMs = msSince(t);
 
-      std::vector<double> change, maps;
+      std::vector<double> change, maps, generation, gather, ssbc, other, cpu;
       for (int r = 0; r <= repeats; ++r) {
-        s.seed = 100 + static_cast<uint32_t>(r);
+        // A new VPL set whose positions differ (the maximum bounce alternates) while the direct light stays: the seed
+        // would also redraw the direct-light samples and their maps.
+        s.vplMaxBounces = r % 2 ? 2 : 31;
+        double cpu0 = processCpuMs();
         t = Clock::now();
         VplSet next = generateVpls(offline, s);
+        double generated = msSince(t);
         PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
         double ms = msSince(t);
         if (r == 0) continue;  // warm-up
         change.push_back(ms);
+        cpu.push_back(processCpuMs() - cpu0);
+        generation.push_back(generated);
         maps.push_back(timings.vplShadowWallMs);
+        gather.push_back(timings.gatherWallMs);
+        ssbc.push_back(timings.ssbcWallMs);
+        other.push_back(timings.frameWallMs - timings.vplShadowWallMs - timings.gatherWallMs - timings.ssbcWallMs);
       }
       row.vplChangeMs = median(change);
       row.vplMapsMs = median(maps);
+      row.generationMs = median(generation);
+      row.gatherMs = median(gather);
+      row.ssbcMs = median(ssbc);
+      row.otherPassesMs = median(other);
+      row.vplChangeCpuMs = median(cpu);
 
       if (!scene.punctualLights.empty()) {
-        std::vector<double> move, lightMaps;
+        std::vector<double> move, lightMaps, cpu;
         for (int r = 0; r <= repeats; ++r) {
+          double cpu0 = processCpuMs();
           t = Clock::now();
           for (PunctualLight& l : scene.punctualLights)
             if (!l.isDirectional()) l.position += glm::vec3(0.02f, 0.0f, 0.0f) * (r % 2 ? -1.0f : 1.0f);
@@ -140,9 +167,11 @@ int main(int argc, char** argv) {
           double ms = msSince(t);
           if (r == 0) continue;
           move.push_back(ms);
+          cpu.push_back(processCpuMs() - cpu0);
           lightMaps.push_back(timings.directShadowWallMs);
         }
         row.lightMoveMs = median(move);
+        row.lightMoveCpuMs = median(cpu);
         row.lightMapsMs = median(lightMaps);
       }
 
@@ -156,21 +185,23 @@ int main(int argc, char** argv) {
       }
       row.referenceMs = msSince(t);
       rows.push_back(row);
-      std::printf("%-28s %-4s %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (maps %6.0f)  light move %7.0f "
-                  "(maps %6.0f)  reference %6.0f ms\n",
+      std::printf("%-28s %-4s %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (cpu %6.0f; generation %5.0f, maps %6.0f, "
+                  "gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f)  reference %6.0f ms\n",
                   row.scene.c_str(), row.visibility.c_str(), row.triangles, row.loadMs, row.firstMs, row.vplChangeMs,
-                  row.vplMapsMs, row.lightMoveMs, row.lightMapsMs, row.referenceMs);
+                  row.vplChangeCpuMs, row.generationMs, row.vplMapsMs, row.gatherMs, row.ssbcMs, row.otherPassesMs,
+                  row.lightMoveMs, row.lightMoveCpuMs, row.lightMapsMs, row.referenceMs);
       std::fflush(stdout);
     }
   }
   if (!csvPath.empty()) {
     std::ofstream csv(csvPath);
-    csv << "scene,visibility,triangles,load_ms,first_ms,vpl_change_ms,vpl_maps_ms,light_move_ms,light_maps_ms,"
-           "reference_256_16spp_ms\n";
+    csv << "scene,visibility,triangles,load_ms,first_ms,vpl_change_ms,vpl_change_cpu_ms,generation_ms,vpl_maps_ms,"
+           "gather_ms,ssbc_ms,other_passes_ms,light_move_ms,light_move_cpu_ms,light_maps_ms,reference_256_16spp_ms\n";
     for (const Row& r : rows)
       csv << r.scene << ',' << r.visibility << ',' << r.triangles << ',' << r.loadMs << ',' << r.firstMs << ','
-          << r.vplChangeMs << ',' << r.vplMapsMs << ',' << r.lightMoveMs << ',' << r.lightMapsMs << ','
-          << r.referenceMs << '\n';
+          << r.vplChangeMs << ',' << r.vplChangeCpuMs << ',' << r.generationMs << ',' << r.vplMapsMs << ','
+          << r.gatherMs << ',' << r.ssbcMs << ',' << r.otherPassesMs << ',' << r.lightMoveMs << ','
+          << r.lightMoveCpuMs << ',' << r.lightMapsMs << ',' << r.referenceMs << '\n';
     if (!csv) return std::fprintf(stderr, "cannot write %s\n", csvPath.c_str()), 1;
   }
   return 0;

@@ -137,6 +137,17 @@ std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector
   const float halfSize = 0.5f * static_cast<float>(tileSize);
   // Splats larger than this radius (texels) are cut: they come from points almost touching the caster.
   const float maxRadius = 0.125f * static_cast<float>(tileSize);
+  // The unit direction of every texel centre in the caster's frame (the paraboloid's inverse map), shared by all
+  // tiles; w = 0 outside the unit disc, where no direction maps.
+  std::vector<glm::vec3> texelDirections(static_cast<std::size_t>(tileSize) * tileSize, glm::vec3(0.0f));
+  for (int y = 0; y < tileSize; ++y)
+    for (int x = 0; x < tileSize; ++x) {
+      const float tu = (static_cast<float>(x) + 0.5f) / halfSize - 1.0f, tv = (static_cast<float>(y) + 0.5f) / halfSize - 1.0f;
+      const float q = tu * tu + tv * tv;
+      if (q <= 1.0f)
+        texelDirections[static_cast<std::size_t>(y) * tileSize + x] =
+            glm::vec3(2.0f * tu, 2.0f * tv, 1.0f - q) / (1.0f + q);
+    }
   parallelFor(n, threads, [&](int64_t index, int) {
     const int i = static_cast<int>(index);
     const IsmCaster& c = casters[static_cast<std::size_t>(i)];
@@ -180,10 +191,8 @@ std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector
         for (int x = x0; x <= x1; ++x) {
           const float cx = static_cast<float>(x) + 0.5f - fx, cy = static_cast<float>(y) + 0.5f - fy;
           if (cx * cx + cy * cy > rad * rad && !(x == static_cast<int>(fx) && y == static_cast<int>(fy))) continue;
-          const float tu = (static_cast<float>(x) + 0.5f) / halfSize - 1.0f, tv = (static_cast<float>(y) + 0.5f) / halfSize - 1.0f;
-          const float q = tu * tu + tv * tv;
-          if (q > 1.0f) continue;
-          const glm::vec3 w(2.0f * tu / (1.0f + q), 2.0f * tv / (1.0f + q), (1.0f - q) / (1.0f + q));
+          const glm::vec3& w = texelDirections[static_cast<std::size_t>(y) * tileSize + x];
+          if (w.z == 0.0f && w.x == 0.0f && w.y == 0.0f) continue;
           const float along = glm::dot(w, localNormal);
           float dist = std::abs(along) > 1e-6f ? planeOffset / along : r;
           dist = std::clamp(dist, 0.5f * r, 2.0f * r);
