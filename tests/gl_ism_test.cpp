@@ -94,6 +94,38 @@ TEST_P(GlIsm, SameSettingsSameImage) {
   EXPECT_EQ(differing, 0u);
 }
 
+// A zero budget spreads the ISM tiles and the gather's interleaving subsets over many calls; the image is the same as
+// one unbudgeted call gives, also when the VPL set changes while the tiles are half done.
+TEST_P(GlIsm, SlicedUpdateGivesTheWholeImage) {
+  auto l = test::loadAssetScene("cornell-box");
+  Settings s = ismSettings(48, 96);
+  s.components = Components::All;
+  s.ssbcSteps = 1;
+  s.interleave = 4;
+  VplSet first = generateVpls(*l, s);
+  Settings reseeded = s;
+  reseeded.vplMaxBounces = 2;
+  VplSet second = generateVpls(*l, reseeded);
+  PreviewRenderer sliced;
+  sliced.render(l->scene(), first, s, l->scene().camera, 0.0);
+  PreviewTimings t = sliced.render(l->scene(), first, s, l->scene().camera, 0.0);
+  EXPECT_FALSE(t.complete);
+  int calls = 2;
+  do t = sliced.render(l->scene(), second, s, l->scene().camera, 0.0);
+  while (!t.complete && ++calls < 1000);
+  ASSERT_TRUE(t.complete);
+  // At least a call per slice of 16 tiles (8 per thread, 2 threads) and per interleaving subset.
+  EXPECT_GE(calls, 96 / 16 + 4 * 4) << "the tiles and the subsets should need several calls each";
+  EXPECT_EQ(sliced.counters().vplShadowMaps, 1) << "the half-built tiles of the first set were never finished";
+  PreviewRenderer whole;
+  whole.render(l->scene(), second, s, l->scene().camera);
+  Image a = sliced.readLinear(), b = whole.readLinear();
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] != b.pixels[i];
+  EXPECT_EQ(differing, 0u);
+}
+
 // The renderer redoes exactly the maps renderer/invalidation names stale: the VPL maps for the technique and its sizes,
 // the lights' maps for neither (they depend on the lights and their samples only).
 TEST_P(GlIsm, RendererRedoesTheMapsInvalidationNames) {

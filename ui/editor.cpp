@@ -127,6 +127,8 @@ class Editor {
   bool openScene(const std::string& path, bool keepSettingsSize = true);
   void rebuildAcceleration();
   void editLight(std::size_t light, const glm::vec3& offset, float scale);
+  /// Rebuilds what a light edit made stale (the BVH now; the preview's maps when its next update starts).
+  void applyLightEdit(LightEdit edit);
 
   // --- work ---
   void markStale(const Staleness& s);
@@ -230,11 +232,22 @@ class Editor {
   /// The preview's work is split across frames of at most about this much (plus the pass that crosses it).
   static constexpr double kPreviewFrameBudgetMs = 60.0;
   bool previewUpdating_ = false;
+  /// What the update under way renders (the editor's settings and camera when it started), when it started (s), what
+  /// the last finished one took from its start to its image (ms), and how many have finished.
+  Settings updateSettings_;
+  Camera updateCamera_;
+  double updateStart_ = 0.0, lastUpdateMs_ = 0.0;
+  int updatesFinished_ = 0;
+  /// The preview invalidation a light edit asks for, applied when the next update starts.
+  LightEdit pendingPreviewInvalidation_ = LightEdit::None;
   float previewProgress_ = 1.0f;
   bool waitingOffline_ = false;
   std::string pendingScreenshot_;
   WorkCounters mark_;
   int timingFrames_ = 0, timingTotal_ = 0;
+  /// time-frames: each frame's time (ms), the light dragged (-1: the camera orbits), updates finished before.
+  std::vector<double> timingFrameMs_;
+  int timingLight_ = -1, timingUpdates_ = 0;
   double timingFrameSum_ = 0.0, timingUiSum_ = 0.0, timingPreviewSum_ = 0.0;
   bool finalScreenshotQueued_ = false;
   int exitCode_ = 0;
@@ -354,7 +367,10 @@ bool Editor::openScene(const std::string& path, bool /*keepSettingsSize*/) {
                              scene_.bounds.diagonal());
   lightOffsets_.clear();
   lightScales_.clear();
+  // An update of the old scene is abandoned: the next one starts from scratch.
   preview_->invalidateScene();
+  previewUpdating_ = false;
+  pendingPreviewInvalidation_ = LightEdit::None;
   markStale(Staleness::all());
   offlineImage_ = Image();
   chart_.clear();
@@ -374,12 +390,24 @@ void Editor::editLight(std::size_t index, const glm::vec3& offset, float scale) 
   if (index >= lights.size()) throw std::out_of_range("no light " + std::to_string(index));
   lightOffsets_.resize(lights.size(), glm::vec3(0.0f));
   lightScales_.resize(lights.size(), 1.0f);
-  if (offset != glm::vec3(0.0f)) moveLight(scene_, lights[index], offset);
-  if (scale != 1.0f) scaleLight(scene_, lights[index], scale);
+  LightEdit edit = LightEdit::None;
+  if (offset != glm::vec3(0.0f)) edit = combine(edit, moveLight(scene_, lights[index], offset));
+  if (scale != 1.0f) edit = combine(edit, scaleLight(scene_, lights[index], scale));
   lightOffsets_[index] += offset;
   lightScales_[index] *= scale;
-  rebuildAcceleration();
-  preview_->invalidateScene();
+  applyLightEdit(edit);
+}
+
+void Editor::applyLightEdit(LightEdit edit) {
+  if (edit == LightEdit::None) return;
+  // A punctual light keeps the geometry: the BVH, the GL scene and the VPL point set stay.
+  if (edit == LightEdit::Geometry) {
+    rebuildAcceleration();
+    pendingPreviewInvalidation_ = LightEdit::Geometry;
+  } else {
+    offline_->punctualLightsChanged();
+    pendingPreviewInvalidation_ = combine(pendingPreviewInvalidation_, LightEdit::Punctual);
+  }
   markStale(staleAfterLightEdit());
 }
 
@@ -439,29 +467,47 @@ void Editor::measureClampEnergy() {
 }
 
 void Editor::updateWork() {
-  if (stale_.vpls) regenerateVpls();
-  if (vslRadiiStale_) {
-    std::vector<float> radii = vslRadii(vpls_.vpls, settings_, scene_.bounds.diagonal());
-    for (std::size_t i = 0; i < radii.size(); ++i) vpls_.vpls[i].radius = radii[i];
-    preview_->invalidateVpls();
-    vslRadiiStale_ = false;
+  // Changes made while an update is under way wait for it (their flags stay in stale_): every finished image is the
+  // one `vplab preview` gives for the settings, camera and VPLs its update started with, and a light drag or an orbit
+  // shows a new image each time an update finishes instead of restarting the update every frame.
+  const bool startUpdate = !previewUpdating_ && stale_.anyPreview();
+  if (!previewUpdating_) {
+    if (stale_.vpls) regenerateVpls();
+    if (vslRadiiStale_) {
+      std::vector<float> radii = vslRadii(vpls_.vpls, settings_, scene_.bounds.diagonal());
+      for (std::size_t i = 0; i < radii.size(); ++i) vpls_.vpls[i].radius = radii[i];
+      preview_->invalidateVpls();
+      vslRadiiStale_ = false;
+    }
+    if (clampEnergyStale_) measureClampEnergy();
   }
-  if (clampEnergyStale_) measureClampEnergy();
-  if (stale_.anyPreview() || previewUpdating_) {
+  if (startUpdate) {
+    if (pendingPreviewInvalidation_ == LightEdit::Geometry) preview_->invalidateScene();
+    if (pendingPreviewInvalidation_ == LightEdit::Punctual) preview_->invalidateLights();
+    pendingPreviewInvalidation_ = LightEdit::None;
+    updateSettings_ = settings_;
+    updateCamera_ = camera_.camera();
+    updateStart_ = now();
+  }
+  if (startUpdate || previewUpdating_) {
     try {
       // Long work is split across frames (PreviewRenderer::render's budget): the last finished image stays on screen
-      // with "updating n %" until the new one is complete, which is then the image `vplab preview` gives.
-      timings_ = preview_->render(scene_, vpls_, settings_, camera_.camera(), kPreviewFrameBudgetMs);
+      // with "updating n %" until the new one is complete.
+      timings_ = preview_->render(scene_, vpls_, updateSettings_, updateCamera_, kPreviewFrameBudgetMs);
       previewUpdating_ = !timings_.complete;
       previewProgress_ = timings_.progress;
       if (timings_.complete) {
         previewLinear_ = preview_->readLinear();
         residual_ = view_ == ViewMode::SsbcResidual ? preview_->readLinear(PreviewOutput::Residual) : Image();
+        lastUpdateMs_ = (now() - updateStart_) * 1e3;
+        ++updatesFinished_;
       }
       previewError_.clear();
     } catch (const std::exception& e) {
-      // A shader that fails to reload keeps the last image; the message is shown in the view.
+      // A shader that fails to reload, or settings the GL context cannot hold, keep the last image; the message is
+      // shown in the view.
       previewError_ = e.what();
+      previewUpdating_ = false;
     }
     auto keep = [](double& last, double now) {
       if (now > 0.0) last = now;
@@ -473,9 +519,11 @@ void Editor::updateWork() {
     keep(lastPassMs_.gatherMs, timings_.gatherMs);
     keep(lastPassMs_.ssbcMs, timings_.ssbcMs);
     keep(lastPassMs_.tonemapMs, timings_.tonemapMs);
-    bool offline = stale_.offline;
-    stale_ = Staleness{};
-    stale_.offline = offline;
+    if (startUpdate) {
+      bool offline = stale_.offline;
+      stale_ = Staleness{};
+      stale_.offline = offline;
+    }
     if (!previewUpdating_) {
       displayDirty_ = true;
       if (chartPending_) addChartPoint();
@@ -486,7 +534,7 @@ void Editor::updateWork() {
 
 void Editor::finishWork() {
   do updateWork();
-  while (previewUpdating_ && previewError_.empty());
+  while ((previewUpdating_ || stale_.anyPreview()) && previewError_.empty());
 }
 
 void Editor::addChartPoint() {
@@ -498,8 +546,9 @@ void Editor::addChartPoint() {
   ChartPoint p;
   p.frameMs = lastPassMs_.totalMs();
   p.relMse = compareImages(previewLinear_, offlineImage_).relMse;
-  p.settings = settings_;
-  p.label = describeSettings(settings_);
+  // The settings of the image shown: a change made since waits for the next update.
+  p.settings = updateSettings_;
+  p.label = describeSettings(updateSettings_);
   for (ChartPoint& q : chart_)
     if (settingsToJson(q.settings) == settingsToJson(p.settings)) {
       q = p;
@@ -719,7 +768,7 @@ void Editor::frame() {
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   glFinish();
   const double uiEnd = now();
-  if (!pendingScreenshot_.empty() && !previewUpdating_) {
+  if (!pendingScreenshot_.empty() && !previewUpdating_ && !stale_.anyPreview()) {
     takeScreenshot(pendingScreenshot_);
     pendingScreenshot_.clear();
   }
@@ -727,15 +776,22 @@ void Editor::frame() {
   frameMs_ = (now() - start) * 1e3;
   uiMs_ = ((uiPause - uiStart) + (viewStart - previewEnd) + (uiEnd - viewEnd)) * 1e3;
   if (timingFrames_ > 0) {
+    timingFrameMs_.push_back(frameMs_);
     timingFrameSum_ += frameMs_;
     timingUiSum_ += uiMs_;
     timingPreviewSum_ += ((previewEnd - uiPause) + (viewEnd - viewStart)) * 1e3;
     if (--timingFrames_ == 0) {
       double n = timingTotal_;
+      std::vector<double> sorted = timingFrameMs_;
+      std::sort(sorted.begin(), sorted.end());
+      auto quantile = [&](double q) { return sorted[std::min(sorted.size() - 1, static_cast<std::size_t>(q * sorted.size()))]; };
       std::printf(
-          "frame-time frames=%d size=%dx%d window=%dx%d frame_ms=%.2f preview_ms=%.2f ui_ms=%.2f ui_share=%.1f%%\n",
-          timingTotal_, settings_.width, settings_.height, width, height, timingFrameSum_ / n, timingPreviewSum_ / n,
-          timingUiSum_ / n, 100.0 * timingUiSum_ / timingFrameSum_);
+          "frame-time frames=%d size=%dx%d window=%dx%d frame_ms=%.2f p50_ms=%.2f p95_ms=%.2f max_ms=%.2f "
+          "preview_ms=%.2f ui_ms=%.2f ui_share=%.1f%% updates=%d last_update_ms=%.1f while=%s\n",
+          timingTotal_, settings_.width, settings_.height, width, height, timingFrameSum_ / n, quantile(0.5),
+          quantile(0.95), sorted.back(), timingPreviewSum_ / n, timingUiSum_ / n,
+          100.0 * timingUiSum_ / timingFrameSum_, updatesFinished_ - timingUpdates_, lastUpdateMs_,
+          timingLight_ >= 0 ? "light-drag" : "orbit");
       std::fflush(stdout);
     }
   }
@@ -871,11 +927,7 @@ void Editor::drawLeftPanel() {
       markStale(staleAfterCameraMove());
     }
     ImGui::TextDisabled("drag: orbit, right drag: pan, wheel: zoom, WASD/QE: fly");
-    if (drawLightsPanel(scene_, lightOffsets_, lightScales_)) {
-      rebuildAcceleration();
-      preview_->invalidateScene();
-      markStale(staleAfterLightEdit());
-    }
+    applyLightEdit(drawLightsPanel(scene_, lightOffsets_, lightScales_));
     ImGui::Checkbox("animate light", &animateLight_);
     ImGui::SameLine();
     ImGui::Checkbox("new seed every frame", &reseedEveryFrame_);
@@ -1061,9 +1113,15 @@ void Editor::scriptStep() {
     return;
   }
   if (timingFrames_ > 0) {
-    // Each timed frame moves the camera a little so that the preview re-renders, as it does while a user orbits.
-    camera_.orbit(0.01f, 0.0f);
-    markStale(staleAfterCameraMove());
+    if (timingLight_ >= 0) {
+      // A light drag: the light moves 0.2 % of the scene diagonal every frame, back and forth over 40 frames.
+      const float step = 0.002f * scene_.bounds.diagonal() * ((timingTotal_ - timingFrames_) / 20 % 2 ? -1.0f : 1.0f);
+      editLight(static_cast<std::size_t>(timingLight_), glm::vec3(step, 0.0f, 0.0f), 1.0f);
+    } else {
+      // Each timed frame moves the camera a little so that the preview re-renders, as it does while a user orbits.
+      camera_.orbit(0.01f, 0.0f);
+      markStale(staleAfterCameraMove());
+    }
     return;
   }
   if (waitingOffline_) {
@@ -1184,8 +1242,16 @@ void Editor::execute(const ScriptCommand& c) {
   } else if (c.verb == "time-frames") {
     timingTotal_ = timingFrames_ = std::max(1, static_cast<int>(num(0)));
     timingFrameSum_ = timingUiSum_ = timingPreviewSum_ = 0.0;
-    camera_.orbit(0.01f, 0.0f);
-    markStale(staleAfterCameraMove());
+    timingFrameMs_.clear();
+    timingUpdates_ = updatesFinished_;
+    timingLight_ = -1;
+    if (c.args.size() >= 3 && c.args[1] == "light") {
+      timingLight_ = static_cast<int>(num(2));
+      if (timingLight_ < 0 || static_cast<std::size_t>(timingLight_) >= editableLights(scene_).size())
+        scriptFail(c, "no light " + c.args[2]);
+    } else if (c.args.size() != 1) {
+      scriptFail(c, "usage: time-frames N [light I]");
+    }
   }
 }
 

@@ -206,11 +206,13 @@ std::vector<LightHandle> editableLights(const Scene& scene) {
   return lights;
 }
 
-void moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset) {
+LightEdit moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset) {
   if (light.kind == LightHandle::Kind::Punctual) {
     PunctualLight& l = scene.punctualLights.at(light.index);
-    if (!l.isDirectional()) l.position += offset;
-    return;
+    if (l.isDirectional()) return LightEdit::None;
+    l.position += offset;
+    scene.updateBounds();
+    return LightEdit::Punctual;
   }
   // Each vertex moves once even when several emissive triangles share it.
   std::set<uint32_t> vertices;
@@ -219,21 +221,25 @@ void moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset) 
       for (int k = 0; k < 3; ++k) vertices.insert(scene.triangles[t][k]);
   for (uint32_t v : vertices) scene.positions[v] += offset;
   scene.finalize();
+  return LightEdit::Geometry;
 }
 
-void scaleLight(Scene& scene, const LightHandle& light, float scale) {
-  if (light.kind == LightHandle::Kind::Punctual)
+LightEdit scaleLight(Scene& scene, const LightHandle& light, float scale) {
+  if (light.kind == LightHandle::Kind::Punctual) {
     scene.punctualLights.at(light.index).intensity *= scale;
-  else
-    scene.materials.at(light.index).emission *= scale;
+    return LightEdit::Punctual;
+  }
+  scene.materials.at(light.index).emission *= scale;
+  return LightEdit::Geometry;
 }
 
-void aimLight(Scene& scene, const LightHandle& light, const glm::vec3& direction) {
-  if (light.kind != LightHandle::Kind::Punctual || !(glm::length(direction) > 0.0f)) return;
+LightEdit aimLight(Scene& scene, const LightHandle& light, const glm::vec3& direction) {
+  if (light.kind != LightHandle::Kind::Punctual || !(glm::length(direction) > 0.0f)) return LightEdit::None;
   scene.punctualLights.at(light.index).direction = glm::normalize(direction);
+  return LightEdit::Punctual;
 }
 
-void addLight(Scene& scene, NewLight kind) {
+LightEdit addLight(Scene& scene, NewLight kind) {
   const Bounds& b = scene.geometryBounds;
   const glm::vec3 center = b.valid() ? b.center() : glm::vec3(0.0f);
   const float radius = std::max(0.5f * b.diagonal(), 1e-3f);
@@ -254,14 +260,18 @@ void addLight(Scene& scene, NewLight kind) {
       l.intensity = glm::vec3(kPi);
     }
     scene.punctualLights.push_back(l);
+    scene.updateBounds();
+    return LightEdit::Punctual;
   }
   scene.finalize();
+  return LightEdit::Geometry;
 }
 
-void deleteLight(Scene& scene, const LightHandle& light) {
+LightEdit deleteLight(Scene& scene, const LightHandle& light) {
   if (light.kind == LightHandle::Kind::Punctual) {
     scene.punctualLights.erase(scene.punctualLights.begin() + light.index);
-    return;
+    scene.updateBounds();
+    return LightEdit::Punctual;
   }
   // The triangles go; their vertices stay unreferenced (harmless, and no index has to be rewritten).
   std::size_t kept = 0;
@@ -274,14 +284,15 @@ void deleteLight(Scene& scene, const LightHandle& light) {
   scene.triangles.resize(kept);
   scene.triangleMaterials.resize(kept);
   scene.finalize();
+  return LightEdit::Geometry;
 }
 
-bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<float>& scales) {
+LightEdit drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<float>& scales) {
   std::vector<LightHandle> lights = editableLights(scene);
   offsets.resize(lights.size(), glm::vec3(0.0f));
   scales.resize(lights.size(), 1.0f);
   if (lights.empty()) ImGui::TextDisabled("no lights");
-  bool changed = false;
+  LightEdit changed = LightEdit::None;
   const float step = 0.01f * std::max(scene.bounds.diagonal(), 1e-3f);
   for (std::size_t i = 0; i < lights.size(); ++i) {
     ImGui::PushID(static_cast<int>(i));
@@ -291,29 +302,25 @@ bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<
     glm::vec3 offset = offsets[i];
     if ((!punctual || !punctual->isDirectional()) &&
         ImGui::DragFloat3("offset", &offset.x, step, -scene.bounds.diagonal(), scene.bounds.diagonal(), "%.3f")) {
-      moveLight(scene, lights[i], offset - offsets[i]);
+      changed = combine(changed, moveLight(scene, lights[i], offset - offsets[i]));
       offsets[i] = offset;
-      changed = true;
     }
     if (punctual && punctual->type != PunctualLight::Type::Point) {
       glm::vec3 direction = punctual->direction;
       if (ImGui::DragFloat3("direction", &direction.x, 0.01f, -1.0f, 1.0f, "%.2f")) {
-        aimLight(scene, lights[i], direction);
-        changed = true;
+        changed = combine(changed, aimLight(scene, lights[i], direction));
       }
     }
     float scale = scales[i];
     if (ImGui::SliderFloat("intensity x", &scale, 0.05f, 20.0f, "%.2f", ImGuiSliderFlags_Logarithmic) && scale > 0.0f) {
-      scaleLight(scene, lights[i], scale / scales[i]);
+      changed = combine(changed, scaleLight(scene, lights[i], scale / scales[i]));
       scales[i] = scale;
-      changed = true;
     }
     bool deleted = ImGui::SmallButton("delete");
     if (deleted) {
-      deleteLight(scene, lights[i]);
+      changed = combine(changed, deleteLight(scene, lights[i]));
       offsets.erase(offsets.begin() + static_cast<std::ptrdiff_t>(i));
       scales.erase(scales.begin() + static_cast<std::ptrdiff_t>(i));
-      changed = true;
     }
     ImGui::PopID();
     if (deleted) break;  // the handles after it are stale; the next frame lists the lights again
@@ -321,11 +328,10 @@ bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<
   // New punctual lights are listed after the existing punctual ones, new area lights last.
   const auto punctualCount = static_cast<std::ptrdiff_t>(scene.punctualLights.size());
   auto add = [&](NewLight kind) {
-    addLight(scene, kind);
+    changed = combine(changed, addLight(scene, kind));
     std::ptrdiff_t at = kind == NewLight::Area ? static_cast<std::ptrdiff_t>(offsets.size()) : punctualCount;
     offsets.insert(offsets.begin() + at, glm::vec3(0.0f));
     scales.insert(scales.begin() + at, 1.0f);
-    changed = true;
   };
   if (ImGui::Button("+ point")) add(NewLight::Point);
   ImGui::SameLine();

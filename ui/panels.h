@@ -29,27 +29,34 @@ struct LightHandle {
 /// The lights the editor can move and scale: punctual lights first, then emissive materials.
 std::vector<LightHandle> editableLights(const Scene& scene);
 
+/// What a light edit changed, and so what must be rebuilt: the punctual lights only (their shadow maps and the light
+/// sampler; OfflineScene::punctualLightsChanged, PreviewRenderer::invalidateLights), or the geometry or materials
+/// (an area light's emissive triangles: the BVH and the GL scene).
+enum class LightEdit { None, Punctual, Geometry };
+/// The larger of two edits (Geometry includes Punctual).
+inline LightEdit combine(LightEdit a, LightEdit b) { return a > b ? a : b; }
+
 /// Moves a light by `offset` (an area light's triangles are translated; a directional light has no position and
-/// does not move). Call finalize-dependent rebuilds after.
-void moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset);
+/// does not move). The scene's bounds follow.
+LightEdit moveLight(Scene& scene, const LightHandle& light, const glm::vec3& offset);
 /// Multiplies a light's intensity (or an emissive material's radiance) by `scale`.
-void scaleLight(Scene& scene, const LightHandle& light, float scale);
+LightEdit scaleLight(Scene& scene, const LightHandle& light, float scale);
 /// Points a spot or directional light along `direction` (normalised here; a zero vector is ignored).
-void aimLight(Scene& scene, const LightHandle& light, const glm::vec3& direction);
+LightEdit aimLight(Scene& scene, const LightHandle& light, const glm::vec3& direction);
 
 /// The kinds of light the editor adds.
 enum class NewLight { Point, Area, Directional };
 /// Adds a light sized from the geometry's bounds that gives the model's centre an irradiance of pi (a white surface
 /// there reflects radiance 1): a point light or a square area light above the model, or a directional light from
 /// above and in front. The scene is finalized.
-void addLight(Scene& scene, NewLight kind);
+LightEdit addLight(Scene& scene, NewLight kind);
 /// Removes a light: a punctual light from the list, an area light's triangles from the scene (finalized after).
-void deleteLight(Scene& scene, const LightHandle& light);
+LightEdit deleteLight(Scene& scene, const LightHandle& light);
 
 /// Every editable light with its position offset, intensity scale, direction (spot, directional) and a delete
-/// button, and buttons that add a point, area or directional light. Returns true when the lights changed, with
-/// the change already applied to the scene; offsets and scales follow added and deleted lights.
-bool drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<float>& scales);
+/// button, and buttons that add a point, area or directional light. Returns what changed (None when nothing did),
+/// with the change already applied to the scene; offsets and scales follow added and deleted lights.
+LightEdit drawLightsPanel(Scene& scene, std::vector<glm::vec3>& offsets, std::vector<float>& scales);
 
 /// Triangles, lights, materials, staging, warnings.
 void drawSceneInfo(const Scene& scene);

@@ -35,7 +35,7 @@ const std::map<std::string, Arity>& verbs() {
       {"expect-no-shadow-map-render", {0, 0}},
       {"expect-vpl-regeneration", {0, 0}},
       {"counters", {0, 0}},
-      {"time-frames", {1, 1}},
+      {"time-frames", {1, 3}},
   };
   return table;
 }
@@ -81,7 +81,7 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
       throw ScriptError(where(source, lineNumber) + "offline takes 'reference' or 'vpl'");
     for (std::size_t i = 0; i < c.args.size(); ++i) {
       bool numeric = c.verb == "orbit" || c.verb == "pan" || c.verb == "zoom" || c.verb == "frames" ||
-                     c.verb == "time-frames" || (c.verb == "light" && i != 1);
+                     (c.verb == "time-frames" && i != 1) || (c.verb == "light" && i != 1);
       if (numeric) scriptNumber(c, i, source);
     }
     commands.push_back(std::move(c));

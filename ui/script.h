@@ -24,7 +24,8 @@
 //   expect-no-shadow-map-render    fail unless no VPL shadow map was rendered since the mark
 //   expect-vpl-regeneration        fail unless VPLs were generated since the mark
 //   counters                       print the work counters on stdout
-//   time-frames <n>                render n frames and print the mean frame time and the UI's share of it
+//   time-frames <n> [light <i>]    render n frames while the camera orbits (or light i is dragged) and print the mean,
+//                                  median, p95 and largest frame time, the UI's share and the updates finished
 
 #include <stdexcept>
 #include <string>

@@ -129,10 +129,18 @@ void pullPush(std::vector<float>& tile, int size, int levels) {
 
 std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters,
                                     const IsmLayout& layout, float far, int fillLevels, int threads) {
+  std::vector<uint16_t> atlas(static_cast<std::size_t>(layout.atlasSize()) * layout.atlasSize() * layout.layers, 65535);
+  splatIsmTileRange(subsets, casters, layout, far, fillLevels, threads, 0, static_cast<int>(casters.size()), atlas);
+  return atlas;
+}
+
+void splatIsmTileRange(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters, const IsmLayout& layout,
+                       float far, int fillLevels, int threads, int firstCaster, int endCaster,
+                       std::vector<uint16_t>& atlas) {
   const int side = layout.atlasSize();
   const int tileSize = layout.tileSize;
-  std::vector<uint16_t> atlas(static_cast<std::size_t>(side) * side * layout.layers, 65535);
-  const int n = std::min(static_cast<int>(casters.size()), subsets.casterCount());
+  endCaster = std::min({endCaster, static_cast<int>(casters.size()), subsets.casterCount()});
+  if (firstCaster >= endCaster) return;
   const float invFar = 1.0f / far;
   const float halfSize = 0.5f * static_cast<float>(tileSize);
   // Splats larger than this radius (texels) are cut: they come from points almost touching the caster.
@@ -148,8 +156,8 @@ std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector
         texelDirections[static_cast<std::size_t>(y) * tileSize + x] =
             glm::vec3(2.0f * tu, 2.0f * tv, 1.0f - q) / (1.0f + q);
     }
-  parallelFor(n, threads, [&](int64_t index, int) {
-    const int i = static_cast<int>(index);
+  parallelFor(endCaster - firstCaster, threads, [&](int64_t index, int) {
+    const int i = firstCaster + static_cast<int>(index);
     const IsmCaster& c = casters[static_cast<std::size_t>(i)];
     const Frame frame(c.normal);
     const std::size_t begin = subsets.begin[static_cast<std::size_t>(i)], end = subsets.begin[static_cast<std::size_t>(i) + 1];
@@ -209,7 +217,6 @@ std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector
             t == kEmpty ? uint16_t(65535) : static_cast<uint16_t>(std::min(65534.0f, std::round(t * 65535.0f)));
       }
   });
-  return atlas;
 }
 
 float ismVisibility(const std::vector<uint16_t>& tiles, const IsmLayout& layout, int caster, const IsmCaster& c,

@@ -75,14 +75,21 @@ IsmLayout ismLayout(int tiles, int tileSize, int maxTextureSize);
 
 struct IsmCaster {
   glm::vec3 position, normal;
+  bool operator==(const IsmCaster&) const = default;
 };
 
 /// Splats each caster's subset into its 16-bit depth tile (depth = distance / far, 65535 = nothing there), each point
-/// as a disc of the solid angle its share of the surface area subtends, then fills holes by pull-push over at most `fillLevels` levels of the tile's pyramid (holes up to about
-/// 2^fillLevels texels wide: larger empty regions are directions where no surface lies and stay empty).
+/// as a disc of the solid angle its share of the surface area subtends, then fills holes by pull-push over at most
+/// `fillLevels` levels of the tile's pyramid (holes up to about 2^fillLevels texels wide: larger empty regions are
+/// directions where no surface lies and stay empty).
 /// Returns layers x atlasSize^2 texels, row 0 first (GL's texture row 0), tile by tile in parallel on `threads`.
 std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters,
                                     const IsmLayout& layout, float far, int fillLevels, int threads);
+/// The same for casters [firstCaster, endCaster) only, into their tiles of `atlas` (layers x atlasSize^2 texels): an update can
+/// be spread over several calls, and gives the same tiles.
+void splatIsmTileRange(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters, const IsmLayout& layout,
+                       float far, int fillLevels, int threads, int firstCaster, int endCaster,
+                       std::vector<uint16_t>& atlas);
 
 /// Visibility of x (geometric normal geoNormal) from caster i through its tile: the lookup of
 /// shaders/common/visibility_ism.glsl without its 2x2 filter, the same normal offset and texel-footprint bias on top of

@@ -39,6 +39,8 @@ struct DirectLightGpu {
 constexpr int kLightShadowFaceSize = 1024;
 // Texels per side of a directional light's orthographic map over the scene's bounding sphere.
 constexpr int kDirectionalShadowSize = 2048;
+// VPLs a gather draw evaluates per pixel at most (per interleaving subset): the unit a frame budget can stop after.
+constexpr int kGatherVplsPerDraw = 64;
 struct VplGpu {
   glm::vec4 position, normal, incoming, flux, baseColor, geoNormal, lambertPower;
 };
@@ -75,16 +77,6 @@ void forEachUniformRange(const UniformTableLayout& layout, int first, int last, 
     visit(base, begin, end);
     begin = end;
   }
-}
-
-// Draws per interleaving subset of a light table: one per uniform-block range of each shadow-map chunk (Chunks:
-// CubeShadowMaps or VplVisibility).
-template <class Chunks>
-int lightTableDraws(const Chunks& shadows, const UniformTableLayout& layout) {
-  int draws = 0;
-  for (int c = 0; c < shadows.chunkCount(); ++c)
-    forEachUniformRange(layout, shadows.chunkBegin(c), shadows.chunkEnd(c), [&](int, int, int) { ++draws; });
-  return draws;
 }
 
 // A light table drawn in one chunk (the direct lights: their maps are layers of one texture).
@@ -481,6 +473,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   pending_.directMaps |= directMapsChanged;
   pending_.vplMaps |= vplMapsChanged;
   pending_.direct |= directChanged;
+  // A gather sliced over earlier calls starts over when what it depends on changed again.
+  if (gatherChanged) gatherNextDraw_ = 0;
   pending_.gather |= gatherChanged;
   pending_.merge |= directChanged || gatherChanged;
   pending_.ssbc |= ssbcChanged;
@@ -554,59 +548,87 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   if (vplDataChanged) uploadVpls(scene, vpls);
   vplsDirty_ = false;
-  // Pass 3: one cube shadow map per VPL, only when a VPL position (or the map size, or the scene) changes.
+  // Pass 3: the VPLs' visibility maps, only when a VPL position (or the map size, or the scene) changes. A technique
+  // that builds them in slices stops when the budget is spent and goes on in the next call.
   if (vplMapsChanged && !outOfBudget) {
-    t.vplShadowMs = timed(timer_, t.vplShadowWallMs,
-                          [&] { vplVisibility_->update(*glScene_, scene, casters, settings, far); });
-    ++counters_.vplShadowMaps;
-    finished(pending_.vplMaps);
+    bool built = false;
+    t.vplShadowMs = timed(timer_, t.vplShadowWallMs, [&] {
+      built = vplVisibility_->update(*glScene_, scene, casters, settings, far,
+                                     [&] { return msSince(frameStart) > budgetMs; });
+    });
+    if (built) {
+      ++counters_.vplShadowMaps;
+      finished(pending_.vplMaps);
+    } else {
+      outOfBudget = true;
+    }
   }
   shadowsValid_ = true;
 
   tg.bindGbuffer();
   tg.ensureRaw(settings.interleave);
   const int k = settings.interleave;
-  // Draws `program` once per interleaving subset into its block of `raw` (the deinterleaved layout of
-  // gather.frag.glsl); drawSubset issues the draws of one subset, drawsPerSubset of them. Every fragment of a block
-  // writes its texel, so a single draw per subset replaces the texels and needs neither a clear nor blending; several
-  // draws add up. The merge of the subsets follows both passes.
-  auto interleaved = [&](ShaderProgram& program, Target& raw, int drawsPerSubset, auto&& drawSubset) {
+  // Draws a light table (direct-light samples or VPLs, common/interleaved.glsl) with `program` into the deinterleaved
+  // layout of `raw` (gather.frag.glsl): for each interleaving subset, one draw per range of a shadow-map chunk that
+  // fits `layout`'s uniform block. A single draw per subset replaces its block's texels (every fragment writes), so it
+  // needs neither a clear nor blending; several draws add up. The merge of the subsets follows both passes.
+  // With a cursor, the draws from *cursor on run until the budget is spent (a draw's sum is complete on its own, so
+  // the rest can follow in the next call): returns false and leaves *cursor at the first draw not made, or true after
+  // the last one.
+  auto drawLightTable = [&](ShaderProgram& program, Target& raw, const auto& shadows, auto&& bindChunk,
+                            const UniformTableLayout& layout, const GlBuffer& table, int binding,
+                            int* cursor = nullptr) {
+    struct Range {
+      int chunk, base, begin, end;
+    };
+    std::vector<Range> ranges;
+    for (int c = 0; c < shadows.chunkCount(); ++c)
+      forEachUniformRange(layout, shadows.chunkBegin(c), shadows.chunkEnd(c),
+                          [&](int base, int begin, int end) { ranges.push_back({c, base, begin, end}); });
+    const int perSubset = static_cast<int>(ranges.size()), total = k * k * perSubset;
+    const int first = cursor ? *cursor : 0;
     raw.framebuffer.bind(tg.blockWidth * k, tg.blockHeight * k);
-    if (drawsPerSubset != 1) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
+    if (perSubset != 1 && first == 0) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
     program.set("uInterleave", k);
     program.set("uImageSize", glm::ivec2(tg.width, tg.height));
-    if (drawsPerSubset > 1) {
+    if (perSubset > 1) {
       glEnable(GL_BLEND);
       glBlendFunc(GL_ONE, GL_ONE);
     }
-    for (int sy = 0; sy < k; ++sy)
-      for (int sx = 0; sx < k; ++sx) {
-        glm::ivec2 origin(sx * tg.blockWidth, sy * tg.blockHeight);
-        glViewport(origin.x, origin.y, tg.blockWidth, tg.blockHeight);
-        program.set("uSubsetXY", glm::ivec2(sx, sy));
-        program.set("uBlockOrigin", origin);
-        drawSubset(sy * k + sx);
+    bool done = true;
+    int boundChunk = -1;
+    for (int draw = first; draw < total; ++draw) {
+      const int subset = draw / perSubset;
+      const Range& r = ranges[static_cast<std::size_t>(draw % perSubset)];
+      const int sx = subset % k, sy = subset / k;
+      glm::ivec2 origin(sx * tg.blockWidth, sy * tg.blockHeight);
+      glViewport(origin.x, origin.y, tg.blockWidth, tg.blockHeight);
+      program.set("uSubsetXY", glm::ivec2(sx, sy));
+      program.set("uBlockOrigin", origin);
+      if (r.chunk != boundChunk) {
+        bindChunk(r.chunk);
+        program.set("uFirstLight", shadows.chunkBegin(r.chunk));
+        boundChunk = r.chunk;
       }
-    glDisable(GL_BLEND);
-  };
-
-  // One interleaved subset of a light table (direct-light samples or VPLs, common/interleaved.glsl): a draw per range
-  // of each shadow-map chunk whose entries fit one uniform block.
-  auto drawLightTable = [&](ShaderProgram& program, const auto& shadows, auto&& bindChunk,
-                            const UniformTableLayout& layout, const GlBuffer& table, int binding, int subset) {
-    for (int c = 0; c < shadows.chunkCount(); ++c) {
-      bindChunk(c);
-      program.set("uFirstLight", shadows.chunkBegin(c));
-      forEachUniformRange(layout, shadows.chunkBegin(c), shadows.chunkEnd(c), [&](int base, int begin, int end) {
-        table.bindUniformRange(binding, static_cast<std::size_t>(base) * layout.elementBytes,
-                               static_cast<std::size_t>(end - base) * layout.elementBytes);
-        program.set("uUboBase", base);
-        program.set("uLightBegin", begin);
-        program.set("uSubsetOffset", subsetOffset(begin, subset, k));
-        program.set("uLightEnd", end);
-        drawFullscreen(program);
-      });
+      table.bindUniformRange(binding, static_cast<std::size_t>(r.base) * layout.elementBytes,
+                             static_cast<std::size_t>(r.end - r.base) * layout.elementBytes);
+      program.set("uUboBase", r.base);
+      program.set("uLightBegin", r.begin);
+      program.set("uSubsetOffset", subsetOffset(r.begin, subset, k));
+      program.set("uLightEnd", r.end);
+      drawFullscreen(program);
+      if (cursor && std::isfinite(budgetMs) && draw + 1 < total) {
+        glFinish();  // the time spent is known only once the GPU has made the draw
+        if (msSince(frameStart) > budgetMs) {
+          *cursor = draw + 1;
+          done = false;
+          break;
+        }
+      }
     }
+    if (done && cursor) *cursor = 0;
+    glDisable(GL_BLEND);
+    return done;
   };
 
   tg.bindGbuffer();
@@ -621,17 +643,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       direct.set("uDirectionalShadowTexel", 2.0f * sceneRadius / static_cast<float>(kDirectionalShadowSize));
       lightShadows_.bind();
       // The whole light table is one chunk: every light's map is a layer of one cube-map array.
-      const SingleChunk lights{directLightCount_};
-      interleaved(direct, *tg.directRaw, lightTableDraws(lights, directTable_), [&](int subset) {
-        drawLightTable(direct, lights, [](int) {}, directTable_, directLights_, 7, subset);
-      });
+      drawLightTable(direct, *tg.directRaw, SingleChunk{directLightCount_}, [](int) {}, directTable_, directLights_, 7);
     });
     ++counters_.direct;
     finished(pending_.direct);
   }
 
-  // Pass 4: VPL gather with G_b / VSL and interleaving (the de-interleave follows).
+  // Pass 4: VPL gather with G_b / VSL and interleaving (the de-interleave follows), draw by draw when a budget is
+  // given.
   if (gatherChanged && !outOfBudget) {
+    bool gathered = false;
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
       // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
       ShaderProgram& gather = (vplsHaveRadius_ ? *gatherVsl_ : *gather_)[lambertOnly_];
@@ -640,13 +661,20 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       gather.set("uShadowFar", far);
       gather.set("uShadowBias", bias);
       const VplVisibility& visibility = *vplVisibility_;
-      interleaved(gather, *tg.indirectRaw, lightTableDraws(visibility, vplTable_), [&](int subset) {
-        drawLightTable(
-            gather, visibility, [&](int c) { visibility.bindChunk(c, gather); }, vplTable_, vplBuffer_, 8, subset);
-      });
+      // At most kGatherVplsPerDraw VPLs per pixel and draw, so that a budget can stop between draws; the same split
+      // with or without a budget, so that both sum in the same order and give the same image.
+      UniformTableLayout sliced = vplTable_;
+      sliced.capacity = std::max(sliced.alignment, std::min(sliced.capacity, kGatherVplsPerDraw * k * k));
+      gathered = drawLightTable(
+          gather, *tg.indirectRaw, visibility, [&](int c) { visibility.bindChunk(c, gather); }, sliced, vplBuffer_, 8,
+          &gatherNextDraw_);
     });
-    ++counters_.gather;
-    finished(pending_.gather);
+    if (gathered) {
+      ++counters_.gather;
+      finished(pending_.gather);
+    } else {
+      outOfBudget = true;
+    }
   }
 
   // Geometry-aware de-interleave of the direct light and the gather together into I0 (deinterleave.frag.glsl): the

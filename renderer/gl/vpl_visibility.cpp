@@ -5,6 +5,7 @@
 #include <chrono>
 #include <sstream>
 
+#include "renderer/core/parallel.h"
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/texture_units.h"
 
@@ -84,13 +85,15 @@ bool CubeVisibility::stale(const std::vector<IsmCaster>& casters, const Settings
   return false;
 }
 
-void CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vector<IsmCaster>& casters,
-                            const Settings& settings, float far) {
+bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vector<IsmCaster>& casters,
+                            const Settings& settings, float far, const std::function<bool()>&) {
+  // One instanced draw per chunk of casters: not sliced (a large scene takes ISM).
   positions_.resize(casters.size());
   for (std::size_t i = 0; i < casters.size(); ++i) positions_[i] = casters[i].position;
   maps_.render(glScene, positions_, std::max(8, settings.shadowMapSize / 2), far);
   mapSize_ = settings.shadowMapSize;
   valid_ = true;
+  return true;
 }
 
 void CubeVisibility::bindChunk(int chunk, ShaderProgram&) const {
@@ -101,6 +104,7 @@ void CubeVisibility::bindChunk(int chunk, ShaderProgram&) const {
 
 void IsmVisibility::resetScene() {
   valid_ = false;
+  nextCaster_ = -1;
   scene_ = nullptr;
   points_ = {};
   subsets_ = {};
@@ -116,39 +120,57 @@ bool IsmVisibility::stale(const std::vector<IsmCaster>& casters, const Settings&
   return false;
 }
 
-void IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector<IsmCaster>& casters,
-                           const Settings& settings, float far) {
-  sampleMs = splatMs = uploadMs = 0.0;
+bool IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector<IsmCaster>& casters,
+                           const Settings& settings, float far, const std::function<bool()>& outOfTime) {
+  const int n = static_cast<int>(casters.size());
   auto start = std::chrono::steady_clock::now();
-  // The point set depends on the geometry and the budget only: the same points every frame.
-  if (scene_ != &scene || pointBudget_ != settings.ismPointBudget || points_.size() == 0) {
-    points_ = sampleIsmPoints(scene, settings.ismPointBudget);
-    subsets_ = {};
-    scene_ = &scene;
-    pointBudget_ = settings.ismPointBudget;
+  const bool resume = nextCaster_ >= 0 && updateCasters_ == casters && updateTileSize_ == settings.ismTileSize &&
+                      updateFar_ == far && pointBudget_ == settings.ismPointBudget && scene_ == &scene;
+  if (!resume) {
+    sampleMs = splatMs = uploadMs = 0.0;
+    // The point set depends on the geometry and the budget only: the same points every frame.
+    if (scene_ != &scene || pointBudget_ != settings.ismPointBudget || points_.size() == 0) {
+      points_ = sampleIsmPoints(scene, settings.ismPointBudget);
+      subsets_ = {};
+      scene_ = &scene;
+      pointBudget_ = settings.ismPointBudget;
+    }
+    if (subsets_.casterCount() != n) subsets_ = arrangeIsmSubsets(scene, points_, n);
+    sampleMs = msSince(start);
+    start = std::chrono::steady_clock::now();
+    layout_ = ismLayout(n, settings.ismTileSize, glInteger(GL_MAX_TEXTURE_SIZE));
+    updateTiles_.assign(static_cast<std::size_t>(layout_.atlasSize()) * layout_.atlasSize() * layout_.layers, 65535);
+    updateCasters_ = casters;
+    updateTileSize_ = settings.ismTileSize;
+    updateFar_ = far;
+    nextCaster_ = 0;
   }
-  if (subsets_.casterCount() != static_cast<int>(casters.size()))
-    subsets_ = arrangeIsmSubsets(scene, points_, static_cast<int>(casters.size()));
-  sampleMs = msSince(start);
-
-  start = std::chrono::steady_clock::now();
-  layout_ = ismLayout(static_cast<int>(casters.size()), settings.ismTileSize, glInteger(GL_MAX_TEXTURE_SIZE));
-  std::vector<uint16_t> tiles =
-      splatIsmTiles(subsets_, casters, layout_, far, ismFillLevels(settings.ismTileSize), settings.threads);
-  splatMs = msSince(start);
+  // Slices of a few tiles per thread: small enough to stop within a frame's budget, large enough to keep the
+  // threads busy.
+  const int slice = 8 * std::max(1, resolveThreadCount(settings.threads));
+  do {
+    const int end = std::min(n, nextCaster_ + slice);
+    splatIsmTileRange(subsets_, casters, layout_, far, ismFillLevels(settings.ismTileSize), settings.threads,
+                      nextCaster_, end, updateTiles_);
+    nextCaster_ = end;
+  } while (nextCaster_ < n && !outOfTime());
+  splatMs += msSince(start);
+  if (nextCaster_ < n) return false;
 
   start = std::chrono::steady_clock::now();
   if (!atlas_ || atlas_.width() != layout_.atlasSize() || atlas_.layers() != layout_.layers) {
     atlas_ = GlTexture(layout_.atlasSize(), layout_.atlasSize(), TextureFormat::Depth16, 1, layout_.layers, true);
     atlas_.setDepthCompare(true);
   }
-  atlas_.uploadDepth16(tiles);
+  atlas_.uploadDepth16(updateTiles_);
   uploadMs = msSince(start);
 
   casters_ = casters;
   tileSize_ = settings.ismTileSize;
-  count_ = static_cast<int>(casters.size());
+  count_ = n;
   valid_ = true;
+  nextCaster_ = -1;
+  return true;
 }
 
 void IsmVisibility::bindChunk(int, ShaderProgram& program) const {

@@ -10,6 +10,7 @@
 //   ism   imperfect shadow maps (ism.h): a paraboloid tile per VPL from a fixed point set; costs the point budget plus
 //         VPLs x tile texels, independent of the triangle count, at the price of light leaks and over-darkening.
 
+#include <functional>
 #include <memory>
 #include <string>
 #include <vector>
@@ -33,9 +34,12 @@ class VplVisibility {
   /// Whether the maps built for `casters` under `settings` must be rebuilt for these (also true before the first
   /// update and after a new scene).
   virtual bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const = 0;
-  /// Rebuilds the maps. far: the largest distance stored (the same value the lookup divides by).
-  virtual void update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
-                      const Settings& settings, float far) = 0;
+  /// Rebuilds the maps; far: the largest distance stored (the same value the lookup divides by). A technique may
+  /// build them a slice at a time: it stops after a slice once outOfTime() says so and returns false, and the next
+  /// call with the same casters and settings goes on where it stopped (other casters start over). Returns true when
+  /// every map is built; the maps are the same however the work was sliced.
+  virtual bool update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+                      const Settings& settings, float far, const std::function<bool()>& outOfTime) = 0;
   /// The scene's geometry changed: everything derived from it is dropped.
   virtual void resetScene() = 0;
 
@@ -65,8 +69,8 @@ class CubeVisibility final : public VplVisibility {
  public:
   std::string shaderDefine() const override { return "VISIBILITY_CUBE 1"; }
   bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const override;
-  void update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
-              const Settings& settings, float far) override;
+  bool update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+              const Settings& settings, float far, const std::function<bool()>& outOfTime) override;
   void resetScene() override { valid_ = false; }
   int chunkCount() const override { return maps_.chunkCount(); }
   int chunkBegin(int chunk) const override { return maps_.chunkBegin(chunk); }
@@ -84,8 +88,8 @@ class IsmVisibility final : public VplVisibility {
  public:
   std::string shaderDefine() const override { return "VISIBILITY_ISM 1"; }
   bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const override;
-  void update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
-              const Settings& settings, float far) override;
+  bool update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+              const Settings& settings, float far, const std::function<bool()>& outOfTime) override;
   void resetScene() override;
   int chunkCount() const override { return count_ > 0 ? 1 : 0; }
   int chunkBegin(int) const override { return 0; }
@@ -104,6 +108,13 @@ class IsmVisibility final : public VplVisibility {
   std::vector<IsmCaster> casters_;
   int pointBudget_ = 0, tileSize_ = 0, count_ = 0;
   bool valid_ = false;
+  // The update under way: its casters, tile size and far distance, the tiles splatted so far on the CPU and the first
+  // caster not yet splatted.
+  std::vector<IsmCaster> updateCasters_;
+  int updateTileSize_ = 0;
+  float updateFar_ = 0.0f;
+  std::vector<uint16_t> updateTiles_;
+  int nextCaster_ = -1;
 };
 
 }  // namespace vplab

@@ -115,12 +115,16 @@ glm::vec3 Scene::computeEmissionTextureMean(uint32_t triangle) const {
   return glm::vec3(sum / (static_cast<double>(n) * n));
 }
 
-void Scene::finalize() {
-  geometryBounds = Bounds{};
-  for (const glm::vec3& p : positions) geometryBounds.extend(p);
+void Scene::updateBounds() {
   bounds = geometryBounds;
   for (const PunctualLight& l : punctualLights)
     if (!l.isDirectional()) bounds.extend(l.position);
+}
+
+void Scene::finalize() {
+  geometryBounds = Bounds{};
+  for (const glm::vec3& p : positions) geometryBounds.extend(p);
+  updateBounds();
   faceNormals_.resize(triangles.size());
   faceAreas_.resize(triangles.size());
   for (uint32_t i = 0; i < triangles.size(); ++i) {

@@ -151,6 +151,9 @@ struct Scene {
     return b.x * uvs[t.x] + b.y * uvs[t.y] + (1.0f - b.x - b.y) * uvs[t.z];
   }
 
+  /// Recomputes bounds (geometryBounds and the punctual lights' positions) after a punctual light moved: what
+  /// finalize() would change then, without its passes over the triangles.
+  void updateBounds();
   /// Recomputes bounds, geometryBounds, emissiveTriangles and the per-triangle normal, area and emissive-texture mean
   /// caches from the geometry and materials.
   /// Loaders and builders call it last, and so does anything that edits positions afterwards.
