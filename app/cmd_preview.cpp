@@ -1,7 +1,6 @@
 // vplab preview <scene>: the GL instant-radiosity preview rendered headless (EGL or OSMesa) from the same VPLs and
 // Settings as `vplab render`, with per-pass GPU/CPU timings and the VPL statistics.
 
-#include <glad/gl.h>
 
 #include "app/cli.h"
 #include "app/commands.h"

@@ -10,8 +10,10 @@
 // is unreliable), median of 5 draws after a warm-up draw. The gather's time includes the geometry-aware de-interleave
 // ("merge"); "draws" is the rate of the gather's own draws, without it, over the probe's.
 //
+// Each configuration runs with each VPL visibility technique of --visibility (default cube,ism): "vis" column.
+//
 // usage: vplab_bench_gl_bench [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv out.csv] [--scene file.gltf]
-//                             [--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--quick]
+//                             [--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--visibility cube,ism] [--quick]
 
 #include <algorithm>
 #include <chrono>
@@ -19,6 +21,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -113,6 +116,7 @@ int main(int argc, char** argv) {
   int width = 640, height = 480, frames = 5, ssbc = 2, ssbcCoarseRings = 1;
   float clamp = 20.0f;
   bool quick = false;
+  std::vector<VisibilityMethod> methods = {VisibilityMethod::Cube, VisibilityMethod::Ism};
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&] { return benchOptionValue(argc, argv, i); };
@@ -135,10 +139,19 @@ int main(int argc, char** argv) {
       ssbcCoarseRings = std::atoi(next().c_str());
     } else if (a == "--quick") {
       quick = true;
+    } else if (a == "--visibility") {
+      methods.clear();
+      std::stringstream list(next());
+      for (std::string item; std::getline(list, item, ',');) {
+        VisibilityMethod m;
+        if (!parseVisibilityMethod(item, m))
+          return std::fprintf(stderr, "gl_bench: bad --visibility '%s'\n", item.c_str()), 2;
+        methods.push_back(m);
+      }
     } else {
       std::fprintf(stderr,
                    "usage: %s [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv F] [--scene F] "
-                   "[--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--quick]\n",
+                   "[--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--visibility cube,ism] [--quick]\n",
                    argv[0]);
       return a == "--help" ? 0 : 2;
     }
@@ -154,70 +167,75 @@ int main(int argc, char** argv) {
       ssbcCoarseRings != 0 ? "on" : "off", frames);
 
   std::ofstream csv(csvPath);
-  csv << "vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
+  csv << "visibility,vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
          "gather_evals,gather_gevals_per_s,probe_lights,probe_ms,probe_gevals_per_s,gather_of_ceiling,deinterleave_ms,"
          "gather_draws_of_ceiling\n";
-  std::printf("%6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s %6s %7s\n", "VPLs", "k", "frame ms",
-              "fps", "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms", "gather G/s", "probe",
-              "probe ms", "probe G/s", "ceiling", "merge", "draws");
+  std::printf("%4s %6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s %6s %7s\n", "vis", "VPLs", "k",
+              "frame ms", "fps", "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms",
+              "gather G/s", "probe", "probe ms", "probe G/s", "ceiling", "merge", "draws");
   CeilingProbe probe(width, height);
   std::vector<int> counts = quick ? std::vector<int>{256} : std::vector<int>{64, 256, 1024};
   std::vector<int> ks = quick ? std::vector<int>{4} : std::vector<int>{1, 2, 4};
-  for (int n : counts) {
-    Settings settings;
-    settings.width = width;
-    settings.height = height;
-    settings.vplCount = n;
-    settings.clampBound = clamp;
-    settings.ssbcSteps = ssbc;
-    settings.ssbcCoarseRings = ssbcCoarseRings != 0;
-    VplSet vpls = generateVpls(offline, settings);
-    PreviewRenderer renderer;
-    double shadowMs = 0.0;  // VPL shadow maps are rendered once per VPL set, with the first k
-    for (int k : ks) {
-      settings.interleave = k;
-      PreviewTimings first = renderer.render(scene, vpls, settings, scene.camera);
-      if (first.vplShadowMs > 0.0) shadowMs = first.vplShadowMs;
-      // Warm-up: every pass once more with this k (first use compiles the shader variants).
-      renderer.invalidateFrame();
-      renderer.render(scene, vpls, settings, scene.camera);
-      std::vector<double> frame, gb, di, ga, ss, tm, wall, merge;
-      double evals = 0.0;
-      for (int f = 0; f < frames; ++f) {
+  for (VisibilityMethod method : methods) {
+    for (int n : counts) {
+      Settings settings;
+      settings.visibility = method;
+      settings.width = width;
+      settings.height = height;
+      settings.vplCount = n;
+      settings.clampBound = clamp;
+      settings.ssbcSteps = ssbc;
+      settings.ssbcCoarseRings = ssbcCoarseRings != 0;
+      VplSet vpls = generateVpls(offline, settings);
+      PreviewRenderer renderer;
+      double shadowMs = 0.0;  // VPL shadow maps are rendered once per VPL set, with the first k
+      for (int k : ks) {
+        settings.interleave = k;
+        PreviewTimings first = renderer.render(scene, vpls, settings, scene.camera);
+        if (first.vplShadowMs > 0.0) shadowMs = first.vplShadowMs;
+        // Warm-up: every pass once more with this k (first use compiles the shader variants).
         renderer.invalidateFrame();
-        PreviewTimings t = renderer.render(scene, vpls, settings, scene.camera);
-        frame.push_back(t.gbufferMs + t.directMs + t.gatherMs + t.ssbcMs + t.tonemapMs);
-        gb.push_back(t.gbufferMs);
-        di.push_back(t.directMs);
-        ga.push_back(t.gatherMs);
-        ss.push_back(t.ssbcMs);
-        tm.push_back(t.tonemapMs);
-        wall.push_back(t.frameWallMs);
-        merge.push_back(t.deinterleaveMs);
-        evals = t.gatherEvaluations;
+        renderer.render(scene, vpls, settings, scene.camera);
+        std::vector<double> frame, gb, di, ga, ss, tm, wall, merge;
+        double evals = 0.0;
+        for (int f = 0; f < frames; ++f) {
+          renderer.invalidateFrame();
+          PreviewTimings t = renderer.render(scene, vpls, settings, scene.camera);
+          frame.push_back(t.gbufferMs + t.directMs + t.gatherMs + t.ssbcMs + t.tonemapMs);
+          gb.push_back(t.gbufferMs);
+          di.push_back(t.directMs);
+          ga.push_back(t.gatherMs);
+          ss.push_back(t.ssbcMs);
+          tm.push_back(t.tonemapMs);
+          wall.push_back(t.frameWallMs);
+          merge.push_back(t.deinterleaveMs);
+          evals = t.gatherEvaluations;
+        }
+        double fm = median(frame), gm = median(ga);
+        double rate = gm > 0.0 ? evals / (gm * 1e6) : 0.0;
+        // Ceiling probe over the same pixel x light evaluations (lights per pixel = N / k^2, rounded).
+        int probeLights = std::max(1, static_cast<int>(std::lround(evals / (static_cast<double>(width) * height))));
+        double probeMean = 0.0;
+        double probeMs = probe.measure(probeLights, probeMean);
+        double probeEvals = static_cast<double>(width) * height * probeLights;
+        double probeRate = probeMs > 0.0 ? probeEvals / (probeMs * 1e6) : 0.0;
+        double ofCeiling = probeRate > 0.0 ? rate / probeRate : 0.0;
+        // The gather's own draws, without the de-interleave that its time includes.
+        double mm = median(merge);
+        double drawsOfCeiling = probeRate > 0.0 && gm > mm ? evals / ((gm - mm) * 1e6) / probeRate : 0.0;
+        if (!(probeMean > 0.0) || !std::isfinite(probeMean))
+          std::fprintf(stderr, "gl_bench: ceiling probe wrote %g: its work was not done\n", probeMean);
+        std::printf(
+            "%4s %6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f %6d %9.1f %9.3f %7.0f%% %6.1f "
+            "%6.0f%%\n",
+            toString(method), vpls.vpls.size(), k, fm, 1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm),
+            shadowMs, median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling, mm,
+            100.0 * drawsOfCeiling);
+        csv << toString(method) << ',' << vpls.vpls.size() << ',' << k << ',' << fm << ',' << 1000.0 / fm << ','
+            << median(gb) << ',' << median(di) << ',' << gm << ',' << median(ss) << ',' << median(tm) << ',' << shadowMs
+            << ',' << median(wall) << ',' << evals << ',' << rate << ',' << probeLights << ',' << probeMs << ','
+            << probeRate << ',' << ofCeiling << ',' << mm << ',' << drawsOfCeiling << '\n';
       }
-      double fm = median(frame), gm = median(ga);
-      double rate = gm > 0.0 ? evals / (gm * 1e6) : 0.0;
-      // Ceiling probe over the same pixel x light evaluations (lights per pixel = N / k^2, rounded).
-      int probeLights = std::max(1, static_cast<int>(std::lround(evals / (static_cast<double>(width) * height))));
-      double probeMean = 0.0;
-      double probeMs = probe.measure(probeLights, probeMean);
-      double probeEvals = static_cast<double>(width) * height * probeLights;
-      double probeRate = probeMs > 0.0 ? probeEvals / (probeMs * 1e6) : 0.0;
-      double ofCeiling = probeRate > 0.0 ? rate / probeRate : 0.0;
-      // The gather's own draws, without the de-interleave that its time includes.
-      double mm = median(merge);
-      double drawsOfCeiling = probeRate > 0.0 && gm > mm ? evals / ((gm - mm) * 1e6) / probeRate : 0.0;
-      if (!(probeMean > 0.0) || !std::isfinite(probeMean))
-        std::fprintf(stderr, "gl_bench: ceiling probe wrote %g: its work was not done\n", probeMean);
-      std::printf(
-          "%6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f %6d %9.1f %9.3f %7.0f%% %6.1f %6.0f%%\n",
-          vpls.vpls.size(), k, fm, 1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm), shadowMs,
-          median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling, mm, 100.0 * drawsOfCeiling);
-      csv << vpls.vpls.size() << ',' << k << ',' << fm << ',' << 1000.0 / fm << ',' << median(gb) << ',' << median(di)
-          << ',' << gm << ',' << median(ss) << ',' << median(tm) << ',' << shadowMs << ',' << median(wall) << ','
-          << evals << ',' << rate << ',' << probeLights << ',' << probeMs << ',' << probeRate << ',' << ofCeiling
-          << ',' << mm << ',' << drawsOfCeiling << '\n';
     }
   }
   std::printf("\nwrote %s\n", csvPath.c_str());

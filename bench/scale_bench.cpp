@@ -12,24 +12,32 @@
 //              not interactive)
 // Changes are timed as the median of --repeats after a warm-up. Prints a table, writes a CSV.
 //
+// Any glTF file works: each scene is staged as the commands stage it (--stage, default auto: a studio with an area
+// light around a model without lights) and gets its lights sidecar (model.glb.lights.json) when there is one;
+// --point-light adds a point light above the model (the editor's "+ point": irradiance pi at the model's centre), so
+// that a third-party model measures the light move too.
+//
 // usage: vplab_bench_scale_bench [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv out.csv]
-//                                [--size WxH] scene.gltf...
+//                                [--size WxH] [--stage auto|none|studio] [--point-light] scene.gltf...
 
 #include <algorithm>
 #include <chrono>
-#include <ctime>
 #include <cstdio>
+#include <ctime>
 #include <fstream>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench/bench_args.h"
+#include "renderer/core/sampling.h"
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/lights_json.h"
+#include "renderer/scene/staging.h"
 #include "renderer/vpl/vpl_generation.h"
 
 namespace {
@@ -37,7 +45,9 @@ namespace {
 using namespace vplab;
 using Clock = std::chrono::steady_clock;
 
-double msSince(Clock::time_point t) { return std::chrono::duration<double, std::milli>(Clock::now() - t).count(); }
+double msSince(Clock::time_point t) {
+  return std::chrono::duration<double, std::milli>(Clock::now() - t).count();
+}
 
 // Process CPU time (every thread, the GL driver's included): on a shared machine the wall time of a change grows with
 // the load; its CPU time does not, and CPU time / cores bounds the wall time on an idle machine of this kind.
@@ -45,6 +55,20 @@ double processCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
+}
+
+// A point light two bounding radii above the geometry's centre, giving it the irradiance pi (as the editor's
+// "+ point" does).
+void addPointLightAbove(Scene& scene) {
+  const Bounds& b = scene.geometryBounds;
+  const float radius = std::max(0.5f * b.diagonal(), 1e-3f);
+  PunctualLight l;
+  l.name = "bench point light";
+  l.type = PunctualLight::Type::Point;
+  l.position = b.center() + glm::vec3(0.0f, 2.0f * radius, 0.0f);
+  l.intensity = glm::vec3(kPi * 4.0f * radius * radius);
+  scene.punctualLights.push_back(l);
+  scene.updateBounds();
 }
 
 double median(std::vector<double> v) {
@@ -68,6 +92,8 @@ int main(int argc, char** argv) {
   std::vector<std::string> scenes;
   std::string csvPath;
   int repeats = 3, width = 640, height = 480;
+  Stage stage = Stage::Auto;
+  bool pointLight = false;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--gl") {
@@ -87,10 +113,14 @@ int main(int argc, char** argv) {
     } else if (a == "--size") {
       if (std::sscanf(benchOptionValue(argc, argv, i).c_str(), "%dx%d", &width, &height) != 2)
         return std::fprintf(stderr, "bad --size\n"), 2;
+    } else if (a == "--stage") {
+      if (!parseStage(benchOptionValue(argc, argv, i), stage)) return std::fprintf(stderr, "bad --stage\n"), 2;
+    } else if (a == "--point-light") {
+      pointLight = true;
     } else if (a == "--help" || (!a.empty() && a[0] == '-')) {
       std::fprintf(stderr,
                    "usage: %s [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv F] [--size WxH] "
-                   "scene.gltf...\n",
+                   "[--stage auto|none|studio] [--point-light] scene.gltf...\n",
                    argv[0]);
       return a == "--help" ? 0 : 2;
     } else {
@@ -108,6 +138,9 @@ int main(int argc, char** argv) {
       row.visibility = toString(method);
       auto t = Clock::now();
       Scene scene = loadScene(path);
+      stageScene(scene, stage);
+      applyLightsSidecar(scene);
+      if (pointLight) addPointLightAbove(scene);
       OfflineScene offline(scene);
       row.loadMs = msSince(t);
       row.triangles = scene.triangles.size();
@@ -185,11 +218,12 @@ int main(int argc, char** argv) {
       }
       row.referenceMs = msSince(t);
       rows.push_back(row);
-      std::printf("%-28s %-4s %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (cpu %6.0f; generation %5.0f, maps %6.0f, "
-                  "gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f)  reference %6.0f ms\n",
-                  row.scene.c_str(), row.visibility.c_str(), row.triangles, row.loadMs, row.firstMs, row.vplChangeMs,
-                  row.vplChangeCpuMs, row.generationMs, row.vplMapsMs, row.gatherMs, row.ssbcMs, row.otherPassesMs,
-                  row.lightMoveMs, row.lightMoveCpuMs, row.lightMapsMs, row.referenceMs);
+      std::printf(
+          "%-28s %-4s %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (cpu %6.0f; generation %5.0f, maps %6.0f, "
+          "gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f)  reference %6.0f ms\n",
+          row.scene.c_str(), row.visibility.c_str(), row.triangles, row.loadMs, row.firstMs, row.vplChangeMs,
+          row.vplChangeCpuMs, row.generationMs, row.vplMapsMs, row.gatherMs, row.ssbcMs, row.otherPassesMs,
+          row.lightMoveMs, row.lightMoveCpuMs, row.lightMapsMs, row.referenceMs);
       std::fflush(stdout);
     }
   }
@@ -200,8 +234,8 @@ int main(int argc, char** argv) {
     for (const Row& r : rows)
       csv << r.scene << ',' << r.visibility << ',' << r.triangles << ',' << r.loadMs << ',' << r.firstMs << ','
           << r.vplChangeMs << ',' << r.vplChangeCpuMs << ',' << r.generationMs << ',' << r.vplMapsMs << ','
-          << r.gatherMs << ',' << r.ssbcMs << ',' << r.otherPassesMs << ',' << r.lightMoveMs << ','
-          << r.lightMoveCpuMs << ',' << r.lightMapsMs << ',' << r.referenceMs << '\n';
+          << r.gatherMs << ',' << r.ssbcMs << ',' << r.otherPassesMs << ',' << r.lightMoveMs << ',' << r.lightMoveCpuMs
+          << ',' << r.lightMapsMs << ',' << r.referenceMs << '\n';
     if (!csv) return std::fprintf(stderr, "cannot write %s\n", csvPath.c_str()), 1;
   }
   return 0;
