@@ -6,6 +6,9 @@
 #include "app/cli.h"
 #include "renderer/settings.h"
 
+#include <string>
+#include <vector>
+
 namespace vplab::cli {
 
 /// --settings F.json, --size WxH (when the command renders an image), and one option per setting that acts on the
@@ -15,5 +18,11 @@ std::vector<OptionSpec> settingOptions(const Settings& defaults, unsigned use);
 /// Loads --settings first, then copies every option of settingOptions(use) that is present into settings (so they
 /// override the file), then validates; throws CliError naming the flag (or the file's key) that is wrong.
 void applySettingsOptions(const CommandLine& cl, Settings& settings, unsigned use);
+
+/// The options of the settings named by `keys` (table keys, e.g. "stage") alone, for the commands whose other
+/// options are their own (bench, stability).
+std::vector<OptionSpec> settingOptions(const Settings& defaults, const std::vector<std::string>& keys);
+/// Copies those of them that are present into settings, then validates; throws CliError naming the flag.
+void applySettingsOptions(const CommandLine& cl, Settings& settings, const std::vector<std::string>& keys);
 
 }  // namespace vplab::cli

@@ -6,6 +6,8 @@
 #include <cassert>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
+#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <limits>
@@ -15,6 +17,7 @@
 #include "renderer/image/metrics.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vpl_renderer.h"
+#include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
 
 namespace vplab {
@@ -22,6 +25,63 @@ namespace vplab {
 const char* toString(Backend backend) {
   return backend == Backend::Cpu ? "cpu" : "gl";
 }
+
+Scene loadSweepScene(const SceneLoader& loader, const std::string& path) {
+  return loader ? loader(path) : loadScene(path);
+}
+
+namespace {
+
+/// A hash of what the reference of a scene depends on: geometry, materials (and their textures' texels), lights and
+/// camera. Staging, a lights sidecar or an edit of the file change it, so a cached reference is never reused for a
+/// scene that differs from the one it was rendered from.
+uint64_t sceneFingerprint(const Scene& scene) {
+  uint64_t h = 0x7363656e65ull;
+  auto add = [&h](const void* data, std::size_t bytes) {
+    const auto* p = static_cast<const unsigned char*>(data);
+    for (std::size_t i = 0; i < bytes; i += 8) {
+      uint64_t word = 0;
+      std::memcpy(&word, p + i, std::min<std::size_t>(8, bytes - i));
+      h = hashKey(h, word);
+    }
+  };
+  auto addVector = [&add](const auto& v) { add(v.data(), v.size() * sizeof(v[0])); };
+  addVector(scene.positions);
+  addVector(scene.normals);
+  addVector(scene.uvs);
+  addVector(scene.triangles);
+  addVector(scene.triangleMaterials);
+  for (const Material& m : scene.materials) {
+    const float values[] = {m.baseColor.r, m.baseColor.g, m.baseColor.b, m.metallic, m.roughness, m.specular,
+                            m.emission.r,  m.emission.g,  m.emission.b};
+    const int textures[] = {m.baseColorTexture, m.emissiveTexture};
+    add(values, sizeof values);
+    add(textures, sizeof textures);
+    add(&m.emissiveUvTransform, sizeof m.emissiveUvTransform);
+  }
+  for (const Texture& t : scene.textures) addVector(t.texels);
+  for (const PunctualLight& l : scene.punctualLights) {
+    const float values[] = {l.position.x,  l.position.y,  l.position.z,  l.direction.x,    l.direction.y,
+                            l.direction.z, l.intensity.r, l.intensity.g, l.intensity.b, l.innerConeAngle,
+                            l.outerConeAngle};
+    const int type = static_cast<int>(l.type);
+    add(values, sizeof values);
+    add(&type, sizeof type);
+  }
+  const Camera& c = scene.camera;
+  const float camera[] = {c.position.x, c.position.y, c.position.z, c.forward.x, c.forward.y, c.forward.z,
+                          c.up.x,       c.up.y,       c.up.z,       c.yfov};
+  add(camera, sizeof camera);
+  return h;
+}
+
+std::string fingerprintText(uint64_t fingerprint) {
+  char text[17];
+  std::snprintf(text, sizeof text, "%016llx", static_cast<unsigned long long>(fingerprint));
+  return text;
+}
+
+}  // namespace
 
 MeasuredImage renderCpu(const OfflineScene& offline, Method method, const VplSet& vpls, const Settings& settings) {
   assert(method != Method::Reference);
@@ -128,7 +188,7 @@ MeasuredImage cachedReference(const OfflineScene& setup, const std::string& scen
     file = cacheDir + "/ref-" + sceneName + "-" + std::to_string(settings.width) + "x" +
            std::to_string(settings.height) + "-" + std::to_string(settings.samplesPerPixel) + "spp-" +
            toString(settings.components) + "-d" + std::to_string(settings.maxDepth) + "-s" +
-           std::to_string(settings.seed) + ".exr";
+           std::to_string(settings.seed) + "-" + fingerprintText(sceneFingerprint(setup.scene())) + ".exr";
     if (std::filesystem::exists(file)) {
       // A file that does not read back as an image of the right size (cut, empty, replaced by hand) is rendered
       // again and replaced, never trusted and never a reason to fail every later run.

@@ -5,6 +5,7 @@
 // de-interleaved gather plus the screen-space residual), which is the part the many-light methods approximate; with
 // Components::All the full image.
 
+#include <functional>
 #include <memory>
 #include <optional>
 #include <string>
@@ -20,6 +21,13 @@
 namespace vplab {
 
 enum class Backend { Cpu, Gl };
+
+/// Turns a scene file into the scene a sweep runs on. The CLI passes its own (app/scene_input.h: staged as --stage
+/// says, the lights sidecar applied, warnings reported), so that bench and stability see a file exactly as every
+/// other command does; empty means the file as it is (loadScene).
+using SceneLoader = std::function<Scene(const std::string& path)>;
+/// loader(path), or loadScene(path) when loader is empty.
+Scene loadSweepScene(const SceneLoader& loader, const std::string& path);
 const char* toString(Backend backend);
 
 /// One measured render.
@@ -69,7 +77,8 @@ class PreviewBench {
 Image readPreviewComponents(PreviewRenderer& renderer, const Settings& settings);
 
 /// A reference for (scene, size, spp, components, seed), read from `cacheDir` when it was rendered before, else
-/// rendered and stored there as EXR. The file name holds every key, so a different setting never reuses a file.
+/// rendered and stored there as EXR. The file name holds every key and a hash of the scene (geometry, materials,
+/// lights, camera: staging or a lights sidecar changes it), so a different setting or scene never reuses a file.
 /// cacheDir empty: no cache. `cached`, when given, says whether the file was reused.
 MeasuredImage cachedReference(const OfflineScene& setup, const std::string& sceneName, const Settings& settings,
                               const std::string& cacheDir, bool* cached = nullptr);

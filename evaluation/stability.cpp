@@ -449,7 +449,7 @@ std::vector<ExtremeRow> runExtremes(const OfflineScene& setup, const StabilityCo
 StabilityOutcome runStability(const std::string& scenePath, const StabilityConfig& config) {
   fs::create_directories(config.outDir);
   StabilityOutcome out;
-  Scene scene = loadScene(scenePath);
+  Scene scene = loadSweepScene(config.loadScene, scenePath);
   const std::string name = sceneStem(scenePath);
   PreviewBench gl(config.glBackend);
   if (config.gl && !gl.available()) {

@@ -39,6 +39,8 @@ struct StabilityConfig {
   bool writeImages = true;
   /// Flicker methods by name (vpl, clamp, vsl, reject on the CPU; vpl-gl, ssbc-gl); empty = the default set.
   std::vector<std::string> flickerMethods;
+  /// How the scene file is loaded (harness.h); empty: as it is.
+  SceneLoader loadScene;
   std::function<void(const std::string&)> log;
 };
 

@@ -225,7 +225,7 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
   for (const std::string& path : scenePaths) {
     const std::string name = sceneStem(path);
     names.push_back(name);
-    OfflineScene setup(loadScene(path));
+    OfflineScene setup(loadSweepScene(config.loadScene, path));
     std::vector<BenchCase> cases = benchCases(setup.scene(), config);
     const std::size_t firstRun = run;
     run += cases.size();

@@ -50,6 +50,8 @@ struct BenchConfig {
   /// k mod shardCount. Shards write their own bench.csv and no report; mergeBench() joins them. [0, shardCount).
   int shardIndex = 0;
   int shardCount = 1;
+  /// How each scene file is loaded (harness.h); empty: as it is.
+  SceneLoader loadScene;
   /// Progress lines (stderr in the CLI). May be empty.
   std::function<void(const std::string&)> log;
 };
