@@ -152,9 +152,9 @@ TEST(VslIntegral, GlossyApproximationErrorIsBounded) {
     BrdfParams receiver, vpl;
     double maxBias, maxMeanAbs;
   };
-  const Case cases[] = {{metal(0.25f), lambert(0.7f), 0.02, 0.05},  {lambert(0.7f), metal(0.25f), 0.06, 0.1},
+  const Case cases[] = {{metal(0.25f), lambert(0.7f), 0.02, 0.05},  {lambert(0.7f), metal(0.25f), 0.05, 0.09},
                         {plastic(0.2f), lambert(0.7f), 0.02, 0.03}, {lambert(0.7f), plastic(0.2f), 0.02, 0.03},
-                        {metal(0.5f), plastic(0.2f), 0.13, 0.16}};
+                        {metal(0.5f), plastic(0.2f), 0.07, 0.1}};
   for (const Case& c : cases) {
     const BrdfParams e[2] = {c.receiver, c.vpl};
     double sumApprox = 0.0, sumExact = 0.0, sumAbsErr = 0.0;

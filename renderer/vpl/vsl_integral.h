@@ -54,6 +54,7 @@ inline constexpr int kVslRingNodes = 6;
 struct VslCone {
   glm::vec3 axis{0.0f, 0.0f, 1.0f};  ///< unit direction x1 -> centre
   float cosThetaMax = 1.0f;          ///< -1 inside the sphere
+  float sinThetaMax = 0.0f;          ///< r / d; 0 inside the sphere
   float oneMinusCos = 0.0f;          ///< 1 - cosThetaMax without cancellation (2 inside)
   float solidAngle = 0.0f;           ///< Omega = 2 pi (1 - cos theta_max)
   float solidAngleOverArea = 0.0f;   ///< Omega / (pi r^2); 1 / d^2 as r -> 0
@@ -65,21 +66,25 @@ inline VslCone vslCone(const glm::vec3& toCentre, float radius, const glm::vec3&
   VslCone c;
   float dist2 = glm::dot(toCentre, toCentre);
   float r2 = radius * radius;
-  c.axis = dist2 > 0.0f ? toCentre / std::sqrt(dist2) : fallbackAxis;
+  float invDist2 = 1.0f / std::max(dist2, 1e-30f), invDist = std::sqrt(invDist2);
+  c.axis = dist2 > 0.0f ? toCentre * invDist : fallbackAxis;
   if (dist2 <= r2) {
     c.inside = true;
     c.cosThetaMax = -1.0f;
+    c.sinThetaMax = 0.0f;
     c.oneMinusCos = 2.0f;
     c.solidAngle = 4.0f * kPi;
     c.solidAngleOverArea = 4.0f / r2;
     return c;
   }
-  float s2 = r2 / dist2;  // sin^2 theta_max
-  float root = std::sqrt(1.0f - s2);
+  float s2 = r2 * invDist2;  // sin^2 theta_max
+  float root = std::sqrt(std::max(0.0f, 1.0f - s2));
+  float invOnePlusRoot = 1.0f / (1.0f + root);
   c.cosThetaMax = root;
-  c.oneMinusCos = s2 / (1.0f + root);
+  c.sinThetaMax = radius * invDist;
+  c.oneMinusCos = s2 * invOnePlusRoot;
   c.solidAngle = 2.0f * kPi * c.oneMinusCos;
-  c.solidAngleOverArea = 2.0f / (dist2 * (1.0f + root));
+  c.solidAngleOverArea = 2.0f * invDist2 * invOnePlusRoot;
   return c;
 }
 
@@ -110,25 +115,28 @@ inline VslCosineMeans vslCosineMeans(const VslCone& cone, const glm::vec3& n1, c
     return m;
   }
   Frame f(cone.axis);
-  // Components of the four normals in the cone's frame: each node's dot products are then two multiply-adds.
+  // The four normals' components in the cone's frame, one vector per axis (n1, g1, m2, g2): a node's four dot
+  // products are then z * Z + x * X + y * Y, and the ring's opposite nodes k and k + 3 share z * Z and differ in the
+  // sign of the rest.
   const glm::vec3 l1 = f.toLocal(n1), lg1 = f.toLocal(g1), l2 = f.toLocal(m2), lg2 = f.toLocal(g2);
-  auto add = [&m](float weight, float c1, float gc1, float c2, float gc2) {
-    if (!(gc1 > 0.0f && gc2 > 0.0f)) return;
-    c1 = std::max(0.0f, c1), c2 = std::max(0.0f, c2);
+  const glm::vec4 X(l1.x, lg1.x, l2.x, lg2.x), Y(l1.y, lg1.y, l2.y, lg2.y), Z(l1.z, lg1.z, l2.z, lg2.z);
+  auto add = [&m](float weight, const glm::vec4& dots) {
+    if (!(dots.y > 0.0f && dots.w > 0.0f)) return;
+    float c1 = std::max(0.0f, dots.x), c2 = std::max(0.0f, dots.z);
     m.product += weight * c1 * c2;
     m.cos1 += weight * c1;
     m.cos2 += weight * c2;
   };
   float z = 1.0f - 2.0f * cone.oneMinusCos / 3.0f;  // (1 + 2 cos theta_max) / 3
   float sinT = std::sqrt(std::max(0.0f, (2.0f * cone.oneMinusCos / 3.0f) * (1.0f + z)));
-  // cos and sin of 2 pi k / 6.
-  constexpr float kRing[kVslRingNodes][2] = {{1.0f, 0.0f},          {0.5f, 0.8660254f},  {-0.5f, 0.8660254f},
-                                             {-1.0f, 0.0f},         {-0.5f, -0.8660254f}, {0.5f, -0.8660254f}};
-  add(0.25f, l1.z, lg1.z, l2.z, lg2.z);
-  for (const auto& node : kRing) {
-    float cx = sinT * node[0], cy = sinT * node[1];
-    auto dotLocal = [&](const glm::vec3& l) { return l.x * cx + l.y * cy + l.z * z; };
-    add(0.75f / static_cast<float>(kVslRingNodes), dotLocal(l1), dotLocal(lg1), dotLocal(l2), dotLocal(lg2));
+  // Nodes at 2 pi k / 6: (cos, sin) = (1, 0), (1/2, sqrt(3)/2), (-1/2, sqrt(3)/2) and their opposites.
+  const glm::vec4 zc = z * Z, p0 = sinT * X, p1 = sinT * (0.5f * X + 0.8660254f * Y),
+                  p2 = sinT * (-0.5f * X + 0.8660254f * Y);
+  constexpr float kRingWeight = 0.75f / static_cast<float>(kVslRingNodes);
+  add(0.25f, Z);
+  for (const glm::vec4& p : {p0, p1, p2}) {
+    add(kRingWeight, zc + p);
+    add(kRingWeight, zc - p);
   }
   return m;
 }
@@ -147,13 +155,19 @@ inline float vslMeanCosineProductUnclipped(const VslCone& cone, const glm::vec3&
 /// Mass of the slope distribution P22 (GGX, alpha^2 = a2) over the disk of radius^2 rho2 centred at slope length^2 s2,
 /// divided by `solidAngle` (so that it stays finite as the disk and the cone shrink to a point together:
 /// rho2PerSolidAngle = rho2 / Omega). The point-to-parallel-disk form factor, written without cancellation.
+///   q^2 = ((s - rho)^2 + a2)((s + rho)^2 + a2) = (s^2 - rho^2)^2 + a2 (2 (s^2 + rho^2) + a2)   (no square roots of s
+/// and rho, no cancellation), P = (q - (a2 + s^2 - rho^2)) / (2 q); where a2 + s^2 > rho^2 the same as
+/// 2 a2 rho^2 / (q (q + a2 + s^2 - rho^2)), since q^2 - (a2 + s^2 - rho^2)^2 = 4 a2 rho^2. One division: the mass is
+/// at most 1 (the cap num / max(den, num Omega) only acts on rounding).
 inline float ggxDiskMassPerSolidAngle(float a2, float s2, float rho2PerSolidAngle, float solidAngle) {
   float rho2 = rho2PerSolidAngle * solidAngle;
-  float s = std::sqrt(s2), rho = std::sqrt(rho2);
-  float q = std::sqrt(((s - rho) * (s - rho) + a2) * ((s + rho) * (s + rho) + a2));
+  float diff = s2 - rho2;
+  float q = std::sqrt(diff * diff + a2 * (2.0f * (s2 + rho2) + a2));
   float a = a2 + s2;
-  if (a > rho2) return 2.0f * a2 * rho2PerSolidAngle / (q * (q + a - rho2));
-  return std::min(1.0f, 0.5f * (1.0f - (a - rho2) / q)) / solidAngle;
+  bool narrow = a > rho2;
+  float num = narrow ? 2.0f * a2 * rho2PerSolidAngle : 0.5f * (q + rho2 - a);
+  float den = narrow ? q * (q + a - rho2) : q * solidAngle;
+  return num / std::max(den, num * solidAngle);
 }
 
 /// A GGX lobe over the cone: its mean, how much of it the cone holds, and where in the cone it peaks.
@@ -163,35 +177,36 @@ struct VslLobe {
   glm::vec3 peak{0.0f, 0.0f, 1.0f};  ///< the cone direction closest to the mirror direction of wo
 };
 
-/// The cone direction (around `axis`, the cone's own or its reverse) closest to `dir`.
-inline glm::vec3 vslClosestInCone(const VslCone& cone, const glm::vec3& axis, const glm::vec3& dir) {
-  float c = glm::dot(dir, axis);
+/// The cone direction (around `axis`, the cone's own or its reverse) closest to the unit direction `dir`, given
+/// c = dir . axis and s = sqrt(1 - c^2).
+inline glm::vec3 vslClosestInCone(const VslCone& cone, const glm::vec3& axis, const glm::vec3& dir, float c, float s) {
   if (cone.inside || c >= cone.cosThetaMax) return dir;
-  glm::vec3 perp = dir - c * axis;
-  float len = glm::length(perp);
-  if (!(len > 1e-6f)) return axis;
-  float sinMax = std::sqrt(std::max(0.0f, cone.oneMinusCos * (2.0f - cone.oneMinusCos)));
-  return axis * cone.cosThetaMax + perp * (sinMax / len);
+  if (!(s > 1e-6f)) return axis;
+  return axis * cone.cosThetaMax + (dir - c * axis) * (cone.sinThetaMax / s);
 }
 
-/// The GGX part of f(n; wo, w) times cos_i over the cone, w around `axis` (see the top of this file).
+/// The GGX part of f(n; wo, w) times cos_i over the cone, w around `axis` (see the top of this file); meanCos is the
+/// cone mean of this end's cos_i with the one-sided tests (VslCosineMeans), which carries the horizons' clipping.
 inline VslLobe vslMeanSpecular(const BrdfParams& p, const glm::vec3& n, const glm::vec3& wo, const glm::vec3& axis,
-                               const VslCone& cone) {
+                               const VslCone& cone, float meanCos) {
   using namespace brdf_detail;
   VslLobe lobe;
   lobe.peak = axis;
   float cosO = glm::dot(n, wo), cosI = glm::dot(n, axis);
   if (cosO <= 0.0f || cosI <= 0.0f || (p.metallic <= 0.0f && p.specular <= 0.0f)) return lobe;
   glm::vec3 h = wo + axis;
-  float hl = glm::length(h);
-  if (!(hl > 0.0f)) return lobe;
-  h /= hl;
+  float hl2 = glm::dot(h, h);
+  if (!(hl2 > 0.0f)) return lobe;
+  h *= 1.0f / std::sqrt(hl2);
   float cosH = glm::dot(n, h);
   if (cosH <= 0.0f) return lobe;
+  cosH = std::max(cosH, 1e-6f);
   float vDotH = std::max(1e-6f, glm::dot(wo, h));
   float alpha = p.alpha();
   float cosH2 = cosH * cosH;
-  float tan2 = std::max(0.0f, 1.0f - cosH2) / cosH2;
+  float invCosH = 1.0f / cosH, invVDotH = 1.0f / vDotH;
+  float invCosH2 = invCosH * invCosH;
+  float tan2 = std::max(0.0f, 1.0f - cosH2) * invCosH2;
   // The cone's image in the slope plane is an ellipse, the circle of solid angle Omega through two linear maps: the
   // half-vector map scales by 1/2 in the plane of wo and w and by 1 / (2 wo.h) across it; the slope map by
   // 1 / cos^2 theta_h radially and 1 / cos theta_h tangentially, at an angle beta to the first pair of axes. Its area
@@ -199,40 +214,57 @@ inline VslLobe vslMeanSpecular(const BrdfParams& p, const glm::vec3& n, const gl
   // disk that decides whether the ellipse reaches the lobe is the one of the ellipse's radial extent rho_r,
   //   rho_r^2 = Omega / (4 pi cos^4 theta_h (cos^2 beta + (wo.h)^2 sin^2 beta)),
   // with the area factor A B (rho_r^2 + alpha^2) / (rho_r^2 (A B + alpha^2)) that restores the small-cone limit (area
-  // times P22) and tends to 1 for a cone that holds the lobe.
-  float det = 1.0f / (4.0f * vDotH * cosH2 * cosH);
+  // times P22) and tends to 1 for a cone that holds the lobe. cos beta = (cos_o - (wo.h) cos theta_h) /
+  // (sin(wo, h) sin theta_h); only its square is needed, so no square roots.
+  float det = 0.25f * invVDotH * invCosH2 * invCosH;
   float a2 = alpha * alpha;
-  float sinO = std::sqrt(std::max(0.0f, 1.0f - vDotH * vDotH)), sinH = std::sqrt(std::max(0.0f, 1.0f - cosH2));
-  float cosBeta = sinO * sinH > 1e-6f ? std::clamp((cosO - vDotH * cosH) / (sinO * sinH), -1.0f, 1.0f) : 1.0f;
-  float cb2 = cosBeta * cosBeta;
-  float radialPerSolidAngle = 1.0f / (4.0f * kPi * cosH2 * cosH2 * (cb2 + vDotH * vDotH * (1.0f - cb2)));
+  float cosBetaNum = cosO - vDotH * cosH;
+  float sin2Prod = std::max(0.0f, 1.0f - vDotH * vDotH) * std::max(0.0f, 1.0f - cosH2);
+  float cb2 = sin2Prod > 1e-12f ? std::min(1.0f, cosBetaNum * cosBetaNum / sin2Prod) : 1.0f;
+  float radialDenom = 4.0f * kPi * cosH2 * cosH2 * (cb2 + vDotH * vDotH * (1.0f - cb2));
+  float radialPerSolidAngle = 1.0f / radialDenom;
   float ab = det * cone.solidAngle / kPi, radial2 = radialPerSolidAngle * cone.solidAngle;
-  float mass = ggxDiskMassPerSolidAngle(a2, tan2, radialPerSolidAngle, cone.solidAngle) *
-               (det / kPi / radialPerSolidAngle) * (radial2 + a2) / (ab + a2);
   // A centred ellipse that is long and thin (grazing wo) holds less of a narrow lobe than the disk of equal area:
   // the exact mass of P22 over it, 1 / sqrt((1 + alpha^2 / A^2)(1 + alpha^2 / B^2)), against the disk's
   // 1 / (1 + alpha^2 / (A B)), scales it: (A B + alpha^2) / sqrt(A^2 B^2 + alpha^2 (A^2 + B^2) + alpha^4), with
   // A^2 + B^2 = |L|_F^2 Omega / pi for the combined map L. 1 for a circle and in both limits (tiny or huge cones).
-  float sr2 = 1.0f / (cosH2 * cosH2), st2 = 1.0f / cosH2;                  // slope map, squared
-  float ti2 = 0.25f, tp2 = 0.25f / (vDotH * vDotH);                       // half-vector map, squared
+  // Its numerator cancels the area factor's denominator.
+  float sr2 = invCosH2 * invCosH2, st2 = invCosH2;                // slope map, squared
+  float ti2 = 0.25f, tp2 = 0.25f * invVDotH * invVDotH;            // half-vector map, squared
   float frob2 = (sr2 * ti2 + st2 * tp2) * cb2 + (sr2 * tp2 + st2 * ti2) * (1.0f - cb2);
   float sumSq = frob2 * cone.solidAngle / kPi;
-  mass *= (ab + a2) / std::sqrt(ab * ab + a2 * sumSq + a2 * a2);
-  // The slope-plane picture linearises the maps at the axis, which fails for wide cones (x1 close to the sphere).
-  // Directions are exact in w: a lobe whose mirror direction R lies outside the cone, by an angle delta beyond its
-  // rim, puts at most its P22 tail beyond delta into it, alpha_w^2 / (alpha_w^2 + delta^2) with the reflected lobe's
-  // angular width alpha_w = 2 alpha. That bound never binds for a small cone (whose mass is O(Omega)).
+  float mass = ggxDiskMassPerSolidAngle(a2, tan2, radialPerSolidAngle, cone.solidAngle) *
+               (det * radialDenom / kPi) * (radial2 + a2) / std::sqrt(ab * ab + a2 * sumSq + a2 * a2);
+  // The slope-plane picture linearises the maps at the axis, which fails for wide cones (x1 close to the sphere):
+  // bound the mass by what the lobe can put on the cone's side of the line that touches the cone where it is
+  // closest to the mirror direction R (the cone is convex: it lies on one side of that line). Near R the slope m of
+  // the half vector maps to w linearly, by 2 in the plane of n and wo and by 2 cos_o across it, so the line at the
+  // angle delta from R (positive outside the cone) lies at the slope distance t, t^2 = tan^2(delta / 2) / q with
+  // q = 1 - sin^2(theta_o) u_perp^2 (u the unit direction from R toward the axis, u_perp its component across the
+  // plane; tan(delta / 2) = sin delta / (1 + cos delta) is exact in the plane). P22's mass beyond a line at distance
+  // t is 1/2 (1 - t / sqrt(t^2 + alpha^2)); the cone gets at most that when R is outside, 1 minus it when inside.
+  // The bound never binds for a small cone (whose mass is O(Omega)). Directions are exact in w, so it holds for
+  // wide cones, where a grazing wo makes the lobe narrow across the plane and the disk would hold all of it.
   const glm::vec3 mirror = 2.0f * cosO * n - wo;
   float cosMirror = glm::dot(mirror, axis);
-  if (!cone.inside && cosMirror < cone.cosThetaMax) {
-    float delta = std::acos(std::max(-1.0f, cosMirror)) - std::acos(cone.cosThetaMax);
-    float aw2 = 4.0f * a2;
-    mass = std::min(mass, aw2 / (aw2 + delta * delta) / cone.solidAngle);
+  float sin2Mirror = std::max(0.0f, 1.0f - cosMirror * cosMirror), sinMirror = std::sqrt(sin2Mirror);
+  if (!cone.inside) {
+    float sinDelta = sinMirror * cone.cosThetaMax - cosMirror * cone.sinThetaMax;
+    float onePlusCosDelta = 1.0f + cosMirror * cone.cosThetaMax + sinMirror * cone.sinThetaMax;
+    float across = glm::dot(axis, glm::cross(n, wo));  // sin(theta_o) sin(R, axis) u_perp
+    float q = 1.0f - std::min(1.0f - cosO * cosO, across * across / std::max(sin2Mirror, 1e-12f));
+    float t2 = sinDelta * sinDelta / std::max(onePlusCosDelta * onePlusCosDelta * q, 1e-30f);
+    float root = std::sqrt(t2 + a2);
+    float beyond = 0.5f * a2 / (root * (root + std::sqrt(t2)));  // 1/2 (1 - t / root) without cancellation
+    float bound = sinDelta > 0.0f ? beyond : 1.0f - beyond;
+    mass = std::min(mass, bound / std::max(cone.solidAngle, 1e-30f));
   }
   lobe.coverage = ab / (ab + a2);
-  lobe.peak = vslClosestInCone(cone, axis, mirror);
+  lobe.peak = vslClosestInCone(cone, axis, mirror, cosMirror, sinMirror);
   // The smooth factors V F cos_i 4 (wo.h) / cos(theta_h) where the lobe's mass is: at the axis for a cone small
-  // against the lobe, at its peak for a cone that holds it.
+  // against the lobe, at its peak for a cone that holds it. For the small cone, f is smooth over it and the mean of
+  // f cos_i is f at the axis times the mean of cos_i, which vanishes where a horizon cuts the cone (a VPL sphere
+  // that reaches below a glossy floor): so cos_i there is meanCos, not its value at the axis.
   glm::vec3 we = glm::normalize(axis + lobe.coverage * (lobe.peak - axis));
   glm::vec3 he = glm::normalize(wo + we);
   float cosIe = std::max(0.0f, glm::dot(n, we)), cosHe = std::max(1e-6f, glm::dot(n, he));
@@ -240,7 +272,8 @@ inline VslLobe vslMeanSpecular(const BrdfParams& p, const glm::vec3& n, const gl
   float fw = schlickWeight(vDotHe);
   glm::vec3 weight = (1.0f - p.metallic) * p.specular * (0.04f + 0.96f * fw) +
                      p.metallic * (p.baseColor + (1.0f - p.baseColor) * fw);
-  lobe.mean = weight * (smithVisibility(cosO, cosIe, alpha) * cosIe * 4.0f * vDotHe / cosHe * mass);
+  float cosMean = meanCos + lobe.coverage * (cosIe - meanCos);
+  lobe.mean = weight * (smithVisibility(cosO, cosIe, alpha) * cosMean * 4.0f * vDotHe / cosHe * mass);
   return lobe;
 }
 
@@ -271,8 +304,8 @@ inline glm::vec3 vslApproxTransfer(const VslEnd& x1, const VslEnd& x2, float rad
   const glm::vec3 a = cone.axis;
   VslCosineMeans c = vslCosineMeans(cone, x1.normal, x1.geometricNormal, -x2.normal, -x2.geometricNormal);
   glm::vec3 d1 = diffuseBrdf(x1.brdf, x1.normal, x1.wo, a), d2 = diffuseBrdf(x2.brdf, x2.normal, x2.wo, -a);
-  VslLobe s1 = vslMeanSpecular(x1.brdf, x1.normal, x1.wo, a, cone);
-  VslLobe s2 = vslMeanSpecular(x2.brdf, x2.normal, x2.wo, -a, cone);
+  VslLobe s1 = vslMeanSpecular(x1.brdf, x1.normal, x1.wo, a, cone, c.cos1);
+  VslLobe s2 = vslMeanSpecular(x2.brdf, x2.normal, x2.wo, -a, cone, c.cos2);
   glm::vec3 mean = d1 * d2 * c.product;
   if (c.product > 0.0f) {
     // A lobe's smooth partner is the other end's cosine: for a cone small against the lobe its mean weighted by the
@@ -284,9 +317,10 @@ inline glm::vec3 vslApproxTransfer(const VslEnd& x1, const VslEnd& x2, float rad
     const glm::vec3 w1 = s1.peak, w2 = -s2.peak;
     float atPeak1 = facing(w1) ? std::max(0.0f, -glm::dot(x2.normal, w1)) : 0.0f;
     float atPeak2 = facing(w2) ? std::max(0.0f, glm::dot(x1.normal, w2)) : 0.0f;
-    float partner1 = c.product / c.cos1 + s1.coverage * (atPeak1 - c.product / c.cos1);
-    float partner2 = c.product / c.cos2 + s2.coverage * (atPeak2 - c.product / c.cos2);
-    mean += d2 * s1.mean * partner1 + d1 * s2.mean * partner2 + s1.mean * s2.mean * (c.product / (c.cos1 * c.cos2));
+    float productOverBoth = c.product / std::max(c.cos1 * c.cos2, 1e-30f);  // <c1 c2> / (<c1> <c2>)
+    float mean1 = productOverBoth * c.cos2, mean2 = productOverBoth * c.cos1;  // <c1 c2> / <c1>, <c1 c2> / <c2>
+    float partner1 = mean1 + s1.coverage * (atPeak1 - mean1), partner2 = mean2 + s2.coverage * (atPeak2 - mean2);
+    mean += d2 * s1.mean * partner1 + d1 * s2.mean * partner2 + s1.mean * s2.mean * productOverBoth;
   }
   return mean * cone.solidAngleOverArea;
 }
