@@ -9,6 +9,12 @@
 
 namespace vplab::cli {
 
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ",") + n;
+  return out;
+}
+
 CommandLine::CommandLine(std::string usage, std::vector<OptionSpec> options)
     : usage_(std::move(usage)), options_(std::move(options)) {}
 

@@ -24,6 +24,9 @@ struct OptionSpec {
   char shortName = 0;  ///< "-o FILE" for "--out FILE"; 0 = none
 };
 
+/// "a,b,c": the names of a list, for help texts and error messages.
+std::string joined(const std::vector<std::string>& names);
+
 class CommandLine {
  public:
   CommandLine(std::string usage, std::vector<OptionSpec> options);

@@ -21,7 +21,7 @@ int cmdBench(const Args& args) {
       {{"out", "DIR", "output folder: bench.csv, charts/, images/, references/, report.md (default bench-out)"},
        {"size", "WxH", "image size (default 128x128)"},
        {"quick", "", "fewer parameter values and VPLs (a minute per scene instead of several)"},
-       {"methods", "LIST", "comma-separated subset of vpl,clamp,ssbc,vsl,reject,vpl-kk (default all)"},
+       {"methods", "LIST", "comma-separated subset of " + cli::joined(benchMethodNames()) + " (default all)"},
        {"ref-spp", "N", "reference samples per pixel (default 1024, 256 with --quick)"},
        {"exact-samples-per-pixel", "N", "samples per pixel of the exact CPU VPL renders (default 4, 2 with --quick)"},
        {"components", "indirect|all", "what is compared with the reference (default indirect)"},
@@ -74,7 +74,7 @@ int cmdBench(const Args& args) {
       if (name.empty()) continue;
       const auto& known = benchMethodNames();
       if (std::find(known.begin(), known.end(), name) == known.end())
-        throw cli::CliError("option --methods: unknown method '" + name + "' (vpl, clamp, ssbc, vsl, reject, vpl-kk)");
+        throw cli::CliError("option --methods: unknown method '" + name + "' (" + cli::joined(known) + ")");
       config.methods.push_back(name);
     }
   }

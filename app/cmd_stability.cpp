@@ -1,6 +1,7 @@
 // vplab stability <scene>: flicker under small light and camera motions (coherent vs reshuffled VPLs), failure maps
 // per method and the grid of parameter extremes. Exits with status 1 when an extreme produces a bad pixel.
 
+#include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <sstream>
@@ -24,7 +25,7 @@ int cmdStability(const Args& args) {
                        {"size", "WxH", "image size (default 96x96, 64x64 with --quick)"},
                        {"vpl-count", "N", "VPLs of every method (default 256, 64 with --quick)"},
                        {"ref-spp", "N", "samples per pixel of the reference frames (default 256, 64 with --quick)"},
-                       {"methods", "LIST", "flicker methods: vpl,clamp,vsl,reject,vpl-gl,ssbc-gl"}});
+                       {"methods", "LIST", "flicker methods: " + cli::joined(flickerMethodNames())}});
   cl.addOptions(cli::sweepOptions("parts"));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
@@ -51,9 +52,10 @@ int cmdStability(const Args& args) {
     std::string name;
     while (std::getline(ss, name, ','))
       if (!name.empty()) config.flickerMethods.push_back(name);
+    const std::vector<std::string>& known = flickerMethodNames();
     for (const std::string& n : config.flickerMethods)
-      if (n != "vpl" && n != "clamp" && n != "vsl" && n != "reject" && n != "vpl-gl" && n != "ssbc-gl")
-        throw cli::CliError("option --methods: unknown flicker method '" + n + "'");
+      if (std::find(known.begin(), known.end(), n) == known.end())
+        throw cli::CliError("option --methods: unknown flicker method '" + n + "' (" + cli::joined(known) + ")");
   }
   cli::applySweepOptions(cl, "stability", config);
   cli::requireOutputFolder(config.outDir, cl.positional());

@@ -15,6 +15,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
 
 namespace vplab {
@@ -97,27 +98,33 @@ struct FlickerMethod {
   std::function<void(Settings&, float diag)> edit;
 };
 
-std::vector<FlickerMethod> flickerMethods(const StabilityConfig& config) {
+// Every flicker method: the CPU rendering variants of light-traced VPLs, every generation variant of
+// renderer/vpl/generation_methods.h on the CPU, and the GL preview's two.
+std::vector<FlickerMethod> allFlickerMethods() {
   std::vector<FlickerMethod> all = {
       {"vpl", Backend::Cpu, Method::Vpl, [](Settings&, float) {}},
       {"clamp", Backend::Cpu, Method::Vpl, [](Settings& s, float d) { s.clampBound = 1.0f / (0.01f * d * d); }},
       {"vsl", Backend::Cpu, Method::Vsl, [](Settings& s, float d) { s.vslRadius = 0.03f * d; }},
-      {"reject", Backend::Cpu, Method::Vpl,
-       [](Settings& s, float) {
-         s.rejection = true;
-         s.rejectionEpsilon = 0.1f;
-       }},
-      {"vpl-gl", Backend::Gl, Method::Vpl, [](Settings&, float) {}},
-      {"ssbc-gl", Backend::Gl, Method::Vpl,
-       [](Settings& s, float d) {
-         s.clampBound = 1.0f / (0.01f * d * d);
-         s.ssbcSteps = 2;
-       }},
   };
+  for (const GenerationVariant& v : generationVariants()) {
+    if (std::string(v.name) == "vpl") continue;
+    all.push_back({v.name, Backend::Cpu, Method::Vpl, [&v](Settings& s, float) { applyGenerationVariant(v, s); }});
+  }
+  all.push_back({"vpl-gl", Backend::Gl, Method::Vpl, [](Settings&, float) {}});
+  all.push_back({"ssbc-gl", Backend::Gl, Method::Vpl, [](Settings& s, float d) {
+                   s.clampBound = 1.0f / (0.01f * d * d);
+                   s.ssbcSteps = 2;
+                 }});
+  return all;
+}
+
+std::vector<FlickerMethod> flickerMethods(const StabilityConfig& config) {
+  const std::vector<FlickerMethod> all = allFlickerMethods();
   std::vector<std::string> names = config.flickerMethods;
   if (names.empty())
     names = config.quick ? std::vector<std::string>{"vpl", "clamp", "vpl-gl"}
-                         : std::vector<std::string>{"vpl", "clamp", "vsl", "reject", "vpl-gl", "ssbc-gl"};
+                         : std::vector<std::string>{"vpl", "clamp", "vsl", "reject", "bidirectional", "metropolis",
+                                                    "vpl-gl", "ssbc-gl"};
   std::vector<FlickerMethod> out;
   for (const std::string& n : names) {
     auto it = std::find_if(all.begin(), all.end(), [&](const FlickerMethod& m) { return m.name == n; });
@@ -166,6 +173,15 @@ void errorConcentration(const Image& err, FailureRow& row) {
 }
 
 }  // namespace
+
+const std::vector<std::string>& flickerMethodNames() {
+  static const std::vector<std::string> names = [] {
+    std::vector<std::string> n;
+    for (const FlickerMethod& m : allFlickerMethods()) n.push_back(m.name);
+    return n;
+  }();
+  return names;
+}
 
 Scene translateLights(const Scene& scene, const glm::vec3& offset) {
   Scene out = scene;

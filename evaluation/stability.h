@@ -21,6 +21,10 @@ namespace vplab {
 /// sharing a vertex with a light stays where it is) and punctual lights. The copy is finalized.
 Scene translateLights(const Scene& scene, const glm::vec3& offset);
 
+/// Every flicker method's name: vpl, clamp, vsl and the generation variants (reject, bidirectional, metropolis) on
+/// the CPU; vpl-gl and ssbc-gl in the GL preview.
+const std::vector<std::string>& flickerMethodNames();
+
 struct StabilityConfig {
   std::string outDir = "stability-out";
   int width = 96;
@@ -37,7 +41,7 @@ struct StabilityConfig {
   uint32_t seed = 1;
   int threads = 0;
   bool writeImages = true;
-  /// Flicker methods by name (vpl, clamp, vsl, reject on the CPU; vpl-gl, ssbc-gl); empty = the default set.
+  /// Flicker methods by name (flickerMethodNames()); empty = the default set (all of them).
   std::vector<std::string> flickerMethods;
   /// How the scene file is loaded (harness.h); empty: as it is.
   SceneLoader loadScene;

@@ -15,6 +15,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
 
 namespace vplab {
@@ -88,7 +89,7 @@ std::vector<std::string> keyOf(const std::string& scene, const BenchCase& c, con
 }
 
 std::string generationKey(const Settings& s) {
-  return std::to_string(s.vplCount) + "|" + std::to_string(s.vplMaxBounces) + "|" + std::to_string(s.seed) + "|" +
+  return std::string(toString(s.generation)) + "|" + std::to_string(s.vplCount) + "|" + std::to_string(s.vplMaxBounces) + "|" + std::to_string(s.seed) + "|" +
          (s.rejection ? fmt(s.rejectionEpsilon) : "off") + "|" + fmt(s.vslRadius) + "|" +
          std::to_string(s.vslRadiusFromDensity);
 }
@@ -126,6 +127,13 @@ std::string describeRow(const CsvRow& r) {
   return d;
 }
 
+// " +- spread" where the pilot predicted one (rejection), else nothing.
+std::string spreadOf(const CsvRow& r) {
+  auto it = r.find("acceptance_spread");
+  if (it == r.end() || it->second.empty() || toDouble(it->second) <= 0.0) return "";
+  return " ± " + it->second;
+}
+
 struct SeriesKey {
   std::string method, backend;
   bool operator<(const SeriesKey& o) const {
@@ -142,12 +150,29 @@ std::map<SeriesKey, std::vector<const CsvRow*>> groupRows(const std::vector<cons
 
 }  // namespace
 
+const std::vector<std::string>& benchMethodNames() {
+  static const std::vector<std::string> names = [] {
+    // The rendering variants of light-traced VPLs and rejection first, in the places they have always had (a
+    // method's chart colour is its place), then every other generation variant.
+    std::vector<std::string> n = {"vpl", "clamp", "ssbc", "vsl", "reject", "vpl-kk"};
+    for (const GenerationVariant& v : generationVariants())
+      if (std::find(n.begin(), n.end(), v.name) == n.end()) n.push_back(v.name);
+    return n;
+  }();
+  return names;
+}
+
+unsigned benchMethodColourRgb(const std::string& method) {
+  const int index = benchMethodIndex(method);
+  return chartColourRgb(index < 0 ? 0u : static_cast<std::size_t>(index));
+}
+
 const std::vector<std::string>& benchCsvHeader() {
   static const std::vector<std::string> header = {
       "scene",     "method",   "backend",         "components",    "width",   "height",     "seed", "vpls",
       "bounces",   "clamp_b",  "vsl_r",           "rejection",     "epsilon", "interleave", "ssbc", "shadow_map",
       "spp",       "ref_spp",  "gen_ms",          "render_ms",     "time_ms", "relmse",     "rmse", "energy_ratio",
-      "nonfinite", "negative", "acceptance_rate", "vpls_accepted", "image_id"};
+      "nonfinite", "negative", "acceptance_rate", "acceptance_spread", "vpls_accepted", "image_id"};
   return header;
 }
 
@@ -193,6 +218,15 @@ std::vector<BenchCase> benchCases(const Scene& scene, const BenchConfig& config)
         s.rejection = true;
         s.rejectionEpsilon = e;
       });
+    // The other generation methods at the VPL counts of plain light tracing, so their rows compare at equal N.
+    for (const GenerationVariant& v : generationVariants()) {
+      if (v.generation == VplGeneration::Light) continue;
+      for (int count : counts)
+        add(v.name, be, [&](Settings& s) {
+          applyGenerationVariant(v, s);
+          s.vplCount = count;
+        });
+    }
   }
   // The GL preview's own levers: interleaving (k x k fewer evaluations) and the shadow-map resolution.
   for (int k : config.quick ? std::vector<int>{4} : std::vector<int>{2, 4})
@@ -298,7 +332,8 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
       for (const std::string& v : {fmt(m.generationMs), fmt(m.renderMs), fmt(m.totalMs()), fmt(metrics.relMse),
                                    fmt(metrics.rmse), fmt(metrics.energyRatioOverall),
                                    std::to_string(metrics.nonFinitePixels), std::to_string(metrics.negativePixels),
-                                   fmt(m.vplStats.acceptanceRate), std::to_string(m.vplStats.accepted), id})
+                                   fmt(m.vplStats.acceptanceRate), fmt(m.vplStats.acceptanceSpread),
+                                   std::to_string(m.vplStats.accepted), id})
         row.push_back(v);
       log.append(row);
       ++outcome.rowsMeasured;
@@ -387,7 +422,7 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
                "pass and shadow-mapped in GL, so it is left out of the comparison)"
              : " (the full image)")
      << ".\n"
-     << "- **Time** = VPL generation (pilot and rejection included) + render. CPU: wall time of the exact VPL render "
+     << "- **Time** = VPL generation (pilots, importance, resampling or chains included) + render. CPU: wall time of the exact VPL render "
         "on "
         "all threads. GL: wall time of a whole preview frame from scratch up to glFinish (VPL shadow maps included; "
         "the faster of two)"
@@ -530,7 +565,7 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
       for (const CsvRow* r : g)
         md << "| " << k.method << " | " << k.backend << " | " << describeRow(*r) << " | " << r->at("gen_ms") << " | "
            << r->at("render_ms") << " | " << r->at("relmse") << " | " << r->at("rmse") << " | " << r->at("energy_ratio")
-           << " | " << r->at("acceptance_rate") << " | " << r->at("nonfinite") << " | " << r->at("negative") << " |\n";
+           << " | " << r->at("acceptance_rate") << spreadOf(*r) << " | " << r->at("nonfinite") << " | " << r->at("negative") << " |\n";
     md << "\n";
   }
   writeFileAtomically(outcome.reportPath, md.str());

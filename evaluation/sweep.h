@@ -15,11 +15,9 @@
 
 namespace vplab {
 
-/// Method names used in bench.csv and --methods.
-inline const std::vector<std::string>& benchMethodNames() {
-  static const std::vector<std::string> names = {"vpl", "clamp", "ssbc", "vsl", "reject", "vpl-kk"};
-  return names;
-}
+/// Method names used in bench.csv and --methods: the rendering variants of light-traced VPLs (vpl, clamp, ssbc,
+/// vsl, vpl-kk) and the generation variants of renderer/vpl/generation_methods.h (reject, bidirectional, ...).
+const std::vector<std::string>& benchMethodNames();
 
 /// Position of a method in benchMethodNames() (its colour in every chart, the editor's included); -1 if unknown.
 inline int benchMethodIndex(const std::string& method) {
@@ -28,6 +26,10 @@ inline int benchMethodIndex(const std::string& method) {
     if (names[i] == method) return static_cast<int>(i);
   return -1;
 }
+
+/// Colour (0xRRGGBB) of a method in benchMethodNames() in every chart and in the editor's VPL overlay, which rings
+/// the VPLs in their generation variant's colour.
+unsigned benchMethodColourRgb(const std::string& method);
 
 /// Marker shape of a backend in every chart: circles for the CPU renders, squares for the GL preview.
 inline int benchBackendShape(bool gl) { return gl ? 1 : 0; }

@@ -14,6 +14,7 @@
 #include "evaluation/csv_log.h"
 #include "evaluation/svg_chart.h"
 #include "evaluation/sweep.h"
+#include "renderer/vpl/generation_methods.h"
 #include "tests/xml_check.h"
 
 namespace vplab {
@@ -114,6 +115,17 @@ TEST(BenchSvg, SeriesKeepTheirMethodsColourAndBackendsShape) {
   EXPECT_EQ(axisTickLabel(1e-4), "1e-04");
 }
 
+// Every generation variant is a bench method with a colour of its own (its rows, its chart series and the editor's
+// VPL overlay ring share it).
+TEST(BenchSvg, EveryGenerationVariantIsABenchMethodWithItsOwnColour) {
+  std::set<unsigned> colours;
+  for (const std::string& m : benchMethodNames()) EXPECT_TRUE(colours.insert(benchMethodColourRgb(m)).second) << m;
+  for (const GenerationVariant& v : generationVariants()) {
+    ASSERT_GE(benchMethodIndex(v.name), 0) << v.name;
+    EXPECT_EQ(benchMethodColourRgb(v.name), chartColourRgb(static_cast<std::size_t>(benchMethodIndex(v.name))));
+  }
+}
+
 TEST(BenchSvg, StrictParserRejectsMalformedXml) {
   EXPECT_THROW(parseXml("<svg><g></svg>"), XmlError);
   EXPECT_THROW(parseXml("<svg a=\"1\" a=\"2\"/>"), XmlError);
@@ -168,7 +180,7 @@ TEST(BenchCsv, LogResumesAndDropsACutOffRow) {
 TEST(BenchSweep, TinySweepWritesFiniteRowsChartsAndResumes) {
   std::string dir = tmpDir("bench_sweep");
   BenchConfig config = tinyConfig(dir);
-  config.methods = {"vpl", "clamp", "reject"};
+  config.methods = {"vpl", "clamp", "reject", "bidirectional", "metropolis"};
   BenchOutcome out = runBench({cornellBox()}, config);
 
   std::vector<std::string> header;
@@ -178,9 +190,9 @@ TEST(BenchSweep, TinySweepWritesFiniteRowsChartsAndResumes) {
        {"scene", "method", "backend", "vpls", "clamp_b", "vsl_r", "epsilon", "interleave", "ssbc", "shadow_map",
         "time_ms", "relmse", "rmse", "energy_ratio", "nonfinite", "negative", "acceptance_rate"})
     EXPECT_NE(std::find(header.begin(), header.end(), col), header.end()) << col;
-  // quick: 2 N values, 2 clamp bounds, 3 epsilons on the CPU.
-  ASSERT_EQ(rows.size(), 7u);
-  EXPECT_EQ(out.rowsMeasured, 7u);
+  // quick: 2 N values, 2 clamp bounds, 3 epsilons, and the 2 N values of each other generation method on the CPU.
+  ASSERT_EQ(rows.size(), 11u);
+  EXPECT_EQ(out.rowsMeasured, 11u);
   for (const CsvRow& r : rows) {
     for (const char* col : {"time_ms", "relmse", "rmse", "energy_ratio", "acceptance_rate"}) {
       double v = std::stod(r.at(col));
@@ -191,6 +203,12 @@ TEST(BenchSweep, TinySweepWritesFiniteRowsChartsAndResumes) {
     EXPECT_GT(std::stod(r.at("relmse")), 0.0);
     if (r.at("method") == "reject") {
       EXPECT_LE(std::stod(r.at("acceptance_rate")), 1.0);
+      // The pilot predicts a spread wherever something can be rejected.
+      if (std::stod(r.at("epsilon")) < 1.0) EXPECT_GT(std::stod(r.at("acceptance_spread")), 0.0) << r.at("epsilon");
+    }
+    if (r.at("method") == "bidirectional" || r.at("method") == "metropolis") {
+      // Compared at the VPL counts of plain light tracing: the kept count is the requested one, give or take.
+      EXPECT_NEAR(std::stod(r.at("vpls_accepted")) / std::stod(r.at("vpls")), 1.0, 0.3) << r.at("method");
     }
     EXPECT_TRUE(fs::exists(dir + "/images/cornell-box/" + r.at("image_id") + "-err.png"));
   }
@@ -203,8 +221,8 @@ TEST(BenchSweep, TinySweepWritesFiniteRowsChartsAndResumes) {
   // The same output folder again: the reference comes from the cache and no run is measured twice.
   BenchOutcome again = runBench({cornellBox()}, config);
   EXPECT_EQ(again.rowsMeasured, 0u);
-  EXPECT_EQ(again.rowsReused, 7u);
-  EXPECT_EQ(readCsv(out.csvPath).size(), 7u);
+  EXPECT_EQ(again.rowsReused, 11u);
+  EXPECT_EQ(readCsv(out.csvPath).size(), 11u);
 }
 
 TEST(BenchSweep, CasesScaleWithTheSceneAndHonourTheMethodList) {

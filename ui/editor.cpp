@@ -1,5 +1,6 @@
 #include "ui/editor.h"
 
+#include "evaluation/sweep.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
@@ -14,6 +15,7 @@
 #include "renderer/scene/lights_json.h"
 #include "renderer/scene/staging.h"
 #include "renderer/settings_json.h"
+#include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_contribution.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vpl_importance.h"
@@ -868,6 +870,10 @@ void Editor::drawView() {
     };
     float maxFlux = 1e-12f;
     for (const Vpl& v : vpls_.vpls) maxFlux = std::max(maxFlux, luminance(v.flux));
+    // The ring takes the generation method's chart colour (the one its bench rows have), so a screenshot says which
+    // method put the VPLs there.
+    const unsigned rgb = benchMethodColourRgb(generationVariantOf(settings_).name);
+    const ImU32 ring = IM_COL32((rgb >> 16) & 0xff, (rgb >> 8) & 0xff, rgb & 0xff, 230);
     for (const Vpl& v : vpls_.vpls) {
       ImVec2 p;
       if (!project(v.position, p)) continue;
@@ -878,8 +884,9 @@ void Editor::drawView() {
       draw->AddCircleFilled(
           p, radius,
           IM_COL32(static_cast<int>(255 * c.r), static_cast<int>(255 * c.g), static_cast<int>(255 * c.b), 230));
-      draw->AddCircle(p, radius, IM_COL32(0, 0, 0, 160));
+      draw->AddCircle(p, radius + 0.5f, ring, 0, 1.5f);
     }
+    draw->AddText(ImVec2(x0 + 4, y0 + 4), ring, generationVariantOf(settings_).label);
     if (showRejected_)
       for (const Vpl& v : vpls_.rejected) {
         ImVec2 p;

@@ -2,6 +2,7 @@
 
 #include "renderer/core/sampling.h"
 #include "renderer/scene/staging.h"
+#include "renderer/vpl/generation_methods.h"
 
 #include <imgui.h>
 
@@ -86,8 +87,6 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     changed = true;
   }
   settingTooltip("seed");
-  ImGui::Text("VPLs %llu from %llu paths, %.1f ms", static_cast<unsigned long long>(stats.accepted),
-              static_cast<unsigned long long>(stats.pathsTraced), stats.generationSeconds * 1e3);
 
   if (s.generation == VplGeneration::Bidirectional) {
     changed |= settingSliderInt(s, "birCandidateFactor", 1, 64, ImGuiSliderFlags_Logarithmic);
@@ -110,9 +109,11 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   if (s.rejection) {
     changed |= settingSliderFloat(s, "rejectionEpsilon", 0.0f, 1.0f, "%.3f", 0,
                                   "0 rejects VPLs that miss every importance point");
-    ImGui::Text("acceptance %.1f %% of %llu candidates%s", 100.0 * stats.acceptanceRate,
-                static_cast<unsigned long long>(stats.candidates), stats.candidateCapReached ? " (cap reached)" : "");
   }
+  // What the last generation did: method, VPLs kept of candidates, acceptance (with rejection also the pilot's
+  // prediction and its spread; Metropolis: accepted mutations), time, and any warning such as a fallback.
+  ImGui::TextWrapped("%s", describeVplStats(stats).c_str());
+  for (const std::string& w : stats.warnings) ImGui::TextColored(ImVec4(1.0f, 0.6f, 0.2f, 1.0f), "%s", w.c_str());
 
   ImGui::Separator();
   ImGui::TextDisabled("Bounded geometry term G_b = min(G, b)");

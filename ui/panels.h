@@ -11,7 +11,8 @@
 
 namespace vplab::ui {
 
-/// VPL count, bounces, seed; rejection with epsilon and the acceptance rate; clamp bound b (log slider, with the
+/// VPL generation method with its parameters, VPL count, bounces, seed; rejection with epsilon; what the last
+/// generation did (acceptance with the pilot's predicted spread, warnings); clamp bound b (log slider, with the
 /// fraction of energy it removes); VSL radius r (log slider, 0 = off); SSBC steps; interleave k; shadow-map size
 /// and bias; direct-light samples; exposure. `clampEnergyRemoved` < 0 means "not measured yet".
 bool drawManyLightPanel(Settings& settings, const VplStats& stats, double clampEnergyRemoved);

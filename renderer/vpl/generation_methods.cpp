@@ -41,13 +41,11 @@ bool parseGeneration(const std::string& text, VplGeneration& out) {
 }
 
 const std::vector<GenerationVariant>& generationVariants() {
-  // Colours: the first four of the chart palette's qualitative set, so that they read apart on white and on a dark
-  // editor background alike.
   static const std::vector<GenerationVariant> variants = {
-      {"vpl", "light tracing", 0x1f77b4, VplGeneration::Light, false},
-      {"reject", "light tracing + rejection", 0xff7f0e, VplGeneration::Light, true},
-      {"bidirectional", "bidirectional IR", 0x2ca02c, VplGeneration::Bidirectional, false},
-      {"metropolis", "Metropolis IR", 0x9467bd, VplGeneration::Metropolis, false},
+      {"vpl", "light tracing", VplGeneration::Light, false},
+      {"reject", "light tracing + rejection", VplGeneration::Light, true},
+      {"bidirectional", "bidirectional IR", VplGeneration::Bidirectional, false},
+      {"metropolis", "Metropolis IR", VplGeneration::Metropolis, false},
   };
   return variants;
 }

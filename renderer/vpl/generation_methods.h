@@ -1,7 +1,8 @@
 #pragma once
 // The VPL generation methods: the one list that every user of "a way to make VPLs" walks. Settings, JSON and the
 // command line spell a method by its name here; vplab bench and the stability suite make their rows from
-// generationVariants(); the editor's many-light panel and VPL overlay take labels and colours from it.
+// generationVariants(); the editor's many-light panel and VPL overlay take labels from it (a method's colour is its
+// place in benchMethodNames(), evaluation/sweep.h).
 //
 // Adding a method (docs/methods.md, "Adding a generation method"): a VplGeneration value in renderer/settings.h, its
 // parameters as Settings members (validated in validateSettings, listed in settings_json.cpp and invalidation.cpp),
@@ -51,7 +52,6 @@ const GenerationMethod& generationMethod(VplGeneration id);
 struct GenerationVariant {
   const char* name;   ///< row name in bench.csv, flicker.csv and --methods ("vpl" is plain light tracing)
   const char* label;  ///< legend text
-  uint32_t colour;    ///< 0xRRGGBB, the same in every chart and in the editor's VPL overlay
   VplGeneration generation;
   bool rejection;
 };
