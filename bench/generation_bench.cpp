@@ -2,8 +2,10 @@
 // count and at equal total time, over several seeds, against a path-traced reference (indirect component, clamped
 // CPU VPL renders). Prints per variant: mean relMSE (per pixel and of 4x4 block averages), mean energy ratio,
 // acceptance rate with its spread over the seeds, generation and render time; then the ratios to plain light
-// tracing. docs/methods.md and docs/benchmarks.md record its output.
-//   vplab_bench_generation_bench [--size N] [--vpls N] [--seeds S] [--clamp b] [--epsilon e] [--ref-spp N]
+// tracing. Times are process CPU time (all threads together), which other processes on a shared machine disturb
+// much less than the wall clock; equal time gives plain light tracing as many VPLs as fit in a variant's CPU time.
+// docs/methods.md and docs/benchmarks.md record its output.
+//   vplab_bench_generation_bench [--size N|WxH] [--vpls N] [--seeds S] [--clamp b] [--epsilon e] [--ref-spp N]
 //                                [--threads T] [--cache DIR] [--csv out.csv] [scene.gltf ...]
 // Defaults: 64x64, 256 VPLs, 8 seeds, b = 100, rejection epsilon 0.05, 4096 reference spp, cornell-box and two-rooms.
 
@@ -16,6 +18,7 @@
 
 #include <cmath>
 #include <cstdio>
+#include <ctime>
 #include <cstdlib>
 #include <cstring>
 #include <fstream>
@@ -32,12 +35,17 @@ struct Summary {
   double totalMs() const { return genMs + renderMs; }
 };
 
+double processCpuMs() { return 1e3 * static_cast<double>(std::clock()) / CLOCKS_PER_SEC; }
+
 Summary measure(const OfflineScene& setup, const Image& ref, Settings s, int seeds) {
   Summary sum;
   for (int i = 0; i < seeds; ++i) {
     s.seed = 1000 + static_cast<uint32_t>(i);
+    const double c0 = processCpuMs();
     VplSet vpls = generateVpls(setup, s);
+    const double c1 = processCpuMs();
     MeasuredImage m = renderCpu(setup, Method::Vpl, vpls, s);
+    const double c2 = processCpuMs();
     ImageMetrics px = compareImages(m.image, ref);
     ImageMetrics blk = compareImages(blockAverage(m.image, 4), blockAverage(ref, 4));
     sum.relMse += px.relMse / seeds;
@@ -46,8 +54,8 @@ Summary measure(const OfflineScene& setup, const Image& ref, Settings s, int see
     sum.acceptance += vpls.stats.acceptanceRate / seeds;
     sum.acceptanceMin = std::min(sum.acceptanceMin, vpls.stats.acceptanceRate);
     sum.acceptanceMax = std::max(sum.acceptanceMax, vpls.stats.acceptanceRate);
-    sum.genMs += m.generationMs / seeds;
-    sum.renderMs += m.renderMs / seeds;
+    sum.genMs += (c1 - c0) / seeds;
+    sum.renderMs += (c2 - c1) / seeds;
     sum.vpls += static_cast<double>(vpls.vpls.size()) / seeds;
   }
   return sum;
@@ -56,13 +64,17 @@ Summary measure(const OfflineScene& setup, const Image& ref, Settings s, int see
 }  // namespace
 
 int main(int argc, char** argv) {
-  int size = 64, vpls = 256, seeds = 8, refSpp = 4096, threads = 0;
+  int width = 64, height = 64, vpls = 256, seeds = 8, refSpp = 4096, threads = 0;
   float clamp = 100.0f, epsilon = 0.05f;
   std::string csvPath, cacheDir = "generation-bench-cache";
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
-    if (a == "--size") size = std::atoi(benchOptionValue(argc, argv, i).c_str());
+    if (a == "--size") {
+      const std::string v = benchOptionValue(argc, argv, i);
+      width = height = std::atoi(v.c_str());
+      if (std::size_t x = v.find('x'); x != std::string::npos) height = std::atoi(v.c_str() + x + 1);
+    }
     else if (a == "--vpls") vpls = std::atoi(benchOptionValue(argc, argv, i).c_str());
     else if (a == "--seeds") seeds = std::atoi(benchOptionValue(argc, argv, i).c_str());
     else if (a == "--clamp") clamp = static_cast<float>(std::atof(benchOptionValue(argc, argv, i).c_str()));
@@ -76,8 +88,8 @@ int main(int argc, char** argv) {
       return 2;
     } else scenes.push_back(a);
   }
-  if (size < 4 || vpls < 1 || seeds < 1 || refSpp < 1) {
-    std::fprintf(stderr, "%s: --size >= 4, --vpls, --seeds and --ref-spp >= 1\n", argv[0]);
+  if (width < 4 || height < 4 || vpls < 1 || seeds < 1 || refSpp < 1) {
+    std::fprintf(stderr, "%s: --size >= 4 (N or WxH), --vpls, --seeds and --ref-spp >= 1\n", argv[0]);
     return 2;
   }
   if (scenes.empty()) scenes = {"assets/scenes/cornell-box.gltf", "assets/scenes/two-rooms.gltf"};
@@ -89,12 +101,13 @@ int main(int argc, char** argv) {
   if (csv)
     std::fprintf(csv, "scene,variant,comparison,vpls,seeds,relmse,block_relmse,energy_ratio,acceptance,"
                       "acceptance_min,acceptance_max,gen_ms,render_ms\n");
-  std::printf("%dx%d, indirect, clamp b = %g, %d seeds, reference %d spp, rejection epsilon %g\n", size, size, clamp,
-              seeds, refSpp, epsilon);
+  std::printf("%dx%d, indirect, clamp b = %g, %d seeds, reference %d spp, rejection epsilon %g, times: process CPU\n",
+              width, height, clamp, seeds, refSpp, epsilon);
   for (const std::string& path : scenes) {
     OfflineScene setup(loadScene(path));
     Settings base;
-    base.width = base.height = size;
+    base.width = width;
+    base.height = height;
     base.threads = threads;
     base.components = Components::Indirect;
     base.samplesPerPixel = 1;
@@ -114,7 +127,7 @@ int main(int argc, char** argv) {
       Summary m = measure(setup, ref, s, seeds);
       if (v.generation == VplGeneration::Light && !v.rejection) plain = m;
       std::vector<std::pair<std::string, Summary>> rows = {{"equal N", m}};
-      // Equal total time: plain light tracing with as many VPLs as fit in this variant's time (render time grows
+      // Equal total time: plain light tracing with as many VPLs as fit in this variant's CPU time (render time grows
       // linearly with N, generation is negligible for plain light tracing).
       if (!(v.generation == VplGeneration::Light && !v.rejection) && plain.totalMs() > 0.0) {
         Settings p = base;
