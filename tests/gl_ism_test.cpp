@@ -89,9 +89,7 @@ TEST_P(GlIsm, SameSettingsSameImage) {
   b.render(l->scene(), vpls, oneThread, l->scene().camera);
   Image ia = a.readLinear(), ib = b.readLinear();
   ASSERT_EQ(ia.pixels.size(), ib.pixels.size());
-  std::size_t differing = 0;
-  for (std::size_t i = 0; i < ia.pixels.size(); ++i) differing += ia.pixels[i] != ib.pixels[i];
-  EXPECT_EQ(differing, 0u);
+  EXPECT_EQ(test::differingPixels(ia, ib), 0u);
 }
 
 // A zero budget spreads the ISM tiles and the gather's interleaving subsets over many calls; the image is the same as
@@ -121,9 +119,7 @@ TEST_P(GlIsm, SlicedUpdateGivesTheWholeImage) {
   whole.render(l->scene(), second, s, l->scene().camera);
   Image a = sliced.readLinear(), b = whole.readLinear();
   ASSERT_EQ(a.pixels.size(), b.pixels.size());
-  std::size_t differing = 0;
-  for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] != b.pixels[i];
-  EXPECT_EQ(differing, 0u);
+  EXPECT_EQ(test::differingPixels(a, b), 0u);
 }
 
 // The renderer redoes exactly the maps renderer/invalidation names stale: the VPL maps for the technique and its sizes,

@@ -4,10 +4,13 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
+#include <cstddef>
 #include <memory>
 #include <string>
 
 #include "renderer/gl/context.h"
+#include "renderer/image/image.h"
 
 namespace vplab::test {
 
@@ -20,6 +23,14 @@ class GlBackendTest : public ::testing::TestWithParam<GlBackend> {
 
 inline std::string glBackendName(const ::testing::TestParamInfo<GlBackend>& info) {
   return info.param == GlBackend::Egl ? "Egl" : "OsMesa";
+}
+
+/// Pixels whose values differ between two images (every pixel when the sizes differ): determinism tests expect 0.
+inline std::size_t differingPixels(const Image& a, const Image& b) {
+  if (a.pixels.size() != b.pixels.size()) return std::max(a.pixels.size(), b.pixels.size());
+  std::size_t differing = 0;
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) differing += a.pixels[i] != b.pixels[i];
+  return differing;
 }
 
 }  // namespace vplab::test
