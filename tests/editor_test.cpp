@@ -261,6 +261,51 @@ TEST(EditorPresets, MethodPresetPutsMoreVplsInTheCamerasRoomWithEveryImprovedMet
     EXPECT_GT(share[i], 1.5 * share[0]) << generationVariants()[i].name << ": " << share[i] << " vs " << share[0];
 }
 
+TEST(EditorPresets, AnUnknownNameFailsListingEveryPresetOnALineOfItsOwn) {
+  EXPECT_EQ(ui::findPreset("Corner splotches"), nullptr);
+  ASSERT_NE(ui::findPreset("Corner splotches (no bound)"), nullptr);
+  try {
+    ui::parseScript("frames 1\npreset Corner splotches\n", "s.txt");
+    FAIL() << "an unknown preset name must fail when the script is parsed";
+  } catch (const ui::ScriptError& e) {
+    std::istringstream lines(e.what());
+    std::string first;
+    std::getline(lines, first);
+    EXPECT_EQ(first, "s.txt:2: no preset named 'Corner splotches'; the presets are:");
+    std::vector<std::string> listed;
+    for (std::string line; std::getline(lines, line);) listed.push_back(line);
+    ASSERT_EQ(listed.size(), ui::teachingPresets().size());
+    for (std::size_t i = 0; i < listed.size(); ++i) EXPECT_EQ(listed[i], "  " + ui::teachingPresets()[i].name);
+  }
+}
+
+TEST(EditorPresets, DescriptionsSayWhatEachPresetStarts) {
+  for (const ui::TeachingPreset& p : ui::teachingPresets()) {
+    std::string d = ui::presetDescription(p);
+    EXPECT_EQ(d.rfind("Preset: " + p.name, 0), 0u) << d;
+    EXPECT_NE(d.find(p.explanation), std::string::npos) << p.name;
+    EXPECT_EQ(d.find("path-traced reference") != std::string::npos, p.offline == ui::PresetOffline::Reference) << d;
+    EXPECT_EQ(d.find("exact VPL render") != std::string::npos, p.offline == ui::PresetOffline::ExactVpl) << d;
+    EXPECT_EQ(d.find("animates the light") != std::string::npos, p.animateLight) << d;
+    // What the presets compare against must be started by them, not left to the reader.
+    const bool compares =
+        p.view == ui::ViewMode::Split || p.view == ui::ViewMode::Difference || p.view == ui::ViewMode::Reference;
+    EXPECT_TRUE(!compares || p.offline != ui::PresetOffline::None) << p.name;
+  }
+}
+
+TEST(EditorPresets, LightAnimationClosesItsCircleOfTwoPercentOfTheDiagonal) {
+  float phase = 0.0f;
+  glm::vec3 position(0.0f), farthest(0.0f);
+  for (int i = 0; i < ui::kLightAnimationFrames; ++i) {
+    position += ui::lightAnimationStep(phase, 10.0f);
+    if (glm::length(position) > glm::length(farthest)) farthest = position;
+  }
+  EXPECT_NEAR(glm::length(position), 0.0f, 1e-4f);
+  EXPECT_NEAR(glm::length(farthest), 2.0f * 0.2f, 1e-3f);  // the circle's diameter
+  EXPECT_EQ(farthest.y, 0.0f);
+}
+
 TEST(EditorOffline, ExactRendersTakeTheirOwnSampleCountAndEstimateTheTimeLeft) {
   Settings s;
   s.samplesPerPixel = 64;
@@ -390,6 +435,73 @@ TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) 
   fresh.render(scene, vpls, settings, controller.camera());
   EXPECT_LT(compareImages(editorB, fresh.readLinear()).relMse, 1e-3);
   EXPECT_NE(run.output.find("counters vplGenerations="), std::string::npos);
+}
+
+// A preset applied after any other preset leaves the editor as applying it first does. The script visits every
+// ordered pair of presets once (an Eulerian circuit of the complete directed graph), with frames in between so that
+// animated lights move, and a changed image size that the next preset must reset.
+TEST(EditorWindow, EveryPresetIsTheSameAfterEveryOtherPreset) {
+  ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
+  const std::size_t n = ui::teachingPresets().size();
+  // Hierholzer's algorithm over the edges i -> j, i != j.
+  std::vector<std::vector<std::size_t>> next(n);
+  for (std::size_t i = 0; i < n; ++i)
+    for (std::size_t j = n; j-- > 0;)
+      if (j != i) next[i].push_back(j);
+  std::vector<std::size_t> stack = {0}, circuit;
+  while (!stack.empty()) {
+    std::size_t v = stack.back();
+    if (next[v].empty()) {
+      circuit.push_back(v);
+      stack.pop_back();
+    } else {
+      stack.push_back(next[v].back());
+      next[v].pop_back();
+    }
+  }
+  ASSERT_EQ(circuit.size(), n * (n - 1) + 1);
+  std::string script;
+  for (std::size_t v : circuit)
+    script += "preset " + ui::teachingPresets()[v].name + "\npreset-state\nset width 32\nset height 32\nframes 2\n";
+  RunResult run = runEditor(script, "");
+  ASSERT_EQ(run.status, 0) << run.output;
+
+  std::regex stateLine("preset-state (.*)");
+  std::vector<std::string> states;
+  std::istringstream lines(run.output);
+  for (std::string line; std::getline(lines, line);) {
+    std::smatch m;
+    if (std::regex_match(line, m, stateLine)) states.push_back(m[1]);
+  }
+  ASSERT_EQ(states.size(), circuit.size()) << run.output;
+  std::vector<std::string> first(n);
+  for (std::size_t k = 0; k < circuit.size(); ++k) {
+    const std::size_t preset = circuit[k];
+    if (first[preset].empty()) first[preset] = states[k];
+    EXPECT_EQ(states[k], first[preset]) << ui::teachingPresets()[preset].name << " after "
+                                        << ui::teachingPresets()[circuit[k - 1]].name;
+  }
+}
+
+// The same for the image, on the pair that used to differ: shadow-map leaks after the flicker preset, whose light
+// animation and new seeds must not carry over; and the explanation is printed with the preset.
+TEST(EditorWindow, PresetImageDoesNotDependOnThePresetBefore) {
+  ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
+  const std::string first = tmp("first.exr"), after = tmp("after.exr");
+  const ui::TeachingPreset* leaks = ui::findPreset("Shadow-map leaks");
+  ASSERT_NE(leaks, nullptr);
+  std::string size = "set width 64\nset height 64\n";
+  RunResult run = runEditor("preset Shadow-map leaks\n" + size + "save-view " + first +
+                                "\npreset Flicker from reshuffled VPLs\nframes 6\npreset Shadow-map leaks\n" + size +
+                                "save-view " + after + "\n",
+                            "");
+  ASSERT_EQ(run.status, 0) << run.output;
+  EXPECT_NE(run.output.find(ui::presetDescription(*leaks)), std::string::npos) << run.output;
+  Image a = readImage(first), b = readImage(after);
+  ASSERT_EQ(a.width, 64);
+  ImageMetrics m = compareImages(b, a);
+  EXPECT_EQ(m.relMse, 0.0);
+  EXPECT_EQ(m.energyRatioOverall, 1.0);
 }
 
 TEST(EditorWindow, FailedExpectationExitsWithStatusOne) {

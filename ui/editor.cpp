@@ -25,6 +25,7 @@
 #include "ui/panels.h"
 #include "ui/presets.h"
 #include "ui/script.h"
+#include "ui/vpl_overlay.h"
 
 // glad first: it must define the GL prototypes before GLFW looks for any.
 #include <glad/gl.h>
@@ -144,6 +145,12 @@ class Editor {
   void addChartPoint();
   void startOffline(bool reference);
   void pollOffline();
+  /// Applies a teaching preset from scratch: its scene reloaded (lights as in the file, the scene camera), its
+  /// complete settings, its view and view options, and what it starts.
+  bool applyPreset(const TeachingPreset& preset);
+  /// Everything applyPreset sets, as one line (the preset-state script verb).
+  std::string presetState() const;
+  void measureVplsSeen();
 
   // --- frame ---
   void frame();
@@ -151,6 +158,8 @@ class Editor {
   void animate();
   void drawUi();
   void drawView();
+  /// The active preset's description in a box at the top of the view area; returns its height.
+  float drawPresetExplanation(float x, float width);
   void drawLeftPanel();
   void drawRightPanel();
   void takeScreenshot(const std::string& path);
@@ -222,7 +231,10 @@ class Editor {
   bool animateLight_ = false;
   bool reseedEveryFrame_ = false;
   float animationPhase_ = 0.0f;
-  std::string presetText_;
+  const TeachingPreset* activePreset_ = nullptr;  ///< shown with the view until closed or another scene is opened
+  PresetOffline pendingOffline_ = PresetOffline::None;  ///< started once the preset's VPLs exist
+  std::vector<bool> vplSeen_;  ///< per VPL: does the camera see it (vpl_overlay.h); the VPL view's filled dots
+  bool vplSeenStale_ = true;
 
   // Frame timing: the UI's share is ImGui's CPU work plus its draw submission.
   double frameMs_ = 0.0, uiMs_ = 0.0;
@@ -362,6 +374,8 @@ bool Editor::openScene(const std::string& path, bool /*keepSettingsSize*/) {
   }
   sceneError_.clear();
   job_.cancel();
+  activePreset_ = nullptr;  // a preset that wants it sets itself again after this
+  pendingOffline_ = PresetOffline::None;
   scene_ = std::move(loaded);
   sceneCamera_ = scene_.camera;
   rebuildAcceleration();
@@ -419,6 +433,7 @@ void Editor::markStale(const Staleness& s) {
   stale_ |= s;
   if (s.offline && !offlineImage_.empty()) offlineStale_ = true;
   if (s.vpls || s.gather) clampEnergyStale_ = true;
+  if (s.vpls || s.gather) vplSeenStale_ = true;  // gather: the camera may have moved
   displayDirty_ = true;
 }
 
@@ -468,6 +483,11 @@ void Editor::measureClampEnergy() {
   clampEnergyRemoved_ = unclamped > 0.0 ? (unclamped - clamped) / unclamped : 0.0;
 }
 
+void Editor::measureVplsSeen() {
+  vplSeenStale_ = false;
+  vplSeen_ = vplsSeenByCamera(offline_->embree(), camera_.camera(), vpls_.vpls);
+}
+
 void Editor::updateWork() {
   // Changes made while an update is under way wait for it (their flags stay in stale_): every finished image is the
   // one `vplab preview` gives for the settings, camera and VPLs its update started with, and a light drag or an orbit
@@ -482,6 +502,11 @@ void Editor::updateWork() {
       vslRadiiStale_ = false;
     }
     if (clampEnergyStale_) measureClampEnergy();
+  }
+  if (!previewUpdating_ && view_ == ViewMode::VplOverlay && vplSeenStale_) measureVplsSeen();
+  if (pendingOffline_ != PresetOffline::None) {
+    startOffline(pendingOffline_ == PresetOffline::Reference);
+    pendingOffline_ = PresetOffline::None;
   }
   if (startUpdate) {
     if (pendingPreviewInvalidation_ == LightEdit::Geometry) preview_->invalidateScene();
@@ -580,7 +605,7 @@ void Editor::composeDisplay() {
     }
     case ViewMode::Reference: {
       if (!haveOffline) {
-        displayNote_ = "no offline result yet: press 'Render offline'";
+        displayNote_ = "no offline result yet: press 'Render reference (O)' or 'Render exact VPL'";
         return;
       }
       texture_.upload(offlineImage_.width, offlineImage_.height, tonemapToRgb8(offlineImage_, settings_.exposure));
@@ -612,12 +637,12 @@ void Editor::composeDisplay() {
       HeatmapOptions options;
       if (relativeDifference_) {
         options.colormap = Colormap::Viridis;
-        options.title = "relative error (I-R)^2/(R^2+0.01), preview vs offline";
+        options.title = "relative error vs offline";  // short: the legend is 256 px wide
         Heatmap h = renderHeatmap(relativeErrorImage(previewLinear_, offlineImage_), options);
         texture_.upload(h.width, h.height, h.rgb);
       } else {
         options.colormap = Colormap::Diverging;
-        options.title = "signed difference preview - offline";
+        options.title = "preview - offline";
         Heatmap h = renderHeatmap(signedDifferenceImage(previewLinear_, offlineImage_), options);
         texture_.upload(h.width, h.height, h.rgb);
       }
@@ -649,6 +674,57 @@ void Editor::pollOffline() {
     }
     displayDirty_ = true;
   }
+}
+
+bool Editor::applyPreset(const TeachingPreset& preset) {
+  // Always reloaded, even when it is the current scene: a previous preset (or the user) may have moved or scaled
+  // lights, and openScene also resets the camera and drops the offline result and the chart.
+  if (!openScene(std::string(VPLAB_ASSET_DIR) + "/scenes/" + preset.scene)) return false;
+  Settings next = preset.settings;
+  next.threads = settings_.threads;  // the machine's, not the lesson's
+  changeSettings(next);
+  view_ = preset.view;
+  if (view_ == ViewMode::SsbcResidual) stale_.gather = true;
+  relativeDifference_ = !preset.signedDifference;
+  showRejected_ = preset.showRejected;
+  divider_ = 0.5f;
+  animateLight_ = preset.animateLight;
+  reseedEveryFrame_ = preset.reseedEveryFrame;
+  animationPhase_ = 0.0f;
+  pendingOffline_ = preset.offline;
+  activePreset_ = &preset;
+  displayDirty_ = true;
+  return true;
+}
+
+std::string Editor::presetState() const {
+  // Hashes keep the line short; each part is named so that a difference says what leaked.
+  auto hash = [](const std::string& text) {
+    uint64_t h = 1469598103934665603ull;  // FNV-1a
+    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
+    char out[17];
+    std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
+    return std::string(out);
+  };
+  auto vec = [](const glm::vec3& v) {
+    char out[96];
+    std::snprintf(out, sizeof out, "%.9g %.9g %.9g;", v.x, v.y, v.z);
+    return std::string(out);
+  };
+  std::string lights;
+  for (const PunctualLight& l : scene_.punctualLights) lights += vec(l.position) + vec(l.direction) + vec(l.intensity);
+  for (const Material& m : scene_.materials) lights += vec(m.emission);
+  for (uint32_t t : scene_.emissiveTriangles)
+    for (int k = 0; k < 3; ++k) lights += vec(scene_.positions[scene_.triangles[t][k]]);
+  const Camera cam = camera_.camera();
+  char view[160];
+  std::snprintf(view, sizeof view, "%s relative=%d rejected=%d divider=%g animate=%d reseed=%d phase=%g",
+                toString(view_), relativeDifference_, showRejected_, divider_, animateLight_, reseedEveryFrame_,
+                animationPhase_);
+  return "scene=" + std::filesystem::path(scene_.sourcePath).filename().string() +
+         " settings=" + hash(settingsToJson(settings_)) + " lights=" + hash(lights) +
+         " camera=" + hash(vec(cam.position) + vec(cam.forward) + vec(cam.up) + std::to_string(cam.yfov)) + " " +
+         view;
 }
 
 // --- frame --------------------------------------------------------------------------------------------------------
@@ -713,12 +789,7 @@ void Editor::animate() {
   if (!animateLight_) return;
   std::vector<LightHandle> lights = editableLights(scene_);
   if (lights.empty()) return;
-  // A small circle in the horizontal plane: 2 % of the scene diagonal, one turn every 120 frames.
-  const float radius = 0.02f * scene_.bounds.diagonal();
-  const float before = animationPhase_;
-  animationPhase_ += 6.2831853f / 120.0f;
-  glm::vec3 offset = radius * glm::vec3(std::cos(animationPhase_) - std::cos(before), 0.0f,
-                                        std::sin(animationPhase_) - std::sin(before));
+  const glm::vec3 offset = lightAnimationStep(animationPhase_, scene_.bounds.diagonal());
   if (reseedEveryFrame_) {
     Settings next = settings_;
     next.seed = settings_.seed + 1;
@@ -828,8 +899,14 @@ int Editor::run() {
 void Editor::drawView() {
   const ImVec2 display = ImGui::GetIO().DisplaySize;
   const float areaX = kLeftPanelWidth, areaW = display.x - kLeftPanelWidth - kRightPanelWidth;
-  const float areaY = 0.0f, areaH = display.y;
+  float areaY = 0.0f, areaH = display.y;
   ImDrawList* draw = ImGui::GetBackgroundDrawList();
+  if (activePreset_) {
+    // The active preset's explanation sits above the image, which fits in what is left.
+    const float height = drawPresetExplanation(areaX, areaW);
+    areaY += height;
+    areaH -= height;
+  }
   if (!displayNote_.empty() || !previewError_.empty()) {
     std::string note = previewError_.empty() ? displayNote_ : "preview error: " + previewError_;
     draw->AddText(ImVec2(areaX + 12, areaY + 12), IM_COL32(230, 200, 120, 255), note.c_str());
@@ -874,17 +951,32 @@ void Editor::drawView() {
     // method put the VPLs there.
     const unsigned rgb = benchMethodColourRgb(generationVariantOf(settings_).name);
     const ImU32 ring = IM_COL32((rgb >> 16) & 0xff, (rgb >> 8) & 0xff, rgb & 0xff, 230);
-    for (const Vpl& v : vpls_.vpls) {
+    const bool seenKnown = vplSeen_.size() == vpls_.vpls.size();
+    for (std::size_t i = 0; i < vpls_.vpls.size(); ++i) {
+      const Vpl& v = vpls_.vpls[i];
+      const bool lightsView = !seenKnown || vplSeen_[i];
       ImVec2 p;
       if (!project(v.position, p)) continue;
-      // Size by relative power on a log scale, colour by the flux's chromaticity.
+      // Size by relative power on a log scale, colour by the flux's chromaticity; a VPL the camera does not see
+      // (behind a wall, in another room) is a hollow grey ring.
       float rel = std::clamp(luminance(v.flux) / maxFlux, 1e-4f, 1.0f);
       float radius = 1.5f + 4.0f * (1.0f + std::log10(rel) / 4.0f);
       glm::vec3 c = v.flux / std::max({v.flux.r, v.flux.g, v.flux.b, 1e-12f});
-      draw->AddCircleFilled(
-          p, radius,
-          IM_COL32(static_cast<int>(255 * c.r), static_cast<int>(255 * c.g), static_cast<int>(255 * c.b), 230));
-      draw->AddCircle(p, radius + 0.5f, ring, 0, 1.5f);
+      if (lightsView) {
+        draw->AddCircleFilled(
+            p, radius,
+            IM_COL32(static_cast<int>(255 * c.r), static_cast<int>(255 * c.g), static_cast<int>(255 * c.b), 230));
+        draw->AddCircle(p, radius + 0.5f, ring, 0, 1.5f);
+      } else {
+        draw->AddCircle(p, radius, IM_COL32(160, 160, 160, 200), 0, 1.5f);
+      }
+    }
+    if (seenKnown && !vpls_.vpls.empty()) {
+      char count[160];
+      std::snprintf(count, sizeof count, "the camera sees %zu of %zu VPLs (%.0f %%); hollow rings: hidden",
+                    static_cast<std::size_t>(std::count(vplSeen_.begin(), vplSeen_.end(), true)), vpls_.vpls.size(),
+                    100.0 * seenShare(vplSeen_));
+      draw->AddText(ImVec2(x0, y0 - 18.0f), IM_COL32(230, 230, 230, 255), count);
     }
     draw->AddText(ImVec2(x0 + 4, y0 + 4), ring, generationVariantOf(settings_).label);
     if (showRejected_)
@@ -901,6 +993,30 @@ void Editor::drawView() {
   std::snprintf(status, sizeof status, "%s  %dx%d  x%.2g   frame %.1f ms (UI %.1f ms)   VPLs %zu%s", toString(view_),
                 texture_.width(), texture_.height(), scale, frameMs_, uiMs_, vpls_.vpls.size(), updating);
   draw->AddText(ImVec2(areaX + 8, areaY + areaH - 20), IM_COL32(200, 200, 200, 255), status);
+}
+
+float Editor::drawPresetExplanation(float x, float width) {
+  const std::string text = presetDescription(*activePreset_);
+  const bool modified = settingsToJson(settings_) != settingsToJson(activePreset_->settings);
+  ImGuiStyle& style = ImGui::GetStyle();
+  const float wrap = width - 2.0f * style.WindowPadding.x;
+  float height = ImGui::CalcTextSize(text.c_str(), nullptr, false, wrap).y + ImGui::GetFrameHeightWithSpacing() +
+                 2.0f * style.WindowPadding.y + style.ItemSpacing.y;
+  ImGui::SetNextWindowPos(ImVec2(x, 0.0f));
+  ImGui::SetNextWindowSize(ImVec2(width, height));
+  ImGui::Begin("##preset", nullptr,
+               ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
+                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoBringToFrontOnFocus);
+  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + wrap);
+  ImGui::TextUnformatted(text.c_str());
+  ImGui::PopTextWrapPos();
+  if (ImGui::SmallButton("close explanation")) activePreset_ = nullptr;
+  if (modified) {
+    ImGui::SameLine();
+    ImGui::TextDisabled("settings changed since the preset");
+  }
+  ImGui::End();
+  return height;
 }
 
 void Editor::drawLeftPanel() {
@@ -969,6 +1085,8 @@ void Editor::drawRightPanel() {
       if (ImGui::RadioButton("relative error", relativeDifference_)) relativeDifference_ = true, displayDirty_ = true;
       ImGui::SameLine();
       if (ImGui::RadioButton("signed", !relativeDifference_)) relativeDifference_ = false, displayDirty_ = true;
+      ImGui::TextDisabled(relativeDifference_ ? "(I - R)^2 / (R^2 + 0.01), I preview, R offline"
+                                              : "I - R: red too bright, blue too dark");
     }
     if (view_ == ViewMode::VplOverlay) ImGui::Checkbox("show rejected candidates", &showRejected_);
   }
@@ -1031,20 +1149,9 @@ void Editor::drawRightPanel() {
   if (clicked >= 0 && clicked < static_cast<int>(chart_.size()))
     changeSettings(chart_[static_cast<std::size_t>(clicked)].settings);
   if (ImGui::CollapsingHeader("Teaching presets")) {
+    ImGui::TextDisabled("The explanation is shown above the view.");
     for (const TeachingPreset& p : teachingPresets())
-      if (ImGui::Button(p.name.c_str(), ImVec2(kRightPanelWidth - 30.0f, 0.0f))) {
-        std::string path = std::string(VPLAB_ASSET_DIR) + "/scenes/" + p.scene;
-        if (std::filesystem::path(scene_.sourcePath).filename() != p.scene) openScene(path);
-        Settings next = p.settings;
-        next.threads = settings_.threads;
-        changeSettings(next);
-        view_ = p.view;
-        animateLight_ = p.animateLight;
-        reseedEveryFrame_ = p.reseedEveryFrame;
-        presetText_ = p.name + ": " + p.explanation;
-        displayDirty_ = true;
-      }
-    if (!presetText_.empty()) ImGui::TextWrapped("%s", presetText_.c_str());
+      if (ImGui::Button(p.name.c_str(), ImVec2(kRightPanelWidth - 30.0f, 0.0f))) applyPreset(p);
   }
   if (ImGui::CollapsingHeader("Files")) {
     ImGui::InputText("settings", &settingsPath_);
@@ -1194,18 +1301,14 @@ void Editor::execute(const ScriptCommand& c) {
     if (view_ == ViewMode::SsbcResidual) stale_.gather = true;
     displayDirty_ = true;
   } else if (c.verb == "preset") {
-    const TeachingPreset* preset = nullptr;
-    for (const TeachingPreset& p : teachingPresets())
-      if (p.name == c.args[0]) preset = &p;
-    if (!preset) scriptFail(c, "no preset named '" + c.args[0] + "'");
-    if (std::filesystem::path(scene_.sourcePath).filename() != preset->scene &&
-        !openScene(std::string(VPLAB_ASSET_DIR) + "/scenes/" + preset->scene))
-      scriptFail(c, sceneError_);
-    changeSettings(preset->settings);
-    view_ = preset->view;
-    animateLight_ = preset->animateLight;
-    reseedEveryFrame_ = preset->reseedEveryFrame;
-    presetText_ = preset->name + ": " + preset->explanation;
+    const TeachingPreset* preset = findPreset(c.args[0]);
+    if (!preset) scriptFail(c, unknownPresetMessage(c.args[0]));
+    if (!applyPreset(*preset)) scriptFail(c, sceneError_);
+    std::printf("%s\n", presetDescription(*preset).c_str());
+    std::fflush(stdout);
+  } else if (c.verb == "preset-state") {
+    std::printf("preset-state %s\n", presetState().c_str());
+    std::fflush(stdout);
   } else if (c.verb == "frames") {
     framesPending_ = std::max(0, static_cast<int>(num(0)));
   } else if (c.verb == "screenshot") {

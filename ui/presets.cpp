@@ -1,20 +1,30 @@
 #include "ui/presets.h"
 
+#include <cmath>
 #include <functional>
 
 namespace vplab::ui {
 
 namespace {
 
-TeachingPreset make(std::string name, std::string scene, ViewMode view, const std::function<void(Settings&)>& edit,
-                    std::string explanation) {
+struct PresetSpec {
+  std::string name, scene;
+  ViewMode view = ViewMode::Preview;
+  PresetOffline offline = PresetOffline::None;
+  bool signedDifference = false, showRejected = false, animateLight = false, reseedEveryFrame = false;
+};
+
+TeachingPreset make(const PresetSpec& spec, const std::function<void(Settings&)>& edit, std::string explanation) {
   TeachingPreset p;
-  p.name = std::move(name);
-  p.scene = std::move(scene);
-  p.view = view;
-  // Small images keep every preset interactive on software GL.
-  p.settings.width = 256;
-  p.settings.height = 256;
+  p.name = spec.name;
+  p.scene = spec.scene;
+  p.view = spec.view;
+  p.offline = spec.offline;
+  p.signedDifference = spec.signedDifference;
+  p.showRejected = spec.showRejected;
+  p.animateLight = spec.animateLight;
+  p.reseedEveryFrame = spec.reseedEveryFrame;
+  p.settings = presetBaseline();
   edit(p.settings);
   p.explanation = std::move(explanation);
   return p;
@@ -22,11 +32,18 @@ TeachingPreset make(std::string name, std::string scene, ViewMode view, const st
 
 }  // namespace
 
+Settings presetBaseline() {
+  Settings s;
+  s.width = 256;
+  s.height = 256;
+  return s;
+}
+
 const std::vector<TeachingPreset>& teachingPresets() {
   static const std::vector<TeachingPreset> presets = [] {
     std::vector<TeachingPreset> list;
     list.push_back(make(
-        "Corner splotches (no bound)", "cornell-box.gltf", ViewMode::Preview,
+        {"Corner splotches (no bound)", "cornell-box.gltf"},
         [](Settings& s) {
           s.vplCount = 64;
           s.clampBound = kInfinity;
@@ -35,26 +52,28 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "geometry term cos1 cos2 / d^2 that grows without bound as d -> 0, so one VPL dominates nearby pixels. "
         "More VPLs only make the splotches smaller, not gone."));
     list.push_back(make(
-        "Darkened corners (tight bound)", "cornell-box.gltf", ViewMode::Split,
+        {"Darkened corners (tight bound)", "cornell-box.gltf", ViewMode::Difference, PresetOffline::Reference, true},
         [](Settings& s) {
           s.vplCount = 256;
-          s.clampBound = 4.0f;
+          s.clampBound = 15.0f;
         },
-        "The splotches are gone but the corners and the gaps under the blocks are darker than the reference on the "
-        "right. G_b = min(G, b) removes every contribution with G > b, which only happens closer than 1/sqrt(b) "
-        "(0.5 m here): the missing light is local short-range transport."));
+        "The splotches are gone, but the signed difference against the path-traced reference is blue (too dark) in "
+        "the corners and the gaps under the blocks, and near zero elsewhere. G_b = min(G, b) removes every "
+        "contribution with G > b, which only happens closer than 1/sqrt(b) (0.26 m in this 0.55 m box): the missing light is local "
+        "short-range transport."));
     list.push_back(make(
-        "Energy recovered (bound + SSBC)", "cornell-box.gltf", ViewMode::Split,
+        {"Energy recovered (bound + SSBC)", "cornell-box.gltf", ViewMode::Difference, PresetOffline::Reference, true},
         [](Settings& s) {
           s.vplCount = 256;
-          s.clampBound = 4.0f;
+          s.clampBound = 15.0f;
           s.ssbcSteps = 2;
         },
         "Screen-space bias compensation adds back the clamped residual as an image filter over the pixels within "
-        "1/sqrt(b) (Novak et al. 2011). Compare the corners with the previous preset and open the SSBC residual "
-        "view: the light it adds sits exactly where the bound darkened the image."));
+        "1/sqrt(b) (Novak et al. 2011). The same signed difference as the previous preset: the blue corners are "
+        "much fainter. The SSBC residual view (5) shows the light it adds, exactly where the bound darkened the "
+        "image; what stays blue is light from surfaces the camera does not see."));
     list.push_back(make(
-        "Glossy splotches", "cornell-glossy.gltf", ViewMode::Preview,
+        {"Glossy splotches", "cornell-glossy.gltf"},
         [](Settings& s) {
           s.vplCount = 128;
           s.clampBound = kInfinity;
@@ -62,38 +81,42 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "On the glossy surface every VPL shows as a sharp highlight: a GGX lobe times a point light is a point-like "
         "reflection. Clamping would remove the glossy inter-reflection entirely instead of smoothing it."));
     list.push_back(make(
-        "Virtual spherical lights", "cornell-glossy.gltf", ViewMode::Split,
+        {"Virtual spherical lights", "cornell-glossy.gltf", ViewMode::Split, PresetOffline::ExactVpl},
         [](Settings& s) {
           s.vplCount = 128;
           s.clampBound = kInfinity;
           s.vslRadius = 0.05f;
+          // Enough samples that the exact render's cone sampling noise does not hide how smooth the VSLs are.
+          s.exactSamplesPerPixel = 16;
         },
         "Each VPL becomes a sphere of radius r whose light is integrated over the cone it subtends (Hasan et al. "
         "2009): the point-like glossy highlights of the previous preset spread into smooth reflections, and no energy "
-        "is removed. The preview evaluates the cone integral without random samples, so the reflections are smooth "
-        "and stay still; 'Render exact VPL' puts the exact CPU render of the same VSLs beside it. Increase r to see "
-        "the price: sharp indirect features blur."));
+        "is removed. The preview evaluates the cone integral without random samples, so its reflections are smooth "
+        "and stay still; on the right is the exact CPU render of the same VSLs. Increase r to see the price: sharp "
+        "indirect features blur."));
     list.push_back(make(
-        "Wasted VPLs (two rooms)", "two-rooms.gltf", ViewMode::VplOverlay,
+        {"Wasted VPLs (two rooms)", "two-rooms.gltf", ViewMode::VplOverlay},
         [](Settings& s) {
           s.vplCount = 128;
           s.rejection = false;
         },
-        "The light is in the other room: the overlay shows most VPLs where the camera cannot see their light. They "
-        "cost shadow maps and shading time but add nothing, so the visible room is lit by a handful of VPLs and is "
-        "noisy and splotchy."));
+        "The light is in the other room, and so are most VPLs: filled dots are VPLs the camera sees, hollow grey rings "
+        "are hidden behind the wall (the count is above the image). The hidden ones light only the other room and "
+        "the strip of it seen through the door: they cost shadow maps and shading time, and the room the camera is in "
+        "is lit by the handful of VPLs in it, so it is noisy and splotchy."));
     list.push_back(make(
-        "Rejection of unimportant VPLs", "two-rooms.gltf", ViewMode::VplOverlay,
+        {"Rejection of unimportant VPLs", "two-rooms.gltf", ViewMode::VplOverlay, PresetOffline::None, false, true},
         [](Settings& s) {
           s.vplCount = 128;
           s.rejection = true;
           s.rejectionEpsilon = 0.05f;
         },
         "Georgiev and Slusallek (2010): candidates are kept with probability min(Phi_i/Phi_v + epsilon, 1) and their "
-        "flux divided by it, so the same VPL budget now lands where the camera sees it. Watch the acceptance rate in "
-        "the many-light panel and the rejected candidates in the overlay."));
+        "flux divided by it, so the same VPL budget now lands where it lights what the camera sees: more dots are filled. "
+        "The grey crosses are the rejected candidates, mostly in the other room; the acceptance rate is in the "
+        "many-light panel."));
     list.push_back(make(
-        "Where each method puts its VPLs (two rooms)", "two-rooms.gltf", ViewMode::VplOverlay,
+        {"Where each method puts its VPLs (two rooms)", "two-rooms.gltf", ViewMode::VplOverlay},
         [](Settings& s) {
           s.vplCount = 256;
           s.clampBound = 100.0f;
@@ -108,44 +131,38 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "same budget in this room, and at these 256 VPLs its error (4x4-pixel blocks against the path-traced "
         "reference) is about 0.3 to 0.6 times light tracing's (docs/methods.md): render the reference and open the "
         "difference view to see where."));
-    {
-      TeachingPreset p = make(
-          "Flicker from reshuffled VPLs", "cornell-box.gltf", ViewMode::Preview,
-          [](Settings& s) {
-            s.vplCount = 64;
-            s.clampBound = 20.0f;
-          },
-          "The light moves a little every frame and every frame draws a new VPL seed: the indirect light jumps "
-          "although the scene barely changed. Independent random VPL sets differ by their full variance each frame.");
-      p.animateLight = true;
-      p.reseedEveryFrame = true;
-      list.push_back(p);
-    }
-    {
-      TeachingPreset p = make(
-          "Coherent QMC VPLs", "cornell-box.gltf", ViewMode::Preview,
-          [](Settings& s) {
-            s.vplCount = 64;
-            s.clampBound = 20.0f;
-          },
-          "Same light motion, fixed seed: each light path keeps its Halton point, so a small light move moves every "
-          "VPL a little and the image changes smoothly. The error is still there, but it no longer flickers.");
-      p.animateLight = true;
-      list.push_back(p);
-    }
     list.push_back(make(
-        "Shadow-map leaks", "cornell-box.gltf", ViewMode::Split,
+        {"Flicker from reshuffled VPLs", "cornell-box.gltf", ViewMode::Preview, PresetOffline::None, false, false,
+         true, true},
+        [](Settings& s) {
+          s.vplCount = 64;
+          s.clampBound = 20.0f;
+        },
+        "The light moves a little every frame and every frame draws a new VPL seed: the indirect light jumps "
+        "although the scene barely changed. Independent random VPL sets differ by their full variance each frame."));
+    list.push_back(make(
+        {"Coherent QMC VPLs", "cornell-box.gltf", ViewMode::Preview, PresetOffline::None, false, false, true},
+        [](Settings& s) {
+          s.vplCount = 64;
+          s.clampBound = 20.0f;
+        },
+        "Same light motion, fixed seed: each light path keeps its Halton point, so a small light move moves every "
+        "VPL a little and the image changes smoothly. The error is still there, but it no longer flickers."));
+    list.push_back(make(
+        {"Shadow-map leaks", "cornell-box.gltf", ViewMode::Difference, PresetOffline::ExactVpl, true},
         [](Settings& s) {
           s.vplCount = 128;
           s.clampBound = 20.0f;
           s.shadowMapSize = 16;
           s.shadowBias = 0.05f;
         },
-        "Tiny VPL shadow maps with a large depth bias: light leaks under the blocks and along the wall edges, where "
-        "the exact render on the right is dark. Raise the shadow-map size and lower the bias to close the leaks; too "
-        "small a bias brings back shadow acne."));
+        "Tiny VPL shadow maps (16 x 16 per cube face) with a large depth bias, against the exact render of the same "
+        "VPLs: red where light leaks past the blocks and along the wall edges, blue where a coarse texel that covers "
+        "both an occluder and the surface behind it spreads the shadow. Raise the shadow-map size and lower the bias "
+        "and both fade; too small a bias brings back shadow acne."));
     list.push_back(make(
-        "Imperfect shadow maps: leaks and over-darkening", "two-rooms.gltf", ViewMode::Difference,
+        {"Imperfect shadow maps: leaks and over-darkening", "two-rooms.gltf", ViewMode::Difference,
+         PresetOffline::ExactVpl, true},
         [](Settings& s) {
           s.vplCount = 256;
           s.clampBound = 20.0f;
@@ -155,13 +172,42 @@ const std::vector<TeachingPreset>& teachingPresets() {
           s.ismTileSize = 32;
         },
         "Each VPL's visibility comes from a few hundred splatted points instead of the triangles (Ritschel et al. "
-        "2008). Render the exact VPL render (O): the difference against it is the failure map, brighter where light "
-        "leaks through the wall between the rooms, where too few points covered the wall near a VPL, darker where "
-        "splats and the depth bias shadow surfaces that meet. Raise the ISM points and the tile size, or "
-        "switch the VPL visibility to cube shadow maps, and the map fades."));
+        "2008). The signed difference against the exact render of the same VPLs is the failure map: red where light "
+        "leaks through the wall between the rooms, where too few points covered the wall near a VPL, blue where "
+        "splats and the depth bias shadow surfaces that meet. Raise the ISM points and the tile size, or switch the "
+        "VPL visibility to cube shadow maps, and the map fades."));
     return list;
   }();
   return presets;
+}
+
+const TeachingPreset* findPreset(const std::string& name) {
+  for (const TeachingPreset& p : teachingPresets())
+    if (p.name == name) return &p;
+  return nullptr;
+}
+
+std::string unknownPresetMessage(const std::string& name) {
+  std::string message = "no preset named '" + name + "'; the presets are:";
+  for (const TeachingPreset& p : teachingPresets()) message += "\n  " + p.name;
+  return message;
+}
+
+std::string presetDescription(const TeachingPreset& p) {
+  std::string started;
+  if (p.offline == PresetOffline::Reference) started = "renders the path-traced reference";
+  if (p.offline == PresetOffline::ExactVpl) started = "renders the exact VPL render";
+  if (p.animateLight) started += std::string(started.empty() ? "" : ", ") + "animates the light";
+  std::string text = "Preset: " + p.name + " (" + p.scene + ", " + toString(p.view) + " view";
+  if (!started.empty()) text += "; " + started;
+  return text + ")\n" + p.explanation;
+}
+
+glm::vec3 lightAnimationStep(float& phase, float sceneDiagonal) {
+  const float radius = 0.02f * sceneDiagonal;
+  const float before = phase;
+  phase += 6.2831853f / static_cast<float>(kLightAnimationFrames);
+  return radius * glm::vec3(std::cos(phase) - std::cos(before), 0.0f, std::sin(phase) - std::sin(before));
 }
 
 }  // namespace vplab::ui

@@ -1,5 +1,7 @@
 #include "ui/script.h"
 
+#include "ui/presets.h"
+
 #include <fstream>
 #include <map>
 #include <sstream>
@@ -36,6 +38,7 @@ const std::map<std::string, Arity>& verbs() {
       {"expect-vpl-regeneration", {0, 0}},
       {"counters", {0, 0}},
       {"time-frames", {1, 3}},
+      {"preset-state", {0, 0}},
   };
   return table;
 }
@@ -77,6 +80,8 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
       if (!((what == "move" && n == 5) || (what == "intensity" && n == 3)))
         throw ScriptError(where(source, lineNumber) + "expected 'light <i> move dx dy dz' or 'light <i> intensity s'");
     }
+    if (c.verb == "preset" && !findPreset(c.args[0]))
+      throw ScriptError(where(source, lineNumber) + unknownPresetMessage(c.args[0]));
     if (c.verb == "offline" && c.args[0] != "reference" && c.args[0] != "vpl")
       throw ScriptError(where(source, lineNumber) + "offline takes 'reference' or 'vpl'");
     for (std::size_t i = 0; i < c.args.size(); ++i) {

@@ -11,7 +11,8 @@
 //   light <index> move <dx> <dy> <dz>      move a punctual light (scene units)
 //   light <index> intensity <scale>        scale a punctual light's intensity
 //   view <mode>                    preview | reference | split | difference | ssbc-residual | vpls
-//   preset <name>                  a teaching preset by its name (quoted names are not needed: the rest of the line)
+//   preset <name>                  a teaching preset by its name (the rest of the line; an unknown name fails at
+//                                  parse time, listing the presets); prints the preset's description
 //   frames <n>                     render n frames (the UI needs >= 2 before a screenshot)
 //   screenshot <path.png>          the whole window as PNG
 //   save-view <path>               the linear image of the preview (.exr, .pfm or .png)
@@ -26,6 +27,8 @@
 //   counters                       print the work counters on stdout
 //   time-frames <n> [light <i>]    render n frames while the camera orbits (or light i is dragged) and print the mean,
 //                                  median, p95 and largest frame time, the UI's share and the updates finished
+//   preset-state                   print a fingerprint of everything a preset sets (settings, scene file, lights,
+//                                  camera, view options, animation): equal after any predecessor
 
 #include <stdexcept>
 #include <string>

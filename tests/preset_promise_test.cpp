@@ -1,0 +1,392 @@
+// Each teaching preset's promise (ui/presets.cpp), measured on its scene with its settings at a small image size, so
+// that a change which makes a preset stop showing its point fails here: the splotches of the unbounded geometry term,
+// the corner energy a tight bound removes and SSBC recovers, smooth VSL reflections that match the exact VSL render,
+// the VPLs wasted on the other room and rejection's remedy, reseeding's flicker against coherent VPLs, and the leaks
+// of small shadow maps and of imperfect shadow maps against exact visibility.
+
+#ifdef VPLAB_HAVE_EDITOR
+
+#include "renderer/gl/context.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/image/metrics.h"
+#include "renderer/offline/path_tracer.h"
+#include "renderer/offline/vpl_renderer.h"
+#include "renderer/vpl/vpl_generation.h"
+#include "tests/test_scenes.h"
+#include "ui/panels.h"
+#include "ui/presets.h"
+#include "ui/vpl_overlay.h"
+#include "renderer/vpl/vpl_importance.h"
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <map>
+
+namespace vplab {
+namespace {
+
+constexpr int kSize = 96;
+
+const ui::TeachingPreset& preset(const std::string& name) {
+  const ui::TeachingPreset* p = ui::findPreset(name);
+  if (!p) throw std::runtime_error(ui::unknownPresetMessage(name));
+  return *p;
+}
+
+/// The preset's settings at kSize x kSize.
+Settings settingsOf(const ui::TeachingPreset& p, int size = kSize) {
+  Settings s = p.settings;
+  s.width = s.height = size;
+  return s;
+}
+
+std::string sceneName(const ui::TeachingPreset& p) { return p.scene.substr(0, p.scene.rfind('.')); }
+
+OfflineScene& sceneOf(const ui::TeachingPreset& p) {
+  static std::map<std::string, std::unique_ptr<OfflineScene>> scenes;
+  std::unique_ptr<OfflineScene>& scene = scenes[p.scene];
+  if (!scene) scene = test::loadAssetScene(sceneName(p));
+  return *scene;
+}
+
+float lum(const glm::vec3& c) { return 0.2126f * c.r + 0.7152f * c.g + 0.0722f * c.b; }
+
+/// The path-traced indirect light (two or more reflections: what the VPLs stand for), 256 spp, per scene.
+const Image& referenceIndirect(const ui::TeachingPreset& p) {
+  static std::map<std::string, Image> cache;
+  Image& image = cache[p.scene];
+  if (image.empty()) {
+    Settings r = settingsOf(p);
+    r.components = Components::Indirect;
+    r.samplesPerPixel = 256;
+    image = renderReference(sceneOf(p), r).image;
+  }
+  return image;
+}
+
+struct PreviewImages {
+  Image indirect, residual;
+};
+
+PreviewImages preview(const ui::TeachingPreset& p, const Settings& s, const VplSet& vpls) {
+  PreviewRenderer renderer;
+  renderer.render(sceneOf(p).scene(), vpls, s, sceneOf(p).scene().camera);
+  return {renderer.readLinear(PreviewOutput::Indirect),
+          s.ssbcSteps > 0 ? renderer.readLinear(PreviewOutput::Residual) : Image()};
+}
+
+Image exactIndirect(const ui::TeachingPreset& p, const Settings& s, const VplSet& vpls, Method method) {
+  Settings e = s;
+  e.components = Components::Indirect;
+  e.samplesPerPixel = s.exactSamplesPerPixel;
+  return renderVpl(sceneOf(p), vpls, method, e).image;
+}
+
+/// Share of the pixels (where the reference has light) at least `factor` times brighter than the reference: the
+/// splotches of VPLs too close to a surface.
+double splotchShare(const Image& image, const Image& reference, double factor = 2.0) {
+  double mean = 0.0;
+  for (const glm::vec3& c : reference.pixels) mean += lum(c) / static_cast<double>(reference.size());
+  int lit = 0, bright = 0;
+  for (std::size_t i = 0; i < image.size(); ++i) {
+    const double r = lum(reference.pixels[i]);
+    if (r < 0.05 * mean) continue;
+    ++lit;
+    if (lum(image.pixels[i]) > factor * r) ++bright;
+  }
+  return lit ? static_cast<double>(bright) / lit : 0.0;
+}
+
+/// Pixels whose visible point has other surfaces within `range` over at least a fifth of its hemisphere (32 fixed
+/// cosine-distributed directions): the corners, creases and gaps where the bound's residual 1/sqrt(b) reaches.
+std::vector<bool> creaseMask(const OfflineScene& offline, const Settings& s, float range) {
+  const Scene& scene = offline.scene();
+  const Camera& cam = scene.camera;
+  const float aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
+  std::vector<bool> mask(static_cast<std::size_t>(s.width) * s.height, false);
+  constexpr int kDirections = 32;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      glm::vec2 ndc(2.0f * (x + 0.5f) / s.width - 1.0f, 1.0f - 2.0f * (y + 0.5f) / s.height);
+      glm::vec3 dir = cam.rayDirection(ndc, aspect);
+      std::optional<SurfaceHit> hit = offline.embree().intersect(cam.position, dir);
+      if (!hit) continue;
+      glm::vec3 n = glm::dot(hit->geometricNormal, dir) > 0.0f ? -hit->geometricNormal : hit->geometricNormal;
+      glm::vec3 t = glm::normalize(std::abs(n.x) > 0.5f ? glm::cross(n, glm::vec3(0, 1, 0)) : glm::cross(n, glm::vec3(1, 0, 0)));
+      glm::vec3 b = glm::cross(n, t);
+      int near = 0;
+      for (int k = 0; k < kDirections; ++k) {
+        // Fibonacci points on the disc, lifted to the hemisphere (cosine-distributed).
+        float r = std::sqrt((k + 0.5f) / kDirections), phi = 2.3999632f * k;
+        glm::vec3 d = r * std::cos(phi) * t + r * std::sin(phi) * b + std::sqrt(std::max(0.0f, 1.0f - r * r)) * n;
+        glm::vec3 origin = offline.embree().offsetOrigin(hit->position, hit->geometricNormal, d);
+        if (offline.embree().intersect(origin, d, range)) ++near;
+      }
+      mask[static_cast<std::size_t>(y) * s.width + x] = near * 5 >= kDirections;
+    }
+  return mask;
+}
+
+/// Pixels whose visible surface is glossy (perceptual roughness under 0.5).
+std::vector<bool> glossyMask(const OfflineScene& offline, const Settings& s) {
+  const Camera& cam = offline.scene().camera;
+  const float aspect = static_cast<float>(s.width) / static_cast<float>(s.height);
+  std::vector<bool> mask(static_cast<std::size_t>(s.width) * s.height, false);
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      glm::vec2 ndc(2.0f * (x + 0.5f) / s.width - 1.0f, 1.0f - 2.0f * (y + 0.5f) / s.height);
+      std::optional<SurfaceHit> hit = offline.embree().intersect(cam.position, cam.rayDirection(ndc, aspect));
+      mask[static_cast<std::size_t>(y) * s.width + x] = hit && offline.scene().materials[hit->material].roughness < 0.5f;
+    }
+  return mask;
+}
+
+/// relMSE (metrics.h: (I-R)^2 / (R^2 + 0.01) over pixels and channels) over the pixels of `mask`.
+double maskedRelMse(const Image& image, const Image& reference, const std::vector<bool>& mask) {
+  double sum = 0.0;
+  int count = 0;
+  for (std::size_t i = 0; i < image.size(); ++i)
+    if (mask[i])
+      for (int c = 0; c < 3; ++c) {
+        const double d = image.pixels[i][c] - reference.pixels[i][c];
+        sum += d * d / (reference.pixels[i][c] * reference.pixels[i][c] + 0.01);
+        ++count;
+      }
+  return count ? sum / count : 0.0;
+}
+
+double maskedEnergy(const Image& image, const std::vector<bool>& mask, bool inside) {
+  double sum = 0.0;
+  for (std::size_t i = 0; i < image.size(); ++i)
+    if (mask[i] == inside) sum += lum(image.pixels[i]);
+  return sum;
+}
+
+Image add(const Image& a, const Image& b) {
+  Image out = a;
+  for (std::size_t i = 0; i < out.size(); ++i) out.pixels[i] += b.pixels[i];
+  return out;
+}
+
+class GlPresetPromise : public ::testing::Test {
+ protected:
+  HeadlessGlContext context_;
+};
+
+// --- the geometry term's singularity and the bound ---------------------------------------------------------------
+
+TEST_F(GlPresetPromise, CornerSplotchesAreBrightBlotchesThatTheBoundRemoves) {
+  const ui::TeachingPreset& splotches = preset("Corner splotches (no bound)");
+  const ui::TeachingPreset& bounded = preset("Darkened corners (tight bound)");
+  Settings s = settingsOf(splotches), b = settingsOf(bounded);
+  Image unbounded = preview(splotches, s, generateVpls(sceneOf(splotches), s)).indirect;
+  Image clamped = preview(bounded, b, generateVpls(sceneOf(bounded), b)).indirect;
+  const Image& truth = referenceIndirect(splotches);
+  const double before = splotchShare(unbounded, truth), after = splotchShare(clamped, truth);
+  std::printf("[ measured ] pixels over 2x the reference's indirect light: %.2f %% unbounded (N = %d), %.2f %% with "
+              "b = %g (N = %d)\n",
+              100.0 * before, s.vplCount, 100.0 * after, b.clampBound, b.vplCount);
+  EXPECT_GT(before, 0.01) << "the unbounded preset must show splotches";
+  EXPECT_LT(after, 0.25 * before) << "the bound must remove them";
+}
+
+TEST_F(GlPresetPromise, DarkenedCornersLoseTheirEnergyAndSsbcRecoversMuchOfIt) {
+  const ui::TeachingPreset& darkened = preset("Darkened corners (tight bound)");
+  const ui::TeachingPreset& recovered = preset("Energy recovered (bound + SSBC)");
+  Settings s = settingsOf(darkened), c = settingsOf(recovered);
+  ASSERT_EQ(s.clampBound, c.clampBound);
+  const std::vector<bool> corners = creaseMask(sceneOf(darkened), s, 1.0f / std::sqrt(s.clampBound));
+  const auto cornerPixels = std::count(corners.begin(), corners.end(), true);
+  const Image& truth = referenceIndirect(darkened);
+  Image clamped = preview(darkened, s, generateVpls(sceneOf(darkened), s)).indirect;
+  PreviewImages compensated = preview(recovered, c, generateVpls(sceneOf(recovered), c));
+  const double truthIn = maskedEnergy(truth, corners, true), truthOut = maskedEnergy(truth, corners, false);
+  const double clampedIn = maskedEnergy(clamped, corners, true) / truthIn;
+  const double clampedOut = maskedEnergy(clamped, corners, false) / truthOut;
+  const double compensatedIn = maskedEnergy(add(compensated.indirect, compensated.residual), corners, true) / truthIn;
+  const double share = (compensatedIn - clampedIn) / (1.0 - clampedIn);
+  std::printf("[ measured ] %lld crease pixels of %d: indirect energy against the reference %.3f in the creases, "
+              "%.3f elsewhere with b = %g; SSBC brings the creases to %.3f (%.0f %% of the missing energy)\n",
+              static_cast<long long>(cornerPixels), s.width * s.height, clampedIn, clampedOut, s.clampBound,
+              compensatedIn, 100.0 * share);
+  ASSERT_GT(cornerPixels, s.width * s.height / 20) << "the mask must find the box's corners";
+  ASSERT_LT(cornerPixels, s.width * s.height * 3 / 4) << "a bound whose range spans the box darkens everything";
+  EXPECT_LT(clampedIn, 0.93) << "the corners must be darker than the reference";
+  EXPECT_GT(clampedOut, clampedIn + 0.08) << "and darker than the rest of the image";
+  EXPECT_GT(share, 0.35) << "SSBC must recover a good part of the corners' missing energy";
+  EXPECT_LT(compensatedIn, 1.1) << "without overshooting";
+}
+
+// --- glossy transport: point VPLs against VSLs --------------------------------------------------------------------
+
+TEST_F(GlPresetPromise, VslsSmoothTheGlossySplotchesAndMatchTheExactVslRender) {
+  const ui::TeachingPreset& points = preset("Glossy splotches");
+  const ui::TeachingPreset& spheres = preset("Virtual spherical lights");
+  Settings p = settingsOf(points), v = settingsOf(spheres);
+  VplSet vpls = generateVpls(sceneOf(spheres), v);
+  Image pointImage = preview(points, p, generateVpls(sceneOf(points), p)).indirect;
+  Image vslImage = preview(spheres, v, vpls).indirect;
+  // The exact render at a quarter of the pixels: its cost is pixels x spp x VSLs x cone samples.
+  Settings small = settingsOf(spheres, kSize / 2);
+  VplSet smallVpls = generateVpls(sceneOf(spheres), small);
+  Image exact = exactIndirect(spheres, small, smallVpls, Method::Vsl);
+  Image vslSmall = preview(spheres, small, smallVpls).indirect;
+  const Image& truth = referenceIndirect(points);
+  const std::vector<bool> glossy = glossyMask(sceneOf(points), p);
+  const double pointError = maskedRelMse(pointImage, truth, glossy), vslError = maskedRelMse(vslImage, truth, glossy);
+  const ImageMetrics againstExact = compareImages(vslSmall, exact);
+  std::printf("[ measured ] %lld glossy pixels: relMSE against the reference's indirect light %.4f with point VPLs, "
+              "%.4f with VSLs r = %g; VSL preview against the exact VSL render (%d spp): relMSE %.4f, energy %.3f\n",
+              static_cast<long long>(std::count(glossy.begin(), glossy.end(), true)), pointError, vslError,
+              v.vslRadius, v.exactSamplesPerPixel, againstExact.relMse, againstExact.energyRatioOverall);
+  EXPECT_GT(pointError, 0.1) << "point VPLs must show glossy splotches";
+  EXPECT_LT(vslError, 0.5 * pointError) << "VSLs must smooth them";
+  EXPECT_LT(againstExact.relMse, 0.05) << "the preview's VSLs must be the exact VSL render's";
+  EXPECT_NEAR(againstExact.energyRatioOverall, 1.0, 0.05);
+}
+
+// --- coherence under light motion --------------------------------------------------------------------------------
+
+/// relMSE between the preview's indirect light before and after one frame of the preset's light animation.
+double frameToFrameChange(const ui::TeachingPreset& p) {
+  Scene scene = sceneOf(p).scene();
+  Settings s = settingsOf(p);
+  PreviewRenderer renderer;
+  Image before, after;
+  {
+    OfflineScene offline(scene);
+    renderer.render(scene, generateVpls(offline, s), s, scene.camera);
+    before = renderer.readLinear(PreviewOutput::Indirect);
+  }
+  float phase = 0.0f;
+  const glm::vec3 step = ui::lightAnimationStep(phase, scene.bounds.diagonal());
+  ui::moveLight(scene, ui::editableLights(scene).at(0), step);  // the light the editor animates
+  if (p.reseedEveryFrame) s.seed += 1;
+  OfflineScene offline(scene);
+  PreviewRenderer fresh;
+  fresh.render(scene, generateVpls(offline, s), s, scene.camera);
+  after = fresh.readLinear(PreviewOutput::Indirect);
+  return compareImages(after, before).relMse;
+}
+
+TEST_F(GlPresetPromise, ReseededVplsFlickerCoherentOnesChangeLittle) {
+  const double flicker = frameToFrameChange(preset("Flicker from reshuffled VPLs"));
+  const double coherent = frameToFrameChange(preset("Coherent QMC VPLs"));
+  std::printf("[ measured ] indirect light, one animation frame: relMSE %.5f with a new seed, %.5f with the same\n",
+              flicker, coherent);
+  EXPECT_GT(flicker, 4.0 * coherent);
+}
+
+// --- visibility approximations against exact visibility -----------------------------------------------------------
+
+/// The preview against the exact VPL render of the same VPLs: relMSE, energy, and the light it adds (leaks) and
+/// removes (over-darkening) as shares of the exact render's energy.
+struct VisibilityMetrics {
+  ImageMetrics metrics;
+  double leaked = 0.0, darkened = 0.0;
+};
+
+VisibilityMetrics againstExactVisibility(const Image& image, const Image& exact) {
+  VisibilityMetrics m;
+  m.metrics = compareImages(image, exact);
+  double total = 0.0;
+  for (std::size_t i = 0; i < exact.size(); ++i) {
+    const double d = lum(image.pixels[i]) - lum(exact.pixels[i]);
+    total += lum(exact.pixels[i]);
+    (d > 0.0 ? m.leaked : m.darkened) += std::abs(d);
+  }
+  m.leaked /= total;
+  m.darkened /= total;
+  return m;
+}
+
+struct VisibilityError {
+  VisibilityMetrics preset, exactVisibility;
+};
+
+VisibilityError visibilityError(const ui::TeachingPreset& p, const std::function<void(Settings&)>& remedy) {
+  Settings s = settingsOf(p);
+  VplSet vpls = generateVpls(sceneOf(p), s);
+  Image exact = exactIndirect(p, s, vpls, Method::Vpl);
+  Settings fixed = s;
+  remedy(fixed);
+  return {againstExactVisibility(preview(p, s, vpls).indirect, exact),
+          againstExactVisibility(preview(p, fixed, vpls).indirect, exact)};
+}
+
+TEST_F(GlPresetPromise, SmallShadowMapsLeakLightThatTheExactRenderDoesNotHave) {
+  VisibilityError e = visibilityError(preset("Shadow-map leaks"), [](Settings& s) {
+    s.shadowMapSize = Settings{}.shadowMapSize;
+    s.shadowBias = Settings{}.shadowBias;
+  });
+  std::printf("[ measured ] against the exact VPL render: 16^2 maps, bias 0.05: relMSE %.4f, %.1f %% leaked, %.1f %% "
+              "darkened; default maps: relMSE %.4f, %.1f %% leaked, %.1f %% darkened\n",
+              e.preset.metrics.relMse, 100.0 * e.preset.leaked, 100.0 * e.preset.darkened,
+              e.exactVisibility.metrics.relMse, 100.0 * e.exactVisibility.leaked, 100.0 * e.exactVisibility.darkened);
+  EXPECT_GT(e.preset.metrics.relMse, 2.0 * e.exactVisibility.metrics.relMse);
+  EXPECT_GT(e.preset.leaked, 2.0 * e.exactVisibility.leaked) << "light must leak";
+  EXPECT_GT(e.preset.darkened, 2.0 * e.exactVisibility.darkened) << "and shadows spread";
+}
+
+TEST_F(GlPresetPromise, ImperfectShadowMapsErrWhereCubeMapsDoNot) {
+  VisibilityError e = visibilityError(preset("Imperfect shadow maps: leaks and over-darkening"),
+                                      [](Settings& s) { s.visibility = VisibilityMethod::Cube; });
+  std::printf("[ measured ] two-rooms against the exact VPL render: ISM relMSE %.4f, %.1f %% leaked, %.1f %% "
+              "darkened; cube maps relMSE %.4f, %.1f %% leaked, %.1f %% darkened\n",
+              e.preset.metrics.relMse, 100.0 * e.preset.leaked, 100.0 * e.preset.darkened,
+              e.exactVisibility.metrics.relMse, 100.0 * e.exactVisibility.leaked, 100.0 * e.exactVisibility.darkened);
+  EXPECT_GT(e.preset.metrics.relMse, 3.0 * e.exactVisibility.metrics.relMse);
+  EXPECT_GT(e.preset.leaked, 2.0 * e.exactVisibility.leaked) << "light must leak";
+  EXPECT_GT(e.preset.darkened, 1.4 * e.exactVisibility.darkened) << "and splats must over-darken";
+}
+
+
+
+
+
+// --- where the VPLs land (CPU only) ---------------------------------------------------------------------------------
+
+struct VplPlacement {
+  double seen = 0.0;            ///< share of the VPLs the camera sees (the VPL view's filled dots)
+  double rejectedHidden = 0.0;  ///< share of the rejected candidates it does not see
+  double effective = 0.0;       ///< (sum Phi_i)^2 / sum Phi_i^2 / N: the share of VPLs that effectively light the view
+};
+
+VplPlacement placement(const ui::TeachingPreset& p) {
+  Settings s = settingsOf(p);
+  const OfflineScene& offline = sceneOf(p);
+  VplSet vpls = generateVpls(offline, s);
+  VplPlacement m;
+  m.seen = ui::seenShare(ui::vplsSeenByCamera(offline.embree(), offline.scene().camera, vpls.vpls));
+  if (!vpls.rejected.empty())
+    m.rejectedHidden = 1.0 - ui::seenShare(ui::vplsSeenByCamera(offline.embree(), offline.scene().camera, vpls.rejected));
+  ImportanceEstimator importance(offline, s);
+  double sum = 0.0, squares = 0.0;
+  for (const Vpl& v : vpls.vpls) {
+    const double phi = importance(v);
+    sum += phi;
+    squares += phi * phi;
+  }
+  m.effective = squares > 0.0 ? sum * sum / squares / static_cast<double>(vpls.vpls.size()) : 0.0;
+  return m;
+}
+
+TEST(PresetPromise, MostVplsAreHiddenInTheOtherRoomAndRejectionSpreadsTheLight) {
+  const VplPlacement wasted = placement(preset("Wasted VPLs (two rooms)"));
+  const VplPlacement rejection = placement(preset("Rejection of unimportant VPLs"));
+  std::printf("[ measured ] two-rooms: the camera sees %.0f %% of the VPLs (%.0f %% with rejection, which drops "
+              "candidates %.0f %% of which are hidden); effective share of VPLs lighting the view %.2f -> %.2f\n",
+              100.0 * wasted.seen, 100.0 * rejection.seen, 100.0 * rejection.rejectedHidden, wasted.effective,
+              rejection.effective);
+  EXPECT_LT(wasted.seen, 0.5) << "most VPLs must be hidden in the other room";
+  EXPECT_GT(rejection.rejectedHidden, 1.0 - wasted.seen + 0.1) << "rejection must drop mostly hidden candidates";
+  EXPECT_GT(rejection.effective, wasted.effective + 0.05) << "the kept VPLs must light the view more evenly";
+}
+
+}  // namespace
+}  // namespace vplab
+
+#endif  // VPLAB_HAVE_EDITOR
