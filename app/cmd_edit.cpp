@@ -18,6 +18,9 @@ int cmdEdit(const Args& args) {
                           {"script", "s.txt", "run the editor commands in s.txt, then exit (see docs/editor.md)"},
                           {"screenshot", "out.png", "write the whole window as PNG after the script, then exit"},
                           {"window", "WxH", "window size in pixels (default 1280x720)"},
+                          {"preview-scale", "S",
+                           "preview pixels per view pixel while the preview is fitted to the view, 0.05 to 1 "
+                           "(default 0.5; --size turns fitting off)"},
                       });
   const unsigned use = kUseImage | kUseReference | kUseGeneration | kUseCpuVpl | kUseGl;
   cl.addOptions(cli::settingOptions(Settings{}, use));
@@ -35,6 +38,13 @@ int cmdEdit(const Args& args) {
   options.screenshotPath = cl.getString("screenshot", "");
   cl.getSize("window", options.windowWidth, options.windowHeight);
   cli::applySettingsOptions(cl, options.settings, use);
+  // An explicit image size (--size, or a settings file with another size) is kept; otherwise the preview is fitted to
+  // the view.
+  options.fitPreview =
+      !cl.has("size") && options.settings.width == Settings{}.width && options.settings.height == Settings{}.height;
+  options.previewScale = cl.getFloat("preview-scale", options.previewScale);
+  if (!(options.previewScale >= 0.05f && options.previewScale <= 1.0f))
+    throw cli::CliError("option --preview-scale: must be in [0.05, 1]");
   return ui::runEditor(options);
 #else
   std::fprintf(stderr, "vplab edit: this build has no editor (configured with -DVPLAB_BUILD_EDITOR=OFF)\n");

@@ -18,6 +18,7 @@
 
 #ifdef VPLAB_HAVE_EDITOR
 #include "ui/camera_controller.h"
+#include "ui/change_timer.h"
 #include "ui/chart.h"
 #include "ui/offline_job.h"
 #include "ui/panels.h"
@@ -306,6 +307,58 @@ TEST(EditorPresets, LightAnimationClosesItsCircleOfTwoPercentOfTheDiagonal) {
   EXPECT_EQ(farthest.y, 0.0f);
 }
 
+TEST(EditorTimings, AChangeCostsFromItselfUntilTheImageConvergedOverEveryFrame) {
+  ui::ChangeTimer timer;
+  EXPECT_LT(timer.lastMs(), 0.0) << "nothing measured yet";
+  PreviewTimings partial, rest;
+  partial.complete = false;
+  partial.vplShadowMs = 40.0;
+  rest.gatherMs = 25.0;
+  rest.tonemapMs = 1.0;
+  timer.changed(10.0);
+  timer.vplsGenerated(5.0);
+  timer.rendered(10.1, partial);
+  EXPECT_TRUE(timer.pending());
+  EXPECT_NEAR(timer.pendingMs(10.15), 150.0, 1e-9);
+  timer.changed(10.2);  // a second change before the image caught up: still timed from the first
+  timer.rendered(10.35, rest);
+  EXPECT_FALSE(timer.pending());
+  EXPECT_NEAR(timer.lastMs(), 350.0, 1e-9);
+  EXPECT_EQ(timer.lastFrames(), 2);
+  EXPECT_EQ(timer.lastPasses().vplShadowMs, 40.0);
+  EXPECT_EQ(timer.lastPasses().gatherMs, 25.0);
+  EXPECT_EQ(timer.lastPasses().gbufferMs, 0.0) << "a pass that did not run is cached, not timed";
+  EXPECT_EQ(timer.lastVplGenerationMs(), 5.0);
+  // Rendering without a change (an idle redraw) does not touch the last change's figures.
+  timer.rendered(11.0, rest);
+  EXPECT_NEAR(timer.lastMs(), 350.0, 1e-9);
+  // The next change starts from zero: no VPL generation in it.
+  timer.changed(12.0);
+  timer.rendered(12.01, rest);
+  EXPECT_NEAR(timer.lastMs(), 10.0, 1e-6);
+  EXPECT_EQ(timer.lastFrames(), 1);
+  EXPECT_EQ(timer.lastVplGenerationMs(), 0.0);
+  EXPECT_EQ(timer.lastPasses().vplShadowMs, 0.0);
+}
+
+TEST(EditorTimings, OfflineRendersAreEstimatedFromTheLastRenderOfTheSameMethod) {
+  ui::OfflineTimeEstimate estimate;
+  Settings s;
+  s.width = s.height = 100;
+  s.samplesPerPixel = 10;
+  EXPECT_LT(estimate.estimate(Method::Reference, s, 0), 0.0) << "unknown before the first render";
+  estimate.record(Method::Reference, s, 0, 4.0);
+  Settings twice = s;
+  twice.samplesPerPixel = 20;
+  EXPECT_NEAR(estimate.estimate(Method::Reference, twice, 0), 8.0, 1e-9);
+  EXPECT_LT(estimate.estimate(Method::Vpl, s, 64), 0.0) << "methods do not share throughput";
+  estimate.record(Method::Vpl, s, 64, 2.0);
+  EXPECT_NEAR(estimate.estimate(Method::Vpl, s, 128), 4.0, 1e-9) << "an exact render scales with the VPLs";
+  Settings vsl = s;
+  vsl.vslSamples = 4;
+  EXPECT_EQ(ui::OfflineTimeEstimate::work(Method::Vsl, vsl, 64), 4.0 * ui::OfflineTimeEstimate::work(Method::Vpl, s, 64));
+}
+
 TEST(EditorOffline, ExactRendersTakeTheirOwnSampleCountAndEstimateTheTimeLeft) {
   Settings s;
   s.samplesPerPixel = 64;
@@ -439,7 +492,7 @@ TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) 
 
 // A preset applied after any other preset leaves the editor as applying it first does. The script visits every
 // ordered pair of presets once (an Eulerian circuit of the complete directed graph), with frames in between so that
-// animated lights move, and a changed image size that the next preset must reset.
+// animated lights move; the preview is fitted to the view, whose area must not depend on the preset either.
 TEST(EditorWindow, EveryPresetIsTheSameAfterEveryOtherPreset) {
   ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
   const std::size_t n = ui::teachingPresets().size();
@@ -460,9 +513,9 @@ TEST(EditorWindow, EveryPresetIsTheSameAfterEveryOtherPreset) {
     }
   }
   ASSERT_EQ(circuit.size(), n * (n - 1) + 1);
-  std::string script;
-  for (std::size_t v : circuit)
-    script += "preset " + ui::teachingPresets()[v].name + "\npreset-state\nset width 32\nset height 32\nframes 2\n";
+  // A small fitted preview: the presets' own work (scene, VPLs, animation) at a tenth of the view's pixels.
+  std::string script = "preview-scale 0.1\n";
+  for (std::size_t v : circuit) script += "preset " + ui::teachingPresets()[v].name + "\npreset-state\nframes 2\n";
   RunResult run = runEditor(script, "");
   ASSERT_EQ(run.status, 0) << run.output;
 
@@ -502,6 +555,32 @@ TEST(EditorWindow, PresetImageDoesNotDependOnThePresetBefore) {
   ImageMetrics m = compareImages(b, a);
   EXPECT_EQ(m.relMse, 0.0);
   EXPECT_EQ(m.energyRatioOverall, 1.0);
+}
+
+// Without an explicit size the preview takes the view area times the resolution scale and is shown filling it;
+// change-cost reports what the change of scale cost, end to end.
+TEST(EditorWindow, FittedPreviewFillsTheViewAtTheResolutionScale) {
+  ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
+  const std::string view = tmp("fitted.exr"), shot = tmp("fitted.png");
+  RunResult run = runEditor("set vplCount 16\npreview-scale 0.2\nframes 3\nsave-view " + view + "\nchange-cost\n" +
+                                "screenshot " + shot + "\n",
+                            "");
+  ASSERT_EQ(run.status, 0) << run.output;
+  // The 1280 x 720 window less the two panels (340 and 370 px) and the view's margins (16 and 40 px).
+  const int areaW = 1280 - 340 - 370 - 16, areaH = 720 - 40;
+  Image image = readImage(view);
+  EXPECT_EQ(image.width, static_cast<int>(std::lround(0.2 * areaW)));
+  EXPECT_EQ(image.height, static_cast<int>(std::lround(0.2 * areaH)));
+  ViewRect rect = viewRectOf(run.output, shot);
+  EXPECT_TRUE(std::abs(rect.w - areaW) <= 1 || std::abs(rect.h - areaH) <= 1)
+      << "the image must fill the view: " << rect.w << "x" << rect.h;
+  std::smatch m;
+  ASSERT_TRUE(std::regex_search(run.output, m, std::regex("change-cost size=(\\d+)x(\\d+) ms=([0-9.]+) frames=(\\d+) "
+                                                          "pending=0")))
+      << run.output;
+  EXPECT_EQ(std::stoi(m[1]), image.width);
+  EXPECT_GT(std::stod(m[3]), 0.0);
+  EXPECT_GE(std::stoi(m[4]), 1);
 }
 
 TEST(EditorWindow, FailedExpectationExitsWithStatusOne) {

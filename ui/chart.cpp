@@ -226,7 +226,12 @@ void drawPassTimings(const std::vector<PassTiming>& passes) {
   for (const PassTiming& p : passes) largest = std::max(largest, p.ms);
   for (const PassTiming& p : passes) {
     char overlay[64];
-    std::snprintf(overlay, sizeof overlay, "%.2f ms", p.ms);
+    if (p.ms > 0.0)
+      std::snprintf(overlay, sizeof overlay, "%.2f ms", p.ms);
+    else if (p.lastRunMs > 0.0)
+      std::snprintf(overlay, sizeof overlay, "cached (%.2f ms to run)", p.lastRunMs);
+    else
+      std::snprintf(overlay, sizeof overlay, "cached");
     ImGui::ProgressBar(static_cast<float>(p.ms / largest), ImVec2(180.0f, 0.0f), overlay);
     ImGui::SameLine();
     ImGui::TextUnformatted(p.name.c_str());

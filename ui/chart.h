@@ -59,17 +59,19 @@ int findChartPoint(const std::vector<ChartPoint>& points, const Settings& settin
 /// One line describing the many-light settings of a point (N, b, r, SSBC, k, shadow-map size).
 std::string describeSettings(const Settings& settings);
 
-/// Per-pass timing bar: name and milliseconds.
+/// Per-pass timing bar: name, milliseconds of the last change (0: the pass did not run, its result was cached) and
+/// of the last time it ran.
 struct PassTiming {
   std::string name;
   double ms = 0.0;
+  double lastRunMs = 0.0;
 };
 
 /// Draws the chart into the current ImGui window (log relMSE against log frame time, titled axes with tick labels,
 /// one colour per method, the Pareto front, a legend under the plot) and returns the index of a clicked point, or -1.
 /// `highlight` marks the current configuration (-1 for none). The plot is at least 120 x 90 pixels.
 int drawSpeedAccuracyChart(const std::vector<ChartPoint>& points, int highlight, float width, float height);
-/// Horizontal bars, one per pass, scaled to the largest.
+/// Horizontal bars, one per pass, scaled to the largest; a cached pass reads "cached" with its last time.
 void drawPassTimings(const std::vector<PassTiming>& passes);
 
 }  // namespace vplab::ui

@@ -20,6 +20,7 @@
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vpl_importance.h"
 #include "ui/camera_controller.h"
+#include "ui/change_timer.h"
 #include "ui/chart.h"
 #include "ui/offline_job.h"
 #include "ui/panels.h"
@@ -42,6 +43,7 @@
 #include <cstdio>
 #include <filesystem>
 #include <fstream>
+#include <map>
 #include <memory>
 #include <stdexcept>
 
@@ -53,9 +55,24 @@ constexpr float kLeftPanelWidth = 340.0f;
 // Window clear colour, which is also the panels' background (see Editor's ImGui style set-up).
 constexpr float kBackground[3] = {0.07f, 0.07f, 0.075f};
 constexpr float kRightPanelWidth = 370.0f;
+/// Height of the active preset's explanation above the view (a longer text scrolls inside it). Fixed, so that the
+/// view area, and a fitted preview's size, is the same for every preset.
+constexpr float kPresetBoxHeight = 150.0f;
 
 double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
+
+/// "850 ms", "12 s", "3 min 20 s".
+std::string formatSeconds(double seconds) {
+  char text[32];
+  if (seconds < 1.0)
+    std::snprintf(text, sizeof text, "%.0f ms", seconds * 1e3);
+  else if (seconds < 120.0)
+    std::snprintf(text, sizeof text, "%.0f s", std::ceil(seconds));
+  else
+    std::snprintf(text, sizeof text, "%.0f min %.0f s", std::floor(seconds / 60.0), std::fmod(std::ceil(seconds), 60.0));
+  return text;
 }
 
 float luminance(const glm::vec3& c) {
@@ -67,8 +84,8 @@ std::string recentFilesPath() {
   return home ? std::string(home) + "/.vplab_recent" : std::string();
 }
 
-/// A GL texture showing 8-bit sRGB pixels, copied into the window by a framebuffer blit (nearest: the view is shown at
-/// integer zoom).
+/// A GL texture showing 8-bit sRGB pixels, copied into the window by a framebuffer blit: nearest at integer zoom,
+/// linear when the image is scaled to fit the view.
 class DisplayTexture {
  public:
   ~DisplayTexture() {
@@ -93,7 +110,7 @@ class DisplayTexture {
   /// Copies the image into the bound draw framebuffer at (x, y, w, h) in window pixels from the top left of a window
   /// `windowHeight` pixels high. A blit, not a textured quad through ImGui: under llvmpipe it skips blending and
   /// texture filtering for the largest thing on screen.
-  void blitTo(float x, float y, float w, float h, int windowHeight) {
+  void blitTo(float x, float y, float w, float h, int windowHeight, bool smooth) {
     if (!id_) return;
     if (!framebuffer_) glGenFramebuffers(1, &framebuffer_);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer_);
@@ -101,7 +118,7 @@ class DisplayTexture {
     // The image's first row is its top and sits at texture row 0; window rows count from the bottom.
     const int x0 = static_cast<int>(x), x1 = static_cast<int>(x + w);
     const int top = windowHeight - static_cast<int>(y), bottom = windowHeight - static_cast<int>(y + h);
-    glBlitFramebuffer(0, 0, width_, height_, x0, top, x1, bottom, GL_COLOR_BUFFER_BIT, GL_NEAREST);
+    glBlitFramebuffer(0, 0, width_, height_, x0, top, x1, bottom, GL_COLOR_BUFFER_BIT, smooth ? GL_LINEAR : GL_NEAREST);
     glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
   }
   int width() const { return width_; }
@@ -142,12 +159,22 @@ class Editor {
   void regenerateVpls();
   void measureClampEnergy();
   void composeDisplay();
+  /// The empty-state message of a view that needs an offline result of the preview's size.
+  std::string offlineMismatch(const std::string& what) const;
+  /// The empty state in the middle of the view area: the message, and the render buttons or the running job.
+  void drawEmptyState(float x, float y, float width, float height);
+  /// The view, its size, what the last change cost, this frame's time and the VPL count, at (x, y).
+  void drawStatusBar(float x, float y);
+  /// previewScale_ times the space the view has for the image (window pixels), with or without the preset box.
+  glm::ivec2 fittedPreviewSize(bool presetBox) const;
   void addChartPoint();
   void startOffline(bool reference);
   void pollOffline();
   /// Applies a teaching preset from scratch: its scene reloaded (lights as in the file, the scene camera), its
   /// complete settings, its view and view options, and what it starts.
   bool applyPreset(const TeachingPreset& preset);
+  /// The preset's settings as applied here: this machine's thread count, the fitted preview's size.
+  Settings presetSettingsHere(const TeachingPreset& preset) const;
   /// Everything applyPreset sets, as one line (the preset-state script verb).
   std::string presetState() const;
   void measureVplsSeen();
@@ -158,8 +185,8 @@ class Editor {
   void animate();
   void drawUi();
   void drawView();
-  /// The active preset's description in a box at the top of the view area; returns its height.
-  float drawPresetExplanation(float x, float width);
+  /// The active preset's description in a box of kPresetBoxHeight at the top of the view area.
+  void drawPresetExplanation(float x, float width);
   void drawLeftPanel();
   void drawRightPanel();
   void takeScreenshot(const std::string& path);
@@ -192,6 +219,7 @@ class Editor {
   std::unique_ptr<PreviewRenderer> preview_;
   PreviewTimings timings_;
   PreviewTimings lastPassMs_;  // most recent non-zero time of each pass: the cost of a full frame
+  ChangeTimer changeTimer_;    // what the last change cost, end to end
   Image previewLinear_;
   Image residual_;
   std::string previewError_;
@@ -202,6 +230,9 @@ class Editor {
   bool offlineStale_ = false;
   double offlineSeconds_ = 0.0;
   double offlineClampEnergy_ = 0.0;
+  std::map<std::string, OfflineTimeEstimate> offlineEstimates_;  ///< per scene file: throughput of its last renders
+  Settings offlineJobSettings_;     ///< what the running (or last) offline job renders
+  std::size_t offlineJobVpls_ = 0;
 
   CameraController camera_;
   ViewMode view_ = ViewMode::Preview;
@@ -213,7 +244,12 @@ class Editor {
   bool displayDirty_ = true;
   float viewRect_[4] = {0, 0, 0, 0};  // x, y, w, h in window pixels
   float viewScale_ = 1.0f;
+  bool fitPreview_ = true;  ///< EditorOptions::fitPreview
+  float previewScale_ = 0.5f;  ///< EditorOptions::previewScale
   std::string displayNote_;
+  /// Non-empty when the view has nothing to show because an offline result is missing or of another size: the view
+  /// then shows this message with the render buttons instead of an image.
+  std::string emptyState_;
 
   std::vector<ChartPoint> chart_;
   bool chartPending_ = false;
@@ -270,7 +306,11 @@ class Editor {
 
 // ------------------------------------------------------------------------------------------------------------------
 
-Editor::Editor(const EditorOptions& options) : options_(options), settings_(options.settings) {
+Editor::Editor(const EditorOptions& options)
+    : options_(options),
+      settings_(options.settings),
+      fitPreview_(options.fitPreview),
+      previewScale_(options.previewScale) {
   if (!options.scriptPath.empty()) script_ = loadScript(options.scriptPath);  // typos fail before the window opens
   // A screenshot without a script is a script of its own: render, capture, exit.
   if (options.scriptPath.empty() && !options.screenshotPath.empty()) script_.push_back({0, "frames", {"1"}});
@@ -430,6 +470,7 @@ void Editor::applyLightEdit(LightEdit edit) {
 // --- work ---------------------------------------------------------------------------------------------------------
 
 void Editor::markStale(const Staleness& s) {
+  if (s.anyPreview()) changeTimer_.changed(now());
   stale_ |= s;
   if (s.offline && !offlineImage_.empty()) offlineStale_ = true;
   if (s.vpls || s.gather) clampEnergyStale_ = true;
@@ -451,6 +492,7 @@ void Editor::regenerateVpls() {
   // Importance-driven generation (rejection, bidirectional, Metropolis) measures importance from the current view.
   scene_.camera = camera_.camera();
   vpls_ = generateVpls(*offline_, settings_);
+  changeTimer_.vplsGenerated(vpls_.stats.generationSeconds * 1e3);
   ++vplGenerations_;
   vslRadiiStale_ = false;
   preview_->invalidateVpls();
@@ -519,8 +561,9 @@ void Editor::updateWork() {
   if (startUpdate || previewUpdating_) {
     try {
       // Long work is split across frames (PreviewRenderer::render's budget): the last finished image stays on screen
-      // with "updating n %" until the new one is complete.
+      // with "updating n %" until the new one is complete, which is then the image `vplab preview` gives.
       timings_ = preview_->render(scene_, vpls_, updateSettings_, updateCamera_, kPreviewFrameBudgetMs);
+      changeTimer_.rendered(now(), timings_);
       previewUpdating_ = !timings_.complete;
       previewProgress_ = timings_.progress;
       if (timings_.complete) {
@@ -584,9 +627,17 @@ void Editor::addChartPoint() {
   chart_.push_back(p);
 }
 
+std::string Editor::offlineMismatch(const std::string& what) const {
+  if (offlineImage_.empty()) return "No offline result yet.\n" + what;
+  return "The offline result is " + std::to_string(offlineImage_.width) + "x" + std::to_string(offlineImage_.height) +
+         ", the preview " + std::to_string(previewLinear_.width) + "x" + std::to_string(previewLinear_.height) +
+         ": render it again at this size.\n" + what;
+}
+
 void Editor::composeDisplay() {
   displayDirty_ = false;
   displayNote_.clear();
+  emptyState_.clear();
   const Image& preview = view_ == ViewMode::SsbcResidual ? residual_ : previewLinear_;
   const bool haveOffline = !offlineImage_.empty();
   const bool sameSize =
@@ -605,7 +656,8 @@ void Editor::composeDisplay() {
     }
     case ViewMode::Reference: {
       if (!haveOffline) {
-        displayNote_ = "no offline result yet: press 'Render reference (O)' or 'Render exact VPL'";
+        emptyState_ = "No offline result yet.\nThe reference view shows the path-traced reference or the exact VPL "
+                      "render of the current scene, camera and settings.";
         return;
       }
       texture_.upload(offlineImage_.width, offlineImage_.height, tonemapToRgb8(offlineImage_, settings_.exposure));
@@ -613,10 +665,8 @@ void Editor::composeDisplay() {
     }
     case ViewMode::Split: {
       if (!sameSize) {
-        displayNote_ = "split needs an offline result of the preview's size";
-        if (!previewLinear_.empty())
-          texture_.upload(previewLinear_.width, previewLinear_.height,
-                          tonemapToRgb8(previewLinear_, settings_.exposure));
+        emptyState_ = offlineMismatch("The split view puts the preview left of the divider and the offline result "
+                                      "right of it.");
         return;
       }
       std::vector<uint8_t> left = tonemapToRgb8(previewLinear_, settings_.exposure);
@@ -631,7 +681,7 @@ void Editor::composeDisplay() {
     }
     case ViewMode::Difference: {
       if (!sameSize) {
-        displayNote_ = "difference needs an offline result of the preview's size";
+        emptyState_ = offlineMismatch("The difference view maps the preview's error against the offline result.");
         return;
       }
       HeatmapOptions options;
@@ -654,6 +704,8 @@ void Editor::composeDisplay() {
 void Editor::startOffline(bool reference) {
   offlineMethod_ = reference ? Method::Reference : exactCounterpartOf(settings_);
   job_.start(scene_, camera_.camera(), vpls_, settings_, offlineMethod_);
+  offlineJobSettings_ = settings_;
+  offlineJobVpls_ = vpls_.vpls.size();
   offlineStale_ = false;
 }
 
@@ -666,6 +718,9 @@ void Editor::pollOffline() {
   if (job_.takeFinished()) {
     offlineSeconds_ = job_.seconds();
     offlineClampEnergy_ = job_.clampEnergyRemoved();
+    if (!job_.cancelled() && job_.error().empty())
+      offlineEstimates_[scene_.sourcePath].record(job_.method(), offlineRenderSettings(offlineJobSettings_, job_.method()),
+                                                  offlineJobVpls_, job_.seconds());
     if (!job_.cancelled() && job_.error().empty() && job_.method() == Method::Reference) {
       // A new reference: the chart's errors were measured against the old one.
       chart_.clear();
@@ -676,13 +731,23 @@ void Editor::pollOffline() {
   }
 }
 
+Settings Editor::presetSettingsHere(const TeachingPreset& preset) const {
+  Settings s = preset.settings;
+  s.threads = settings_.threads;  // the machine's, not the lesson's
+  if (fitPreview_) {
+    // The fitted preview takes the size the view gives it with the preset's explanation above.
+    const glm::ivec2 size = fittedPreviewSize(true);
+    s.width = size.x;
+    s.height = size.y;
+  }
+  return s;
+}
+
 bool Editor::applyPreset(const TeachingPreset& preset) {
   // Always reloaded, even when it is the current scene: a previous preset (or the user) may have moved or scaled
   // lights, and openScene also resets the camera and drops the offline result and the chart.
   if (!openScene(std::string(VPLAB_ASSET_DIR) + "/scenes/" + preset.scene)) return false;
-  Settings next = preset.settings;
-  next.threads = settings_.threads;  // the machine's, not the lesson's
-  changeSettings(next);
+  changeSettings(presetSettingsHere(preset));
   view_ = preset.view;
   if (view_ == ViewMode::SsbcResidual) stale_.gather = true;
   relativeDifference_ = !preset.signedDifference;
@@ -831,10 +896,11 @@ void Editor::frame() {
   glFinish();
   // Showing the image is part of the preview's time, like its readback and upload; the UI draws over it.
   const double viewStart = now();
-  if (texture_.valid()) {
+  if (texture_.valid() && emptyState_.empty()) {
     // viewRect_ is in ImGui's window coordinates; the framebuffer may have more pixels (HiDPI).
     const ImVec2 fb = ImGui::GetIO().DisplayFramebufferScale;
-    texture_.blitTo(viewRect_[0] * fb.x, viewRect_[1] * fb.y, viewRect_[2] * fb.x, viewRect_[3] * fb.y, height);
+    texture_.blitTo(viewRect_[0] * fb.x, viewRect_[1] * fb.y, viewRect_[2] * fb.x, viewRect_[3] * fb.y, height,
+                    viewScale_ != std::floor(viewScale_));
   }
   glFinish();
   const double viewEnd = now();
@@ -899,23 +965,33 @@ int Editor::run() {
 void Editor::drawView() {
   const ImVec2 display = ImGui::GetIO().DisplaySize;
   const float areaX = kLeftPanelWidth, areaW = display.x - kLeftPanelWidth - kRightPanelWidth;
-  float areaY = 0.0f, areaH = display.y;
+  // The active preset's explanation sits above the image, which fits in what is left.
+  const float areaY = activePreset_ ? kPresetBoxHeight : 0.0f, areaH = display.y - areaY;
   ImDrawList* draw = ImGui::GetBackgroundDrawList();
-  if (activePreset_) {
-    // The active preset's explanation sits above the image, which fits in what is left.
-    const float height = drawPresetExplanation(areaX, areaW);
-    areaY += height;
-    areaH -= height;
+  if (activePreset_) drawPresetExplanation(areaX, areaW);
+  if (fitPreview_) {
+    const glm::ivec2 size = fittedPreviewSize(activePreset_ != nullptr);
+    if (size.x != settings_.width || size.y != settings_.height) {
+      Settings next = settings_;
+      next.width = size.x;
+      next.height = size.y;
+      changeSettings(next);
+    }
   }
   if (!displayNote_.empty() || !previewError_.empty()) {
     std::string note = previewError_.empty() ? displayNote_ : "preview error: " + previewError_;
     draw->AddText(ImVec2(areaX + 12, areaY + 12), IM_COL32(230, 200, 120, 255), note.c_str());
   }
-  if (!texture_.valid()) return;
+  if (!emptyState_.empty() || !texture_.valid()) {
+    if (!emptyState_.empty()) drawEmptyState(areaX, areaY, areaW, areaH);
+    drawStatusBar(areaX + 8.0f, areaY + areaH - 20.0f);
+    return;
+  }
   const float w = static_cast<float>(texture_.width()), h = static_cast<float>(texture_.height());
-  // Integer zoom keeps preview pixels square and exact (the tests compare them with the headless preview).
+  // A fitted preview fills the view (linear filtering); an explicit size is shown at integer zoom, which keeps
+  // preview pixels square and exact (the tests compare them with the headless preview).
   float scale = std::min((areaW - 16.0f) / w, (areaH - 40.0f) / h);
-  scale = scale >= 1.0f ? std::floor(scale) : scale;
+  if (!fitPreview_ && scale >= 1.0f) scale = std::floor(scale);
   viewScale_ = scale;
   const float x0 = std::floor(areaX + 0.5f * (areaW - w * scale));
   const float y0 = std::floor(areaY + 0.5f * (areaH - h * scale));
@@ -987,36 +1063,70 @@ void Editor::drawView() {
         draw->AddLine(ImVec2(p.x - 2, p.y + 2), ImVec2(p.x + 2, p.y - 2), IM_COL32(150, 150, 150, 180));
       }
   }
-  char status[256];
-  char updating[32] = "";
-  if (previewUpdating_) std::snprintf(updating, sizeof updating, "   updating %d %%", static_cast<int>(100.0f * previewProgress_));
-  std::snprintf(status, sizeof status, "%s  %dx%d  x%.2g   frame %.1f ms (UI %.1f ms)   VPLs %zu%s", toString(view_),
-                texture_.width(), texture_.height(), scale, frameMs_, uiMs_, vpls_.vpls.size(), updating);
-  draw->AddText(ImVec2(areaX + 8, areaY + areaH - 20), IM_COL32(200, 200, 200, 255), status);
+  drawStatusBar(areaX + 8.0f, areaY + areaH - 20.0f);
 }
 
-float Editor::drawPresetExplanation(float x, float width) {
-  const std::string text = presetDescription(*activePreset_);
-  const bool modified = settingsToJson(settings_) != settingsToJson(activePreset_->settings);
-  ImGuiStyle& style = ImGui::GetStyle();
-  const float wrap = width - 2.0f * style.WindowPadding.x;
-  float height = ImGui::CalcTextSize(text.c_str(), nullptr, false, wrap).y + ImGui::GetFrameHeightWithSpacing() +
-                 2.0f * style.WindowPadding.y + style.ItemSpacing.y;
-  ImGui::SetNextWindowPos(ImVec2(x, 0.0f));
-  ImGui::SetNextWindowSize(ImVec2(width, height));
-  ImGui::Begin("##preset", nullptr,
+void Editor::drawStatusBar(float x, float y) {
+  // What a change costs is the time until its image is complete, over frames; a single frame says little.
+  char change[96] = "";
+  if (changeTimer_.pending())
+    std::snprintf(change, sizeof change, "updating %d %%, %.0f ms so far",
+                  static_cast<int>(100.0f * previewProgress_), changeTimer_.pendingMs(now()));
+  else if (changeTimer_.lastMs() >= 0.0)
+    std::snprintf(change, sizeof change, "last change %.0f ms (%d frame%s)", changeTimer_.lastMs(),
+                  changeTimer_.lastFrames(), changeTimer_.lastFrames() == 1 ? "" : "s");
+  char status[256];
+  std::snprintf(status, sizeof status, "%s %dx%d  %s  this frame %.0f ms  %zu VPLs", toString(view_),
+                settings_.width, settings_.height, change, frameMs_, vpls_.vpls.size());
+  ImGui::GetBackgroundDrawList()->AddText(ImVec2(x, y), IM_COL32(200, 200, 200, 255), status);
+}
+
+glm::ivec2 Editor::fittedPreviewSize(bool presetBox) const {
+  // The view area between the panels, less the margins drawView keeps around the image and for the status bar.
+  const ImVec2 display = ImGui::GetIO().DisplaySize;
+  const float width = display.x - kLeftPanelWidth - kRightPanelWidth - 16.0f;
+  const float height = display.y - (presetBox ? kPresetBoxHeight : 0.0f) - 40.0f;
+  return {std::clamp(static_cast<int>(std::lround(width * previewScale_)), 16, 2048),
+          std::clamp(static_cast<int>(std::lround(height * previewScale_)), 16, 2048)};
+}
+
+void Editor::drawEmptyState(float x, float y, float width, float height) {
+  const float boxWidth = std::min(width - 32.0f, 420.0f);
+  ImGui::SetNextWindowPos(ImVec2(x + 0.5f * width, y + 0.4f * height), ImGuiCond_Always, ImVec2(0.5f, 0.5f));
+  ImGui::SetNextWindowSize(ImVec2(boxWidth, 0.0f));
+  ImGui::Begin("##empty", nullptr,
                ImGuiWindowFlags_NoDecoration | ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings |
-                   ImGuiWindowFlags_NoFocusOnAppearing | ImGuiWindowFlags_NoBringToFrontOnFocus);
-  ImGui::PushTextWrapPos(ImGui::GetCursorPosX() + wrap);
-  ImGui::TextUnformatted(text.c_str());
+                   ImGuiWindowFlags_AlwaysAutoResize | ImGuiWindowFlags_NoFocusOnAppearing);
+  ImGui::PushTextWrapPos(boxWidth - ImGui::GetStyle().WindowPadding.x);
+  ImGui::TextUnformatted(emptyState_.c_str());
   ImGui::PopTextWrapPos();
+  if (job_.running()) {
+    ImGui::Text("%s running: %.0f %%", toString(job_.method()), 100.0f * job_.progress());
+    ImGui::SameLine();
+    if (ImGui::SmallButton("Cancel")) job_.cancel();
+  } else {
+    if (ImGui::Button("Render reference (O)")) startOffline(true);
+    ImGui::SameLine();
+    if (ImGui::Button("Render exact VPL")) startOffline(false);
+  }
+  ImGui::End();
+}
+
+void Editor::drawPresetExplanation(float x, float width) {
+  const bool modified = settingsToJson(settings_) != settingsToJson(presetSettingsHere(*activePreset_));
+  ImGui::SetNextWindowPos(ImVec2(x, 0.0f));
+  ImGui::SetNextWindowSize(ImVec2(width, kPresetBoxHeight - 4.0f));
+  ImGui::Begin("##preset", nullptr,
+               ImGuiWindowFlags_NoTitleBar | ImGuiWindowFlags_NoResize | ImGuiWindowFlags_NoCollapse |
+                   ImGuiWindowFlags_NoMove | ImGuiWindowFlags_NoSavedSettings | ImGuiWindowFlags_NoFocusOnAppearing |
+                   ImGuiWindowFlags_NoBringToFrontOnFocus);
   if (ImGui::SmallButton("close explanation")) activePreset_ = nullptr;
   if (modified) {
     ImGui::SameLine();
     ImGui::TextDisabled("settings changed since the preset");
   }
+  if (activePreset_) ImGui::TextWrapped("%s", presetDescription(*activePreset_).c_str());
   ImGui::End();
-  return height;
 }
 
 void Editor::drawLeftPanel() {
@@ -1058,8 +1168,12 @@ void Editor::drawLeftPanel() {
   if (ImGui::CollapsingHeader("Many lights", ImGuiTreeNodeFlags_DefaultOpen)) {
     Settings next = settings_;
     if (drawManyLightPanel(next, vpls_.stats, clampEnergyRemoved_)) changeSettings(next);
-    if (!offlineImage_.empty() && offlineImageMethod_ != Method::Reference)
-      ImGui::TextDisabled("exact render: clamp removed %.1f %%", 100.0 * offlineClampEnergy_);
+    if (!offlineImage_.empty() && offlineImageMethod_ != Method::Reference) {
+      ImGui::TextDisabled("exact render: clamp removed %.1f %% (all pixels)", 100.0 * offlineClampEnergy_);
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("Measured by the exact VPL render over every pixel sample: the luminance its clamped VPL sum\n"
+                          "lost against the unclamped one, of the VPL (indirect) light.");
+    }
   }
   ImGui::PopItemWidth();
   ImGui::End();
@@ -1080,6 +1194,12 @@ void Editor::drawRightPanel() {
       if (view_ == ViewMode::SsbcResidual) stale_.gather = true;  // the residual is read back on render
       displayDirty_ = true;
     }
+    ImGui::Checkbox("fit preview to the view", &fitPreview_);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("The image size follows the view area times the resolution scale; off: the offline\n"
+                        "panel's image size, shown at integer zoom.");
+    if (fitPreview_)
+      ImGui::SliderFloat("resolution scale", &previewScale_, 0.1f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp);
     if (view_ == ViewMode::Split && ImGui::SliderFloat("divider", &divider_, 0.0f, 1.0f)) displayDirty_ = true;
     if (view_ == ViewMode::Difference) {
       if (ImGui::RadioButton("relative error", relativeDifference_)) relativeDifference_ = true, displayDirty_ = true;
@@ -1092,7 +1212,10 @@ void Editor::drawRightPanel() {
   }
   if (ImGui::CollapsingHeader("Offline pass", ImGuiTreeNodeFlags_DefaultOpen)) {
     Settings next = settings_;
-    if (drawOfflineSettingsPanel(next)) changeSettings(next);
+    if (drawOfflineSettingsPanel(next)) {
+      if (next.width != settings_.width || next.height != settings_.height) fitPreview_ = false;  // asked for a size
+      changeSettings(next);
+    }
     if (job_.running()) {
       double left = job_.secondsLeft();
       char overlay[32] = "";
@@ -1105,6 +1228,17 @@ void Editor::drawRightPanel() {
       if (ImGui::Button("Render reference (O)")) startOffline(true);
       ImGui::SameLine();
       if (ImGui::Button("Render exact VPL")) startOffline(false);
+      const OfflineTimeEstimate& estimate = offlineEstimates_[scene_.sourcePath];
+      const Method exact = exactCounterpartOf(settings_);
+      const double referenceSeconds =
+          estimate.estimate(Method::Reference, offlineRenderSettings(settings_, Method::Reference), 0);
+      const double exactSeconds = estimate.estimate(exact, offlineRenderSettings(settings_, exact), vpls_.vpls.size());
+      auto seconds = [](double s) { return s < 0.0 ? std::string("?") : "~" + formatSeconds(s); };
+      ImGui::TextDisabled("estimated: reference %s, %s %s", seconds(referenceSeconds).c_str(), toString(exact),
+                          seconds(exactSeconds).c_str());
+      if (ImGui::IsItemHovered())
+        ImGui::SetTooltip("From the throughput of the last render of each kind on this scene (? before the first):\n"
+                          "pixels x spp for the reference, x VPLs (x VSL samples) for an exact render.");
       if (!offlineImage_.empty())
         ImGui::Text("%s%s: %d spp in %.2f s%s", toString(offlineImageMethod_), job_.cancelled() ? " (cancelled)" : "",
                     job_.samplesPerPixel(), offlineSeconds_, offlineStale_ ? "  STALE" : "");
@@ -1139,11 +1273,21 @@ void Editor::drawRightPanel() {
     if (ImGui::SmallButton(chartWindowOpen_ ? "dock chart" : "enlarge chart")) chartWindowOpen_ = !chartWindowOpen_;
     ImGui::SameLine();
     if (ImGui::SmallButton("clear chart")) chart_.clear();
+    // The last converged change: each pass's GPU time summed over the frames it took; a pass it did not re-run is
+    // marked cached (its time when it last ran is lastPassMs_).
+    const PreviewTimings& t = changeTimer_.lastPasses();
     std::vector<PassTiming> passes = {
-        {"G-buffer", timings_.gbufferMs}, {"light shadows", timings_.directShadowMs},
-        {"direct", timings_.directMs},    {"VPL shadows", timings_.vplShadowMs},
-        {"gather", timings_.gatherMs},    {"SSBC", timings_.ssbcMs},
-        {"tonemap", timings_.tonemapMs},  {"VPL generation", vpls_.stats.generationSeconds * 1e3}};
+        {"G-buffer", t.gbufferMs, lastPassMs_.gbufferMs},
+        {"light shadows", t.directShadowMs, lastPassMs_.directShadowMs},
+        {"direct", t.directMs, lastPassMs_.directMs},
+        {"VPL shadows", t.vplShadowMs, lastPassMs_.vplShadowMs},
+        {"gather", t.gatherMs, lastPassMs_.gatherMs},
+        {"SSBC", t.ssbcMs, lastPassMs_.ssbcMs},
+        {"tonemap", t.tonemapMs, lastPassMs_.tonemapMs},
+        {"VPL generation (CPU)", changeTimer_.lastVplGenerationMs(), vpls_.stats.generationSeconds * 1e3}};
+    if (changeTimer_.lastMs() >= 0.0)
+      ImGui::TextDisabled("last change: %.0f ms end to end, %d frame%s; GPU ms per pass:", changeTimer_.lastMs(),
+                          changeTimer_.lastFrames(), changeTimer_.lastFrames() == 1 ? "" : "s");
     drawPassTimings(passes);
   }
   if (clicked >= 0 && clicked < static_cast<int>(chart_.size()))
@@ -1168,6 +1312,7 @@ void Editor::drawRightPanel() {
       try {
         Settings next = settings_;
         loadSettingsFile(settingsPath_, next);
+        if (next.width != settings_.width || next.height != settings_.height) fitPreview_ = false;
         changeSettings(next);
         ioMessage_ = "loaded " + settingsPath_;
       } catch (const std::exception& e) {
@@ -1273,6 +1418,9 @@ void Editor::execute(const ScriptCommand& c) {
   if (c.verb == "set") {
     Settings next = settings_;
     setSettingFromText(next, c.args[0], c.args[1]);
+    if (next.width != settings_.width || next.height != settings_.height || c.args[0] == "width" ||
+        c.args[0] == "height")
+      fitPreview_ = false;  // an explicit image size
     changeSettings(next);
   } else if (c.verb == "orbit") {
     camera_.orbit(glm::radians(num(0)), glm::radians(num(1)));
@@ -1306,6 +1454,13 @@ void Editor::execute(const ScriptCommand& c) {
     if (!applyPreset(*preset)) scriptFail(c, sceneError_);
     std::printf("%s\n", presetDescription(*preset).c_str());
     std::fflush(stdout);
+  } else if (c.verb == "preview-scale") {
+    fitPreview_ = true;
+    previewScale_ = std::clamp(num(0), 0.05f, 1.0f);
+  } else if (c.verb == "change-cost") {
+    std::printf("change-cost size=%dx%d ms=%.1f frames=%d pending=%d\n", settings_.width, settings_.height,
+                changeTimer_.lastMs(), changeTimer_.lastFrames(), changeTimer_.pending());
+    std::fflush(stdout);
   } else if (c.verb == "preset-state") {
     std::printf("preset-state %s\n", presetState().c_str());
     std::fflush(stdout);
@@ -1326,6 +1481,7 @@ void Editor::execute(const ScriptCommand& c) {
   } else if (c.verb == "load-settings") {
     Settings next = settings_;
     loadSettingsFile(c.args[0], next);
+    if (next.width != settings_.width || next.height != settings_.height) fitPreview_ = false;
     changeSettings(next);
   } else if (c.verb == "save-settings") {
     saveSettingsFile(c.args[0], settings_);

@@ -15,6 +15,12 @@ struct EditorOptions {
   std::string scriptPath;      ///< empty: interactive
   std::string screenshotPath;  ///< written (PNG, whole window) after the script, then the editor exits
   Settings settings;           ///< initial settings (CLI options and --settings applied)
+  /// The preview's size follows the view area (times the resolution scale) instead of settings.width x height;
+  /// an explicit image size (--size, the offline panel's image size, a script's `set width`) turns it off.
+  bool fitPreview = true;
+  /// Preview pixels per view-area pixel along each axis while fitted, [0.05, 1]. 0.5 keeps a camera orbit on the
+  /// bundled scenes converging in about a tenth of a second on two cores with llvmpipe (docs/editor.md).
+  float previewScale = 0.5f;
   int windowWidth = 1280;
   int windowHeight = 720;
 };

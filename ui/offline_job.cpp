@@ -27,6 +27,22 @@ double estimateSecondsLeft(double elapsedSeconds, float progress) {
   return elapsedSeconds * (1.0 - static_cast<double>(progress)) / static_cast<double>(progress);
 }
 
+double OfflineTimeEstimate::work(Method method, const Settings& s, std::size_t vplCount) {
+  const double samples = static_cast<double>(s.width) * s.height * s.samplesPerPixel;
+  if (method == Method::Reference) return samples;
+  return samples * static_cast<double>(vplCount) * (method == Method::Vsl ? s.vslSamples : 1);
+}
+
+void OfflineTimeEstimate::record(Method method, const Settings& settings, std::size_t vplCount, double seconds) {
+  const double units = work(method, settings, vplCount);
+  if (units > 0.0 && seconds > 0.0) secondsPerUnit_[static_cast<int>(method)] = seconds / units;
+}
+
+double OfflineTimeEstimate::estimate(Method method, const Settings& settings, std::size_t vplCount) const {
+  const double perUnit = secondsPerUnit_[static_cast<int>(method)];
+  return perUnit < 0.0 ? -1.0 : perUnit * work(method, settings, vplCount);
+}
+
 OfflineJob::~OfflineJob() {
   control_.cancel = true;
   join();

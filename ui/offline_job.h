@@ -25,6 +25,23 @@ Method exactCounterpartOf(const Settings& settings);
 /// little is done to tell (the first 2 %, or under a quarter of a second).
 double estimateSecondsLeft(double elapsedSeconds, float progress);
 
+/// Estimates how long an offline render will take before it starts, from the throughput of the last completed
+/// render of the same method on this machine: its seconds per unit of work, where a unit is one pixel sample of the
+/// reference (pixels x spp), or one VPL evaluation of an exact render (pixels x spp x VPLs, x VSL samples for VSLs).
+class OfflineTimeEstimate {
+ public:
+  /// A render of `method` with these settings (offlineRenderSettings) and `vplCount` VPLs took `seconds`.
+  void record(Method method, const Settings& settings, std::size_t vplCount, double seconds);
+  /// Seconds the render would take; negative until a render of the same method was recorded.
+  double estimate(Method method, const Settings& settings, std::size_t vplCount) const;
+
+  /// Units of work of a render (see the class comment).
+  static double work(Method method, const Settings& settings, std::size_t vplCount);
+
+ private:
+  double secondsPerUnit_[4] = {-1.0, -1.0, -1.0, -1.0};  // by Method
+};
+
 class OfflineJob {
  public:
   OfflineJob() = default;

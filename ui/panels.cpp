@@ -128,10 +128,15 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
                                   "b on cos1 cos2 / d^2; the residual is local: d < 1/sqrt(b)");
     ImGui::Text("residual range 1/sqrt(b) = %.3g m", 1.0 / std::sqrt(std::max(s.clampBound, 1e-6f)));
   }
-  if (clampEnergyRemoved >= 0.0)
-    ImGui::Text("clamp removes %.1f %% of the indirect light", 100.0 * clampEnergyRemoved);
-  else
+  if (clampEnergyRemoved >= 0.0) {
+    ImGui::Text("clamp removes ~%.1f %% at sample points", 100.0 * clampEnergyRemoved);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("An estimate while you edit: over at most 256 camera-visible points on a coarse grid, the\n"
+                        "luminance min(G, b) loses against G, summed over every VPL each point sees. The exact VPL\n"
+                        "render measures the same over every pixel (shown under this panel once it ran).");
+  } else {
     ImGui::TextDisabled("clamp energy removed: not measured");
+  }
   changed |= settingSliderInt(s, "ssbcSteps", 0, 2);
   changed |= settingCheckbox(s, "ssbcCoarseRings");
 

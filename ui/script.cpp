@@ -39,6 +39,8 @@ const std::map<std::string, Arity>& verbs() {
       {"counters", {0, 0}},
       {"time-frames", {1, 3}},
       {"preset-state", {0, 0}},
+      {"preview-scale", {1, 1}},
+      {"change-cost", {0, 0}},
   };
   return table;
 }
@@ -86,7 +88,7 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
       throw ScriptError(where(source, lineNumber) + "offline takes 'reference' or 'vpl'");
     for (std::size_t i = 0; i < c.args.size(); ++i) {
       bool numeric = c.verb == "orbit" || c.verb == "pan" || c.verb == "zoom" || c.verb == "frames" ||
-                     (c.verb == "time-frames" && i != 1) || (c.verb == "light" && i != 1);
+                     (c.verb == "time-frames" && i != 1) || c.verb == "preview-scale" || (c.verb == "light" && i != 1);
       if (numeric) scriptNumber(c, i, source);
     }
     commands.push_back(std::move(c));

@@ -27,6 +27,8 @@
 //   counters                       print the work counters on stdout
 //   time-frames <n> [light <i>]    render n frames while the camera orbits (or light i is dragged) and print the mean,
 //                                  median, p95 and largest frame time, the UI's share and the updates finished
+//   preview-scale <s>              fit the preview to the view at s preview pixels per window pixel (0.05 to 1)
+//   change-cost                    print what the last change cost: ms from the change to the final image, frames
 //   preset-state                   print a fingerprint of everything a preset sets (settings, scene file, lights,
 //                                  camera, view options, animation): equal after any predecessor
 

@@ -1,0 +1,36 @@
+#include "ui/change_timer.h"
+
+namespace vplab::ui {
+
+void ChangeTimer::changed(double seconds) {
+  if (pending_) return;
+  pending_ = true;
+  start_ = seconds;
+  frames_ = 0;
+  passes_ = PreviewTimings{};
+  vplMs_ = 0.0;
+}
+
+void ChangeTimer::vplsGenerated(double ms) {
+  if (pending_) vplMs_ += ms;
+}
+
+void ChangeTimer::rendered(double seconds, const PreviewTimings& t) {
+  if (!pending_) return;
+  ++frames_;
+  passes_.gbufferMs += t.gbufferMs;
+  passes_.directShadowMs += t.directShadowMs;
+  passes_.directMs += t.directMs;
+  passes_.vplShadowMs += t.vplShadowMs;
+  passes_.gatherMs += t.gatherMs;
+  passes_.ssbcMs += t.ssbcMs;
+  passes_.tonemapMs += t.tonemapMs;
+  if (!t.complete) return;
+  pending_ = false;
+  lastMs_ = 1e3 * (seconds - start_);
+  lastFrames_ = frames_;
+  lastPasses_ = passes_;
+  lastVplMs_ = vplMs_;
+}
+
+}  // namespace vplab::ui
