@@ -20,7 +20,7 @@ int cmdEdit(const Args& args) {
                           {"window", "WxH", "window size in pixels (default 1280x720)"},
                           {"preview-scale", "S",
                            "preview pixels per view pixel while the preview is fitted to the view, 0.05 to 1 "
-                           "(default 0.5; --size turns fitting off)"},
+                           "(default 0.4; --size turns fitting off)"},
                       });
   const unsigned use = kUseImage | kUseReference | kUseGeneration | kUseCpuVpl | kUseGl;
   cl.addOptions(cli::settingOptions(Settings{}, use));

@@ -245,7 +245,7 @@ class Editor {
   float viewRect_[4] = {0, 0, 0, 0};  // x, y, w, h in window pixels
   float viewScale_ = 1.0f;
   bool fitPreview_ = true;  ///< EditorOptions::fitPreview
-  float previewScale_ = 0.5f;  ///< EditorOptions::previewScale
+  float previewScale_ = 0.4f;  ///< EditorOptions::previewScale
   std::string displayNote_;
   /// Non-empty when the view has nothing to show because an offline result is missing or of another size: the view
   /// then shows this message with the render buttons instead of an image.
@@ -907,7 +907,9 @@ void Editor::frame() {
   ImGui_ImplOpenGL3_RenderDrawData(ImGui::GetDrawData());
   glFinish();
   const double uiEnd = now();
-  if (!pendingScreenshot_.empty() && !previewUpdating_ && !stale_.anyPreview()) {
+  // A screenshot shows a finished image; an animated light never lets the image finish, so it takes the frame as is.
+  if (!pendingScreenshot_.empty() &&
+      ((!previewUpdating_ && !stale_.anyPreview()) || animateLight_ || !previewError_.empty())) {
     takeScreenshot(pendingScreenshot_);
     pendingScreenshot_.clear();
   }
@@ -1286,8 +1288,8 @@ void Editor::drawRightPanel() {
         {"tonemap", t.tonemapMs, lastPassMs_.tonemapMs},
         {"VPL generation (CPU)", changeTimer_.lastVplGenerationMs(), vpls_.stats.generationSeconds * 1e3}};
     if (changeTimer_.lastMs() >= 0.0)
-      ImGui::TextDisabled("last change: %.0f ms end to end, %d frame%s; GPU ms per pass:", changeTimer_.lastMs(),
-                          changeTimer_.lastFrames(), changeTimer_.lastFrames() == 1 ? "" : "s");
+      ImGui::TextDisabled("last change, %d frame%s; GPU ms per pass:", changeTimer_.lastFrames(),
+                          changeTimer_.lastFrames() == 1 ? "" : "s");
     drawPassTimings(passes);
   }
   if (clicked >= 0 && clicked < static_cast<int>(chart_.size()))
@@ -1371,6 +1373,7 @@ void Editor::scriptStep() {
     --framesPending_;
     return;
   }
+  if (!pendingScreenshot_.empty()) return;  // the next command waits until the screenshot was taken
   if (timingFrames_ > 0) {
     if (timingLight_ >= 0) {
       // A light drag: the light moves 0.2 % of the scene diagonal every frame, back and forth over 40 frames.

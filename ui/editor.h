@@ -18,9 +18,10 @@ struct EditorOptions {
   /// The preview's size follows the view area (times the resolution scale) instead of settings.width x height;
   /// an explicit image size (--size, the offline panel's image size, a script's `set width`) turns it off.
   bool fitPreview = true;
-  /// Preview pixels per view-area pixel along each axis while fitted, [0.05, 1]. 0.5 keeps a camera orbit on the
-  /// bundled scenes converging in about a tenth of a second on two cores with llvmpipe (docs/editor.md).
-  float previewScale = 0.5f;
+  /// Preview pixels per view-area pixel along each axis while fitted, [0.05, 1]. A change costs about in proportion
+  /// to the pixels (docs/editor.md, "Preview size"): 0.4 gives the 1280x720 window's view about the 65k pixels of the
+  /// fixed 256x256 preview it replaces, so the editor stays as responsive as it was on two cores with llvmpipe.
+  float previewScale = 0.4f;
   int windowWidth = 1280;
   int windowHeight = 720;
 };
