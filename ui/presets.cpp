@@ -116,7 +116,8 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "The grey crosses are the rejected candidates, mostly in the other room; the acceptance rate is in the "
         "many-light panel."));
     list.push_back(make(
-        {"Where each method puts its VPLs (two rooms)", "two-rooms.gltf", ViewMode::VplOverlay},
+        {"Where each method puts its VPLs (two rooms)", "two-rooms.gltf", ViewMode::VplOverlay,
+         PresetOffline::Reference},
         [](Settings& s) {
           s.vplCount = 256;
           s.clampBound = 100.0f;
@@ -129,8 +130,8 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "is the method's): light tracing leaves most of its VPLs in the far room, rejection thins those out, "
         "bidirectional adds first-bounce VPLs seen from the camera. Each improved method puts a larger share of the "
         "same budget in this room, and at these 256 VPLs its error (4x4-pixel blocks against the path-traced "
-        "reference) is about 0.3 to 0.6 times light tracing's (docs/methods.md): render the reference and open the "
-        "difference view to see where."));
+        "reference) is about 0.3 to 0.6 times light tracing's (docs/methods.md): the preset starts that reference, so "
+        "open the difference view to see where."));
     list.push_back(make(
         {"Flicker from reshuffled VPLs", "cornell-box.gltf", ViewMode::Preview, PresetOffline::None, false, false,
          true, true},
