@@ -8,6 +8,8 @@ Staleness& Staleness::operator|=(const Staleness& o) {
   vpls |= o.vpls;
   vplShadowMaps |= o.vplShadowMaps;
   lightShadowMaps |= o.lightShadowMaps;
+  gbuffer |= o.gbuffer;
+  direct |= o.direct;
   gather |= o.gather;
   ssbc |= o.ssbc;
   tonemap |= o.tonemap;
@@ -15,13 +17,19 @@ Staleness& Staleness::operator|=(const Staleness& o) {
   return *this;
 }
 
-Staleness Staleness::all() { return {true, true, true, true, true, true, true}; }
+Staleness Staleness::all() {
+  Staleness s;
+  s.vpls = s.vplShadowMaps = s.lightShadowMaps = s.gbuffer = s.direct = s.gather = s.ssbc = s.tonemap = s.offline =
+      true;
+  return s;
+}
 
 Staleness Staleness::propagated() const {
   Staleness s = *this;
   s.vplShadowMaps |= s.vpls;
-  s.gather |= s.vpls || s.vplShadowMaps || s.lightShadowMaps;
-  s.ssbc |= s.gather;
+  s.direct |= s.gbuffer || s.lightShadowMaps;
+  s.gather |= s.gbuffer || s.vpls || s.vplShadowMaps;
+  s.ssbc |= s.direct || s.gather;
   s.tonemap |= s.ssbc;
   return s;
 }
@@ -36,6 +44,8 @@ std::string toString(const Staleness& s) {
   add(s.vpls, "vpls");
   add(s.vplShadowMaps, "vplShadowMaps");
   add(s.lightShadowMaps, "lightShadowMaps");
+  add(s.gbuffer, "gbuffer");
+  add(s.direct, "direct");
   add(s.gather, "gather");
   add(s.ssbc, "ssbc");
   add(s.tonemap, "tonemap");
@@ -49,7 +59,7 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
 
   // Image size: every per-pixel buffer, and the importance points are pixels of that image.
   if (a.width != b.width || a.height != b.height) {
-    s.gather = s.offline = true;
+    s.gbuffer = s.offline = true;
     s.vpls |= usesImportancePoints(a) || usesImportancePoints(b);
   }
   // The seed drives the VPL sequence, the light sample points and the offline sample streams.
@@ -64,8 +74,8 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
 
   // VPL generation (docs/methods.md, "VPL generation"). A method's parameters only matter while it is in use in
   // either state.
-  bool vplsChanged = a.generation != b.generation || a.vplCount != b.vplCount ||
-                     a.vplMaxBounces != b.vplMaxBounces || a.rejection != b.rejection;
+  bool vplsChanged = a.generation != b.generation || a.vplCount != b.vplCount || a.vplMaxBounces != b.vplMaxBounces ||
+                     a.rejection != b.rejection;
   if (usesImportancePoints(a) || usesImportancePoints(b)) vplsChanged |= a.importancePoints != b.importancePoints;
   if (a.rejection || b.rejection)
     vplsChanged |= a.rejectionEpsilon != b.rejectionEpsilon || a.rejectionPilotVpls != b.rejectionPilotVpls ||
@@ -89,8 +99,7 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
     s.gather = true;
     s.offline |= method == Method::Vpl || method == Method::VplKK;
   }
-  if (a.ssbcSteps != b.ssbcSteps || a.ssbcCoarseRings != b.ssbcCoarseRings)
-    s.ssbc = true;
+  if (a.ssbcSteps != b.ssbcSteps || a.ssbcCoarseRings != b.ssbcCoarseRings) s.ssbc = true;
 
   // VSLs (section 7) change the gather integral, not the VPL positions. The cone samples are the CPU estimator's
   // only: the preview evaluates the integral without samples.
@@ -102,7 +111,10 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
 
   // Preview-only parameters (section 8).
   if (a.directLightSamples != b.directLightSamples) s.lightShadowMaps = true;
-  if (a.interleave != b.interleave || a.shadowBias != b.shadowBias) s.gather = true;
+  // Both the direct light and the gather are interleaved; the bias is the VPL maps' (the lights' maps offset the
+  // receiver by a texel instead).
+  if (a.interleave != b.interleave) s.direct = s.gather = true;
+  if (a.shadowBias != b.shadowBias) s.gather = true;
   if (a.shadowMapSize != b.shadowMapSize || a.visibility != b.visibility || a.ismTileSize != b.ismTileSize ||
       a.ismPointBudget != b.ismPointBudget)
     s.vplShadowMaps = true;
@@ -111,7 +123,7 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
 
 Staleness staleAfterCameraMove() {
   Staleness s;
-  s.gather = s.offline = true;
+  s.gbuffer = s.offline = true;
   return s.propagated();
 }
 

@@ -1,6 +1,8 @@
 #pragma once
-// Which work a change makes stale (never re-do work that a parameter did not invalidate). Pure logic over Settings values, no GL: the editor asks it after every edit and re-runs exactly the
-// stages it names; the tests check it against the dependency list below.
+// Which work a change makes stale (never re-do work that a parameter did not invalidate). Pure logic over Settings
+// values, no GL: the editor asks it after every edit and re-runs exactly the stages it names, and the GL preview
+// (PreviewRenderer::render) asks it for the settings and camera of each frame and runs the passes it names; the tests
+// check it against the dependency list below and the preview's passes against it.
 //
 // Stage dependencies:
 //   VPL generation    <- scene, lights, seed, generation, vplCount, vplMaxBounces, rejection (+ the parameters of
@@ -9,18 +11,20 @@
 //   VPL shadow maps   <- the VPLs, the visibility technique and its sizes (shadowMapSize; ismTileSize,
 //                        ismPointBudget)
 //   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points); not shadowMapSize
-//   gather            <- the camera, image size, VPLs and both shadow-map sets, clampBound, the VSL radius,
-//                        interleave, shadowBias, components
-//   SSBC              <- the gather, ssbcSteps
+//   G-buffer          <- scene, the camera, image size
+//   direct light      <- the G-buffer, the light shadow maps, interleave
+//   gather            <- the G-buffer, the VPLs and their shadow maps, clampBound, the VSL radius, interleave,
+//                        shadowBias, components
+//   SSBC              <- the direct light, the gather, ssbcSteps, ssbcCoarseRings
 //   tonemap           <- SSBC, exposure
 //   offline result    <- scene, lights, camera, image size, seed, and the parameters of the offline method: the
 //                        reference ignores every VPL parameter; the VPL methods read the VPLs and clampBound; the VSL
-//                        method reads the VSL parameters (the radius and the CPU's cone samples). Exposure, threads and the preview-only parameters never
-//                        touch it (results do not depend on the thread count).
-
-#include "renderer/settings.h"
+//                        method reads the VSL parameters (the radius and the CPU's cone samples). Exposure, threads and
+//                        the preview-only parameters never touch it (results do not depend on the thread count).
 
 #include <string>
+
+#include "renderer/settings.h"
 
 namespace vplab {
 
@@ -28,20 +32,25 @@ struct Staleness {
   bool vpls = false;             ///< VPL generation (and rejection) must run again
   bool vplShadowMaps = false;    ///< one shadow map per VPL must be re-rendered
   bool lightShadowMaps = false;  ///< the shadow maps of the direct-light samples must be re-rendered
-  bool gather = false;           ///< G-buffer and per-pixel VPL gather (interleaved blur included)
+  bool gbuffer = false;          ///< the preview's G-buffer (what the camera sees)
+  bool direct = false;           ///< the preview's direct light
+  bool gather = false;           ///< per-pixel VPL gather (and the de-interleave of it and the direct light)
   bool ssbc = false;             ///< screen-space bias compensation steps
   bool tonemap = false;          ///< display transform only
   bool offline = false;          ///< the Embree result no longer matches what the preview shows
 
-  bool any() const { return vpls || vplShadowMaps || lightShadowMaps || gather || ssbc || tonemap || offline; }
-  bool anyPreview() const { return vpls || vplShadowMaps || lightShadowMaps || gather || ssbc || tonemap; }
+  bool any() const { return anyPreview() || offline; }
+  bool anyPreview() const {
+    return vpls || vplShadowMaps || lightShadowMaps || gbuffer || direct || gather || ssbc || tonemap;
+  }
   Staleness& operator|=(const Staleness& o);
   friend Staleness operator|(Staleness a, const Staleness& b) { return a |= b; }
   bool operator==(const Staleness&) const = default;
 
   /// Everything (a new scene).
   static Staleness all();
-  /// Adds the stages downstream of every stage already set (VPLs -> VPL shadow maps -> gather -> SSBC -> tonemap).
+  /// Adds the stages downstream of every stage already set (VPLs -> VPL shadow maps -> gather; light shadow maps ->
+  /// direct light; G-buffer -> direct light and gather; both -> SSBC -> tonemap).
   Staleness propagated() const;
 };
 
@@ -52,13 +61,14 @@ std::string toString(const Staleness& staleness);
 /// stages are included (the result is propagated()).
 Staleness staleAfterSettingsChange(const Settings& before, const Settings& after, Method offlineMethod);
 
-/// A camera move (orbit, pan, zoom, fly): never the VPLs nor any shadow map. With rejection on, the VPLs keep the
-/// importance measured from the camera they were generated for; a new camera only changes which VPLs would be
-/// preferred, not the correctness of the estimate (rejection stays unbiased for epsilon > 0).
+/// A camera move (orbit, pan, zoom, fly): the G-buffer and what follows it, never the VPLs nor any shadow map. With
+/// rejection on, the VPLs keep the importance measured from the camera they were generated for; a new camera only
+/// changes which VPLs would be preferred, not the correctness of the estimate (rejection stays unbiased for epsilon >
+/// 0).
 Staleness staleAfterCameraMove();
 
 /// A punctual light moved or changed intensity: the VPLs are regenerated (same seed, so they move coherently), and
-/// so is everything downstream, including the light shadow maps.
+/// so is everything downstream, and the light shadow maps; the G-buffer stays.
 Staleness staleAfterLightEdit();
 
 }  // namespace vplab

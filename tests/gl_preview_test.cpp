@@ -1,15 +1,16 @@
 // GL preview passes against closed forms: one VPL above a Lambert plane (f G f Phi, with and without the clamp b),
 // direct light of a small one-sided area light against a CPU quadrature, interleaving, and the invalidation rules.
 
-#include "renderer/core/sampling.h"
-#include "renderer/gl/context.h"
-#include "renderer/gl/preview_renderer.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <string>
+
+#include "renderer/core/sampling.h"
+#include "renderer/gl/context.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/invalidation.h"
 
 namespace vplab {
 namespace {
@@ -291,6 +292,55 @@ TEST(GlPreview, InvalidationRedoesOnlyDependentPasses) {
   PreviewCounters c4 = renderer.counters();
   EXPECT_EQ(c4.gather, c3.gather);
   EXPECT_EQ(c4.tonemap, c3.tonemap);
+}
+
+// The passes a change re-runs are the stages renderer/invalidation.h names for it: the preview follows the same model
+// as the editor instead of rules of its own. (Changes of VPL generation are left out: the renderer takes the VPLs it
+// is handed, and keeps their maps when the casters did not move.)
+TEST(GlPreview, PassesThatRunAreTheStagesInvalidationNames) {
+  HeadlessGlContext context;
+  Scene scene = floorScene();
+  VplSet vpls = oneVpl(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(1.0f));
+  Settings settings = smallSettings();
+  settings.clampBound = 4.0f;
+  settings.ssbcSteps = 1;
+  PreviewRenderer renderer;
+  Camera camera = scene.camera;
+  renderer.render(scene, vpls, settings, camera);
+  auto expectPasses = [&](const char* what, const Staleness& stale, const Settings& next, const Camera& nextCamera) {
+    const PreviewCounters before = renderer.counters();
+    renderer.render(scene, vpls, next, nextCamera);
+    const PreviewCounters& after = renderer.counters();
+    EXPECT_EQ(after.gbuffer - before.gbuffer, stale.gbuffer ? 1 : 0) << what;
+    EXPECT_EQ(after.directShadowMaps - before.directShadowMaps, stale.lightShadowMaps ? 1 : 0) << what;
+    EXPECT_EQ(after.vplShadowMaps - before.vplShadowMaps, stale.vplShadowMaps ? 1 : 0) << what;
+    EXPECT_EQ(after.direct - before.direct, stale.direct ? 1 : 0) << what;
+    EXPECT_EQ(after.gather - before.gather, stale.gather ? 1 : 0) << what;
+    EXPECT_EQ(after.ssbc - before.ssbc, stale.ssbc ? 1 : 0) << what;
+    EXPECT_EQ(after.tonemap - before.tonemap, stale.tonemap ? 1 : 0) << what;
+  };
+  const std::pair<const char*, void (*)(Settings&)> edits[] = {
+      {"clamp bound", [](Settings& x) { x.clampBound = 8.0f; }},
+      {"exposure", [](Settings& x) { x.exposure = 0.5f; }},
+      {"SSBC steps", [](Settings& x) { x.ssbcSteps = 2; }},
+      {"SSBC coarse rings", [](Settings& x) { x.ssbcCoarseRings = !x.ssbcCoarseRings; }},
+      {"interleave", [](Settings& x) { x.interleave = 2; }},
+      {"shadow bias", [](Settings& x) { x.shadowBias *= 2.0f; }},
+      {"direct-light samples", [](Settings& x) { x.directLightSamples = 2; }},
+      {"VPL map size", [](Settings& x) { x.shadowMapSize = 32; }},
+      {"visibility", [](Settings& x) { x.visibility = VisibilityMethod::Ism; }},
+      {"image size", [](Settings& x) { x.width = kSize / 2; }},
+  };
+  for (const auto& [what, edit] : edits) {
+    Settings next = settings;
+    edit(next);
+    expectPasses(what, staleAfterSettingsChange(settings, next, Method::Reference), next, camera);
+    settings = next;
+  }
+  Camera moved = camera;
+  moved.position.x += 0.05f;
+  expectPasses("camera", staleAfterCameraMove(), settings, moved);
+  expectPasses("nothing", Staleness{}, settings, moved);
 }
 
 TEST(GlPreview, CompensationAddsLightOnlyWithClamp) {

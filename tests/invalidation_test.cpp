@@ -64,7 +64,7 @@ TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
   Staleness exposure = change([](Settings& x) { x.exposure = 1.0f; });
   EXPECT_EQ(toString(exposure), "tonemap");
   Staleness interleave = change([](Settings& x) { x.interleave = 4; });
-  EXPECT_EQ(toString(interleave), "gather ssbc tonemap");
+  EXPECT_EQ(toString(interleave), "direct gather ssbc tonemap");
   Staleness mapSize = change([](Settings& x) { x.shadowMapSize = 128; });
   EXPECT_EQ(toString(mapSize), "vplShadowMaps gather ssbc tonemap");
   // The VPL visibility technique and its sizes redo the VPL maps only; the lights' maps do not depend on them.
@@ -74,7 +74,7 @@ TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
   Staleness bias = change([](Settings& x) { x.shadowBias = 0.01f; });
   EXPECT_EQ(toString(bias), "gather ssbc tonemap");
   Staleness direct = change([](Settings& x) { x.directLightSamples = 16; });
-  EXPECT_EQ(toString(direct), "lightShadowMaps gather ssbc tonemap");
+  EXPECT_EQ(toString(direct), "lightShadowMaps direct ssbc tonemap");
   EXPECT_FALSE(change([](Settings& x) { x.threads = 1; }).any());
 }
 
@@ -98,12 +98,16 @@ TEST(Invalidation, ReferenceParametersTouchOnlyTheOfflineResult) {
 TEST(Invalidation, CameraMoveKeepsVplsAndShadowMaps) {
   Staleness s = staleAfterCameraMove();
   EXPECT_FALSE(s.vpls || s.vplShadowMaps || s.lightShadowMaps);
-  EXPECT_TRUE(s.gather && s.ssbc && s.tonemap && s.offline);
+  EXPECT_TRUE(s.gbuffer && s.direct && s.gather && s.ssbc && s.tonemap && s.offline);
+  // A new image size is a new G-buffer too.
+  EXPECT_EQ(toString(change([](Settings& x) { x.width = 96; })), "gbuffer direct gather ssbc tonemap offline");
 }
 
 TEST(Invalidation, LightEditRegeneratesVplsAndShadowMaps) {
   Staleness s = staleAfterLightEdit();
-  EXPECT_EQ(s, Staleness::all());
+  Staleness allButTheGbuffer = Staleness::all();
+  allButTheGbuffer.gbuffer = false;
+  EXPECT_EQ(s, allButTheGbuffer);
 }
 
 TEST(Invalidation, PropagationFollowsThePipeline) {
@@ -111,7 +115,10 @@ TEST(Invalidation, PropagationFollowsThePipeline) {
   s.vpls = true;
   Staleness p = s.propagated();
   EXPECT_TRUE(p.vplShadowMaps && p.gather && p.ssbc && p.tonemap);
-  EXPECT_FALSE(p.lightShadowMaps || p.offline);
+  EXPECT_FALSE(p.lightShadowMaps || p.gbuffer || p.direct || p.offline);
+  Staleness lights;
+  lights.lightShadowMaps = true;
+  EXPECT_EQ(toString(lights.propagated()), "lightShadowMaps direct ssbc tonemap");
   Staleness merged = Staleness{} | staleAfterCameraMove();
   EXPECT_EQ(merged, staleAfterCameraMove());
 }

@@ -3,15 +3,17 @@
 // casting except where their documented failure (thin occluders, gaps) applies. The GL lookup of the same tiles is
 // compared with the CPU's exact visibility in gl_accuracy_test.cpp.
 
+#include "renderer/gl/ism.h"
+
 #include <gtest/gtest.h>
 
 #include <cmath>
+#include <filesystem>
 #include <fstream>
 #include <map>
 #include <regex>
 #include <sstream>
 
-#include "renderer/gl/ism.h"
 #include "renderer/gl/texture_units.h"
 #include "tests/test_scenes.h"
 
@@ -104,34 +106,68 @@ TEST(Ism, LayoutHoldsEveryTile) {
   EXPECT_EQ(big.layers, (5000 + 1023) / 1024);
 }
 
-// The texture units are named once in C++ and once in GLSL; both lists must agree.
+// The texture units and buffer bindings are named once in C++ and once in GLSL; both lists must agree.
 TEST(TextureUnits, GlslIncludeMatchesTheEnum) {
   std::ifstream in(std::string(VPLAB_TEST_ASSETS) + "/../shaders/common/units.glsl");
   ASSERT_TRUE(in);
   std::stringstream text;
   text << in.rdbuf();
   std::map<std::string, int> glsl;
-  std::regex define(R"(#define (UNIT_[A-Z0-9_]+) (\d+))");
+  std::regex define(R"(#define ((?:UNIT|BINDING)_[A-Z0-9_]+) (\d+))");
   std::string src = text.str();
   for (std::sregex_iterator it(src.begin(), src.end(), define), end; it != end; ++it)
     glsl[(*it)[1]] = std::stoi((*it)[2]);
-  const std::pair<const char*, TextureUnit> expected[] = {
-      {"UNIT_G_POSITION", TextureUnit::GPosition},   {"UNIT_G_NORMAL", TextureUnit::GNormal},
-      {"UNIT_G_BASE_COLOR", TextureUnit::GBaseColor}, {"UNIT_G_EMISSION", TextureUnit::GEmission},
-      {"UNIT_G_GEO_NORMAL", TextureUnit::GGeoNormal}, {"UNIT_SCENE_TEXTURES", TextureUnit::SceneTextures},
-      {"UNIT_PASS_INPUT0", TextureUnit::PassInput0},  {"UNIT_PASS_INPUT1", TextureUnit::PassInput1},
-      {"UNIT_PASS_INPUT2", TextureUnit::PassInput2},  {"UNIT_PASS_INPUT3", TextureUnit::PassInput3},
-      {"UNIT_G_MERGE_KEY", TextureUnit::GMergeKey},   {"UNIT_PASS_INPUT4", TextureUnit::PassInput4},
-      {"UNIT_PASS_INPUT5", TextureUnit::PassInput5},  {"UNIT_PASS_INPUT6", TextureUnit::PassInput6},
-      {"UNIT_PASS_INPUT7", TextureUnit::PassInput7},  {"UNIT_VISIBILITY", TextureUnit::Visibility},
-      {"UNIT_LIGHT_SHADOWS", TextureUnit::LightShadows},
-      {"UNIT_DIRECTIONAL_SHADOWS", TextureUnit::DirectionalShadows},
+  const std::pair<const char*, int> expected[] = {
+      {"UNIT_G_POSITION", unit(TextureUnit::GPosition)},
+      {"UNIT_G_NORMAL", unit(TextureUnit::GNormal)},
+      {"UNIT_G_BASE_COLOR", unit(TextureUnit::GBaseColor)},
+      {"UNIT_G_EMISSION", unit(TextureUnit::GEmission)},
+      {"UNIT_G_GEO_NORMAL", unit(TextureUnit::GGeoNormal)},
+      {"UNIT_SCENE_TEXTURES", unit(TextureUnit::SceneTextures)},
+      {"UNIT_PASS_INPUT0", unit(TextureUnit::PassInput0)},
+      {"UNIT_PASS_INPUT1", unit(TextureUnit::PassInput1)},
+      {"UNIT_PASS_INPUT2", unit(TextureUnit::PassInput2)},
+      {"UNIT_PASS_INPUT3", unit(TextureUnit::PassInput3)},
+      {"UNIT_G_MERGE_KEY", unit(TextureUnit::GMergeKey)},
+      {"UNIT_PASS_INPUT4", unit(TextureUnit::PassInput4)},
+      {"UNIT_PASS_INPUT5", unit(TextureUnit::PassInput5)},
+      {"UNIT_PASS_INPUT6", unit(TextureUnit::PassInput6)},
+      {"UNIT_PASS_INPUT7", unit(TextureUnit::PassInput7)},
+      {"UNIT_VISIBILITY", unit(TextureUnit::Visibility)},
+      {"UNIT_LIGHT_SHADOWS", unit(TextureUnit::LightShadows)},
+      {"UNIT_DIRECTIONAL_SHADOWS", unit(TextureUnit::DirectionalShadows)},
+      {"BINDING_SCENE_POSITIONS", binding(BufferBinding::ScenePositions)},
+      {"BINDING_SCENE_NORMALS", binding(BufferBinding::SceneNormals)},
+      {"BINDING_SCENE_UVS", binding(BufferBinding::SceneUvs)},
+      {"BINDING_SCENE_TRIANGLES", binding(BufferBinding::SceneTriangles)},
+      {"BINDING_SCENE_MATERIALS", binding(BufferBinding::SceneMaterials)},
+      {"BINDING_SHADOW_CASTERS", binding(BufferBinding::ShadowCasters)},
+      {"BINDING_DIRECT_LIGHTS", binding(BufferBinding::DirectLights)},
+      {"BINDING_VPLS", binding(BufferBinding::Vpls)},
   };
   EXPECT_EQ(glsl.size(), std::size(expected));
-  for (const auto& [name, u] : expected) {
+  for (const auto& [name, number] : expected) {
     ASSERT_TRUE(glsl.count(name)) << name;
-    EXPECT_EQ(glsl[name], unit(u)) << name;
+    EXPECT_EQ(glsl[name], number) << name;
   }
+}
+
+// Every binding of the preview's shaders goes by its name, so that a unit is changed in one place.
+TEST(TextureUnits, PreviewShadersBindByName) {
+  const std::filesystem::path shaders = std::filesystem::path(VPLAB_TEST_ASSETS) / ".." / "shaders";
+  std::regex numbered(R"(binding\s*=\s*\d)");
+  int files = 0;
+  for (const char* dir : {"common", "preview"})
+    for (const auto& entry : std::filesystem::directory_iterator(shaders / dir)) {
+      if (entry.path().filename() == "units.glsl") continue;
+      std::ifstream in(entry.path());
+      std::stringstream text;
+      text << in.rdbuf();
+      const std::string src = text.str();
+      EXPECT_FALSE(std::regex_search(src, numbered)) << entry.path() << " binds by number";
+      ++files;
+    }
+  EXPECT_GT(files, 10);
 }
 
 }  // namespace

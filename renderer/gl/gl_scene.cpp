@@ -5,6 +5,8 @@
 #include <algorithm>
 #include <cassert>
 
+#include "renderer/gl/texture_units.h"
+
 namespace vplab {
 
 GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_cast<int>(scene.triangles.size())) {
@@ -29,8 +31,7 @@ GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_ca
     const glm::mat3& uv = mat.emissiveUvTransform;  // column-major: uv[column][row]
     m[i] = {glm::vec4(mat.baseColor, static_cast<float>(mat.baseColorTexture)),
             glm::vec4(mat.emission, static_cast<float>(mat.emissiveTexture)),
-            glm::vec4(mat.metallic, mat.roughness, mat.specular, 0.0f),
-            glm::vec4(uv[0][0], uv[1][0], uv[2][0], 0.0f),
+            glm::vec4(mat.metallic, mat.roughness, mat.specular, 0.0f), glm::vec4(uv[0][0], uv[1][0], uv[2][0], 0.0f),
             glm::vec4(uv[0][1], uv[1][1], uv[2][1], 0.0f)};
   }
   positions_.assign(p.data(), p.size() * sizeof(glm::vec4));
@@ -49,9 +50,10 @@ GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_ca
     // GL's t = 0 is the first row uploaded, matching glTF's v = 0 at the top row of Texture::texels.
     for (int y = 0; y < size; ++y)
       for (int x = 0; x < size; ++x)
-        texels[static_cast<std::size_t>(y) * size + x] = glm::vec4(
-            scene.textures[layer].sample({(x + 0.5f) / static_cast<float>(size), (y + 0.5f) / static_cast<float>(size)}),
-            1.0f);
+        texels[static_cast<std::size_t>(y) * size + x] =
+            glm::vec4(scene.textures[layer].sample(
+                          {(x + 0.5f) / static_cast<float>(size), (y + 0.5f) / static_cast<float>(size)}),
+                      1.0f);
     textures_.uploadLayerRgba(static_cast<int>(layer), texels);
   }
 }
@@ -61,13 +63,13 @@ void GlScene::drawIndexed() const {
   glDrawElements(GL_TRIANGLES, 3 * triangleCount_, GL_UNSIGNED_INT, nullptr);
 }
 
-void GlScene::bind(int textureUnit) const {
-  positions_.bindStorage(0);
-  normals_.bindStorage(1);
-  uvs_.bindStorage(2);
-  triangles_.bindStorage(3);
-  materials_.bindStorage(4);
-  textures_.bind(textureUnit);
+void GlScene::bind() const {
+  positions_.bindStorage(binding(BufferBinding::ScenePositions));
+  normals_.bindStorage(binding(BufferBinding::SceneNormals));
+  uvs_.bindStorage(binding(BufferBinding::SceneUvs));
+  triangles_.bindStorage(binding(BufferBinding::SceneTriangles));
+  materials_.bindStorage(binding(BufferBinding::SceneMaterials));
+  textures_.bind(unit(TextureUnit::SceneTextures));
 }
 
 }  // namespace vplab

@@ -1,7 +1,7 @@
 #pragma once
-// The Scene uploaded for rasterisation: vertex and triangle SSBOs (bindings 0-4, see shaders/common/scene.glsl) and
-// the base-colour and emissive textures resampled into one texture array (layers share one size, so every texture is resampled
-// with Texture::sample, the CPU renderer's own bilinear lookup, at the array's texel centres).
+// The Scene uploaded for rasterisation: vertex and triangle SSBOs (BufferBinding::Scene*, shaders/common/scene.glsl)
+// and the base-colour and emissive textures resampled into one texture array (layers share one size, so every texture
+// is resampled with Texture::sample, the CPU renderer's own bilinear lookup, at the array's texel centres).
 
 #include "renderer/gl/resources.h"
 #include "renderer/scene/scene.h"
@@ -15,7 +15,8 @@ class GlScene {
 
   explicit GlScene(const Scene& scene);
   /// Binds the SSBOs to 0-4 and the texture array to `textureUnit`.
-  void bind(int textureUnit) const;
+  /// Binds the buffers and the texture array at their named bindings (renderer/gl/texture_units.h).
+  void bind() const;
   int triangleCount() const { return triangleCount_; }
   /// Draws every triangle as an indexed draw with positions in attribute 0 (depth-only passes: shadow maps).
   void drawIndexed() const;

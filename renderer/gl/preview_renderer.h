@@ -1,26 +1,32 @@
 #pragma once
 // The interactive instant-radiosity preview (docs/theory.md §1, §4, §6-§8), rasterised with OpenGL 4.5:
-//   1 G-buffer  2 direct light (shadow-mapped area samples + punctual lights)  3 VPL cube shadow maps
+//   1 G-buffer  2 direct light (shadow-mapped area samples + punctual lights)  3 VPL visibility maps (cube or ISM)
 //   4 VPL gather (G_b, VSL, interleaved k x k) + geometry-aware de-interleave  5 screen-space bias compensation
 //   6 tonemap.
 // The image is Le (seen directly) + direct + indirect (+ compensation), in the CPU renderer's linear units.
 // Needs a current GL context (HeadlessGlContext or the editor's window); does not create one.
 //
-// Invalidation: only the work a change affects is redone. Camera -> 1, 2, 4, 5, 6; clamp bound b -> 4, 5, 6;
-// VPL positions -> 3, 4, 5, 6; other VPL data (flux, VSL radius, material) -> 4, 5, 6; direct-light settings (K, seed,
-// shadow map size) -> direct shadow maps, 2, 5, 6. A VPL shadow map depends only on its caster's position and the
-// scene, so a new VplSet (or invalidateVpls()) whose positions are unchanged keeps the maps.
+// Each pass is a class of its own (direct_pass.h, gather_pass.h, ssbc_pass.h; the VPL maps behind vpl_visibility.h);
+// this class owns the screen targets and decides which passes run.
+//
+// Invalidation: only the work a change affects is redone. Which passes the settings and the camera make stale is what
+// renderer/invalidation.h says (staleAfterSettingsChange, staleAfterCameraMove), the same rules the editor follows;
+// what the renderer is handed besides (a new scene, edited lights, a new or edited VPL set) adds the stages that
+// depend on it. A VPL shadow map depends only on its caster and the map sizes, so a new VplSet (or invalidateVpls())
+// whose positions are unchanged keeps the maps.
 
 #include <cstdint>
 #include <limits>
 #include <memory>
 
+#include "renderer/gl/direct_pass.h"
+#include "renderer/gl/gather_pass.h"
 #include "renderer/gl/gl_limits.h"
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/resources.h"
+#include "renderer/gl/screen_pass.h"
 #include "renderer/gl/shader.h"
-#include "renderer/gl/light_shadows.h"
-#include "renderer/gl/shadow_maps.h"
+#include "renderer/gl/ssbc_pass.h"
 #include "renderer/gl/vpl_visibility.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
@@ -60,21 +66,6 @@ enum class PreviewOutput {
   Direct,    ///< direct light (reflected) only
   Indirect,  ///< de-interleaved VPL gather only
   Residual,  ///< screen-space compensation R1 + R2 only
-};
-
-/// How a table of lights is split into uniform-block ranges (preview_renderer.cpp: uniformTableLayout).
-struct UniformTableLayout {
-  std::size_t elementBytes = 0;
-  int capacity = 1;   // elements per block
-  int alignment = 1;  // a bound range starts at a multiple of this many elements
-};
-
-/// A screen pass compiled twice: for any material, and with BRDF_LAMBERT_ONLY (common/brdf.glsl) for scenes whose
-/// materials are all Lambert, where llvmpipe would otherwise run the GGX code under a lane mask.
-struct BrdfVariants {
-  ShaderProgram general, lambertOnly;
-  BrdfVariants(const std::string& fragmentShader, const std::vector<std::string>& defines = {});
-  ShaderProgram& operator[](bool lambert) { return lambert ? lambertOnly : general; }
 };
 
 /// Whether the preview of `scene` with `vplCount` VPLs under `settings` fits the context's limits: an empty string, or
@@ -121,11 +112,8 @@ class PreviewRenderer {
  private:
   struct Targets;
   void ensureTargets(int width, int height);
-  void drawFullscreen(ShaderProgram& program);
   /// The geometry-aware de-interleave of weights.x x direct + weights.y x indirect into `out`.
   void mergeInterleaved(glm::vec2 weights, GlFramebuffer& out);
-  void uploadDirectLights(const Scene& scene, const Settings& settings);
-  void uploadVpls(const Scene& scene, const VplSet& vpls);
   /// Creates the visibility technique and compiles the gather for it when Settings::visibility changed.
   void useVisibility(VisibilityMethod method);
 
@@ -136,36 +124,20 @@ class PreviewRenderer {
   bool vplsDirty_ = true;
   bool sceneDirty_ = true;
   bool lightsDirty_ = false;
-  /// False until shadow maps exist for the current scene.
+  /// False until the lights' maps exist for the current scene.
   bool shadowsValid_ = false;
+  /// True when every material of the scene is Lambert (the passes' BRDF_LAMBERT_ONLY variants).
+  bool lambertOnly_ = false;
 
-  LightShadowMaps lightShadows_;
-  std::vector<LightShadowCaster> lightCasters_;
-  std::vector<glm::vec3> directionalDirections_;
-  int directLightCount_ = 0;
-  /// The VPL visibility technique of Settings::visibility, and the gather compiled for it (with and without VSLs).
+  ShaderProgram gbuffer_;
+  DirectLightPass direct_;
+  /// The VPL visibility technique of Settings::visibility.
   std::unique_ptr<VplVisibility> vplVisibility_;
   VisibilityMethod visibilityMethod_ = VisibilityMethod::Cube;
-  std::unique_ptr<BrdfVariants> gather_;
-  std::unique_ptr<BrdfVariants> gatherVsl_;
-  GlBuffer directLights_, vplBuffer_;
-  /// Whether any uploaded VPL is a VSL (radius > 0): selects the gather variant that has the cone integral.
-  bool vplsHaveRadius_ = false;
-  ShaderProgram gbuffer_, deinterleaveRows_, deinterleaveColumns_, compose_, tonemap_;
-  // Indexed by lambertOnly_: true when every material of the scene is Lambert.
-  BrdfVariants direct_, ssbc_;
-  ShaderProgram ssbcTaps_, ssbcRadiance_;
-  // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
-  // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are
-  // not zero (SSBC_FINE_PASS, with the flat-block mask of ssbcFlatRows_ and ssbcFlatColumns_) and the pass that adds
-  // what could not be interpolated (SSBC_FALLBACK_PASS); in the second step, the coarse rings extrapolated instead
-  // (SSBC_UPSAMPLE_PASS).
-  BrdfVariants ssbcSplit_, ssbcCoarse_, ssbcFine_;
-  ShaderProgram ssbcFlatRows_, ssbcFlatColumns_;
-  BrdfVariants ssbcFallback_, ssbcUpsample_;
-  bool lambertOnly_ = false;
-  // How the VPL and direct-light tables are split into uniform-block ranges (preview_renderer.cpp).
-  UniformTableLayout vplTable_, directTable_;
+  VplGatherPass gather_;
+  ShaderProgram deinterleaveRows_, deinterleaveColumns_;
+  SsbcPass ssbc_;
+  ShaderProgram compose_, tonemap_;
   // Compensation steps of the last frame whose results R1, R2 are current (0: none, the residual is 0).
   int residualSteps_ = 0;
   GlVertexArray vao_;
@@ -189,8 +161,6 @@ class PreviewRenderer {
   };
   PendingPasses pending_;
   int jobDone_ = 0, jobTotal_ = 0;
-  /// The first draw of a gather that the budget cut short (0: none pending).
-  int gatherNextDraw_ = 0;
 };
 
 }  // namespace vplab

@@ -6,6 +6,7 @@
 #include <glm/gtc/matrix_transform.hpp>
 
 #include "renderer/gl/gl_scene.h"
+#include "renderer/gl/texture_units.h"
 
 namespace vplab {
 
@@ -41,7 +42,7 @@ void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& 
   std::vector<glm::vec4> positions(casters.size());
   for (std::size_t i = 0; i < casters.size(); ++i) positions[i] = glm::vec4(casters[i], 1.0f);
   casterBuffer_.assign(positions.data(), positions.size() * sizeof(glm::vec4));
-  casterBuffer_.bindStorage(6);
+  casterBuffer_.bindStorage(binding(BufferBinding::ShadowCasters));
 
   // Cube face orientations of the GL specification (table 8.19), as rotations of the offset from the caster;
   // shaders/common/shadow.glsl inverts exactly these.
@@ -53,7 +54,7 @@ void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& 
   program_.set("uProjection", glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far));
   program_.set("uShadowFar", far);
 
-  scene.bind(5);
+  scene.bind();
   program_.use();
   vao_.bind();
   glEnable(GL_DEPTH_TEST);

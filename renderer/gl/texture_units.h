@@ -1,6 +1,7 @@
 #pragma once
-// Texture units of the preview's passes, named once. shaders/common/units.glsl defines the same numbers for GLSL
-// (`layout(binding = UNIT_...)`); tests/texture_units_test.cpp checks that the two lists agree.
+// Texture units and buffer binding points of the preview's passes, named once. shaders/common/units.glsl defines the
+// same numbers for GLSL (`layout(binding = UNIT_...)`, `layout(std430, binding = BINDING_...)`); a test
+// (tests/ism_test.cpp, TextureUnits) checks that the two lists agree.
 // The G-buffer units are fixed for every screen pass; PassInput0..7 are the per-pass inputs, whose meaning each pass's
 // shader states (the image a filter reads, a light table's shadow maps, ...).
 
@@ -30,6 +31,29 @@ enum class TextureUnit : int {
   DirectionalShadows = 17,
 };
 
-constexpr int unit(TextureUnit u) { return static_cast<int>(u); }
+constexpr int unit(TextureUnit u) {
+  return static_cast<int>(u);
+}
+
+/// Indexed buffer binding points. Storage and uniform blocks have separate binding spaces in GL; the numbers are
+/// distinct anyway, so that one list names them all.
+enum class BufferBinding : int {
+  /// The scene's storage buffers (renderer/gl/gl_scene.h, common/scene.glsl).
+  ScenePositions = 0,
+  SceneNormals = 1,
+  SceneUvs = 2,
+  SceneTriangles = 3,
+  SceneMaterials = 4,
+  /// The casters of a layered cube shadow-map draw (renderer/gl/shadow_maps.h, preview/shadow.geom.glsl).
+  ShadowCasters = 6,
+  /// The direct-light table (uniform block of preview/direct.frag.glsl).
+  DirectLights = 7,
+  /// The VPL table (uniform block of common/gather.glsl).
+  Vpls = 8,
+};
+
+constexpr int binding(BufferBinding b) {
+  return static_cast<int>(b);
+}
 
 }  // namespace vplab

@@ -17,6 +17,7 @@
 //   The VPLs come from a uniform buffer, not a storage buffer: llvmpipe reads a UBO faster. A UBO holds at most
 //   GATHER_UBO_VPLS VPLs (set by the renderer from GL_MAX_UNIFORM_BLOCK_SIZE), so each draw covers a sub-range of a
 //   shadow-map chunk, bound with glBindBufferRange from VPL uUboBase on.
+#include "common/units.glsl"
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/interleaved.glsl"
@@ -36,7 +37,7 @@ struct GlVpl {
   // (then f(x2) = 0): the whole VPL factor of the pure-Lambert loop, precomputed by the renderer.
   vec4 lambertPower;
 };
-layout(std140, binding = 8) uniform Vpls { GlVpl vpls[GATHER_UBO_VPLS]; };
+layout(std140, binding = BINDING_VPLS) uniform Vpls { GlVpl vpls[GATHER_UBO_VPLS]; };
 
 uniform float uClampBound; // b (a large finite value stands for infinity); point-VPL sets only
 

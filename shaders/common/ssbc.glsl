@@ -24,11 +24,12 @@
 // ends the shader early (once every lane of the group has discarded). The tap is therefore branch-free, and work
 // that only some pixels need goes to a pass that discards the others (SSBC_FALLBACK_PASS).
 // Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included before it.
+#include "common/units.glsl"
 
 // Per mip texel: I dA (I: reflected light only, no emission; 0 where the texel does not take part).
-layout(binding = 6) uniform sampler2D uTapRadiance;
+layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uTapRadiance;
 // Per mip texel: x2, unit normal packed by ssbcPackNormal (-1: does not take part) (ssbc_taps.frag.glsl).
-layout(binding = 9) uniform sampler2D uTaps;
+layout(binding = UNIT_PASS_INPUT3) uniform sampler2D uTaps;
 uniform vec3 uCameraPosition;
 uniform vec3 uCameraForward;
 uniform float uClampBound;
@@ -179,9 +180,9 @@ vec3 ssbcFullAt(ivec2 px) {
 }
 
 #ifdef SSBC_SPLIT
-layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
-layout(binding = 11) uniform sampler2D uCoarse;    // the coarse rings at the pixels kSsbcCoarseSpacing t
-layout(binding = 13) uniform sampler2D uCoarseFar; // its far rings (levels >= kSsbcFallbackExactLevels) alone
+layout(binding = UNIT_G_MERGE_KEY) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
+layout(binding = UNIT_PASS_INPUT4) uniform sampler2D uCoarse;    // the coarse rings at the pixels kSsbcCoarseSpacing t
+layout(binding = UNIT_PASS_INPUT6) uniform sampler2D uCoarseFar; // its far rings (levels >= kSsbcFallbackExactLevels) alone
 
 // Whether the coarse sample at pixel q lies on the surface whose merge key is `key` (relative depth and normal tests,
 // as in deinterleave.frag.glsl); false off screen (size: the level-0 size).

@@ -1,4 +1,5 @@
-// Texture units of the preview's passes: the same numbers as renderer/gl/texture_units.h (a test compares the two).
+// Texture units and buffer binding points of the preview's passes: the same numbers as renderer/gl/texture_units.h (a
+// test compares the two).
 #define UNIT_G_POSITION 0
 #define UNIT_G_NORMAL 1
 #define UNIT_G_BASE_COLOR 2
@@ -17,3 +18,11 @@
 #define UNIT_VISIBILITY 15
 #define UNIT_LIGHT_SHADOWS 16
 #define UNIT_DIRECTIONAL_SHADOWS 17
+#define BINDING_SCENE_POSITIONS 0
+#define BINDING_SCENE_NORMALS 1
+#define BINDING_SCENE_UVS 2
+#define BINDING_SCENE_TRIANGLES 3
+#define BINDING_SCENE_MATERIALS 4
+#define BINDING_SHADOW_CASTERS 6
+#define BINDING_DIRECT_LIGHTS 7
+#define BINDING_VPLS 8

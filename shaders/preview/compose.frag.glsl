@@ -1,10 +1,11 @@
 #version 450 core
 // final = Le + I0 + R1 + R2 with I0 = direct + de-interleaved indirect (docs/theory.md §6).
+#include "common/units.glsl"
 #include "common/fullscreen.glsl"
 
-layout(binding = 6) uniform sampler2D uI0;         // direct + indirect (deinterleave.frag.glsl)
-layout(binding = 8) uniform sampler2D uResidual1;  // R1 = T_r(I0)
-layout(binding = 9) uniform sampler2D uResidual2;  // R2 = T_r(R1)
+layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uI0;         // direct + indirect (deinterleave.frag.glsl)
+layout(binding = UNIT_PASS_INPUT2) uniform sampler2D uResidual1;  // R1 = T_r(I0)
+layout(binding = UNIT_PASS_INPUT3) uniform sampler2D uResidual2;  // R2 = T_r(R1)
 uniform int uResidualSteps;  // compensation steps whose results R1, R2 are current (0-2)
 uniform vec3 uCameraPosition;
 layout(location = 0) out vec4 outColor;

@@ -8,16 +8,17 @@
 // pixel. The row pass writes each row segment's sum with its accepted count in w, so on a surface the column pass
 // divides the sum of all k^2 values by their count, exactly the k x k mean; at a discontinuity a diagonal neighbour
 // counts only when the row's centre is on the pixel's surface too.
+#include "common/units.glsl"
 #include "common/fullscreen.glsl"
 
 #if DEINTERLEAVE_COLUMNS
-layout(binding = 6) uniform sampler2D uRows;        // row sums, accepted count in w
+layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uRows;        // row sums, accepted count in w
 #else
-layout(binding = 6) uniform sampler2D uDirectIn;    // deinterleaved blocks of the direct light
-layout(binding = 7) uniform sampler2D uIndirectIn;  // same for the gather
+layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uDirectIn;    // deinterleaved blocks of the direct light
+layout(binding = UNIT_PASS_INPUT1) uniform sampler2D uIndirectIn;  // same for the gather
 uniform vec2 uWeights;                              // of the direct light and of the gather
 #endif
-layout(binding = 10) uniform sampler2D gMergeKey;   // xyz shading normal, w distance to the camera (0: background)
+layout(binding = UNIT_G_MERGE_KEY) uniform sampler2D gMergeKey;   // xyz shading normal, w distance to the camera (0: background)
 uniform int uInterleave;
 uniform ivec2 uBlockSize;
 layout(location = 0) out vec4 outColor;

@@ -23,7 +23,7 @@ struct DirectLight {
 };
 // A uniform block of at most DIRECT_UBO_LIGHTS lights (set by the renderer), bound from light uUboBase on: llvmpipe
 // reads a UBO faster than a storage buffer; a longer list is drawn in ranges.
-layout(std140, binding = 7) uniform DirectLights { DirectLight lights[DIRECT_UBO_LIGHTS]; };
+layout(std140, binding = BINDING_DIRECT_LIGHTS) uniform DirectLights { DirectLight lights[DIRECT_UBO_LIGHTS]; };
 
 layout(location = 0) out vec4 outColor;
 

@@ -1,7 +1,8 @@
 #version 450 core
+#include "common/units.glsl"
 #include "common/scene.glsl"
 
-layout(binding = 5) uniform sampler2DArray uSceneTextures;  // base-colour and emissive textures
+layout(binding = UNIT_SCENE_TEXTURES) uniform sampler2DArray uSceneTextures;  // base-colour and emissive textures
 
 in vec3 vPosition;
 in vec3 vNormal;

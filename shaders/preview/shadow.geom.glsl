@@ -1,9 +1,10 @@
 #version 450 core
 // Layered rendering of one caster's six cube faces per instance: layer-face = 6 * caster + face.
+#include "common/units.glsl"
 layout(triangles, invocations = 6) in;
 layout(triangle_strip, max_vertices = 3) out;
 
-layout(std430, binding = 6) readonly buffer Casters { vec4 casterPositions[]; };
+layout(std430, binding = BINDING_SHADOW_CASTERS) readonly buffer Casters { vec4 casterPositions[]; };
 
 uniform mat3 uFaceRotation[6];
 uniform mat4 uProjection;

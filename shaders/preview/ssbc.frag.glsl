@@ -6,13 +6,14 @@
 // SSBC_FALLBACK_PASS the coarse rings where they could not be interpolated. In the second step (R2 = T_r(R1), about
 // a tenth of the compensation) SSBC_UPSAMPLE_PASS takes the coarse rings from the samples on p's surface everywhere,
 // extrapolating where it cannot interpolate, and there is no fallback pass.
+#include "common/units.glsl"
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
 
 uniform int uScale;
 #ifdef SSBC_FINE_PASS
-layout(binding = 14) uniform sampler2D uFlat;  // per coarse block: 1 where every fine tap is coplanar with its pixel
+layout(binding = UNIT_PASS_INPUT7) uniform sampler2D uFlat;  // per coarse block: 1 where every fine tap is coplanar with its pixel
 #endif
 layout(location = 0) out vec4 outColor;
 #ifdef SSBC_COARSE_PASS

@@ -8,6 +8,7 @@
 // Separable, because the windows of neighbouring blocks overlap (14 x 14 pixels at a stride of 4): SSBC_FLAT_ROWS
 // summarises each 14-pixel row segment of a block's window (its first surface texel's plane, and whether the others
 // lie on it); the column pass then checks that a block's 14 segments lie on one plane.
+#include "common/units.glsl"
 #include "common/fullscreen.glsl"
 #include "common/brdf.glsl"
 #include "common/ssbc.glsl"
@@ -16,7 +17,7 @@ const int kReach = 5;
 const int kWindow = kSsbcCoarseSpacing + 2 * kReach;
 
 #if SSBC_FLAT_ROWS
-layout(binding = 10) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
+layout(binding = UNIT_G_MERGE_KEY) uniform sampler2D gMergeKey;  // xyz shading normal, w distance to the camera (0: background)
 layout(location = 0) out vec4 outPlane;            // xyz unit normal n0, w offset c0 of the plane n0 . x = c0
 layout(location = 1) out vec4 outState;            // x: 1 if the segment has a surface texel, y: 1 if all lie on the
                                                    // plane, z: the offset tolerance
@@ -47,8 +48,8 @@ void main() {
   outState = vec4(found && inside ? 1.0 : 0.0, planar ? 1.0 : 0.0, tolerance, 0.0);
 }
 #else
-layout(binding = 11) uniform sampler2D uRowPlanes;  // SSBC_FLAT_ROWS outPlane
-layout(binding = 13) uniform sampler2D uRowStates;  // SSBC_FLAT_ROWS outState
+layout(binding = UNIT_PASS_INPUT4) uniform sampler2D uRowPlanes;  // SSBC_FLAT_ROWS outPlane
+layout(binding = UNIT_PASS_INPUT6) uniform sampler2D uRowStates;  // SSBC_FLAT_ROWS outState
 layout(location = 0) out vec4 outFlat;
 
 void main() {

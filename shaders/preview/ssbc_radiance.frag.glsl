@@ -1,8 +1,9 @@
 #version 450 core
 // The radiance factor of a compensation tap (common/ssbc.glsl) at mip level uLevel, once per step: I(q) dA(q), with
 // dA from ssbc_taps.frag.glsl (0 where q does not take part). A tap then reads two texels instead of three.
-layout(binding = 6) uniform sampler2D uInput;  // I (reflected light only, no emission), with mips
-layout(binding = 12) uniform sampler2D uArea;  // x dA(q), per mip level
+#include "common/units.glsl"
+layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uInput;  // I (reflected light only, no emission), with mips
+layout(binding = UNIT_PASS_INPUT5) uniform sampler2D uArea;  // x dA(q), per mip level
 uniform int uLevel;
 layout(location = 0) out vec4 outRadiance;
 

@@ -1,6 +1,7 @@
 #version 450 core
 // Pass 6: exposure in stops, clamp to [0, 1], sRGB transfer (IEC 61966-2-1), as renderer/image/tonemap.cpp does.
-layout(binding = 6) uniform sampler2D uLinear;
+#include "common/units.glsl"
+layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uLinear;
 uniform float uExposureScale;
 layout(location = 0) out vec4 outColor;
 

@@ -1,0 +1,47 @@
+#pragma once
+// Pass 2 of the preview (docs/methods.md "Direct light in the preview"): the direct light of K area-light samples and
+// of the punctual lights, shadowed by one map per light (light_shadows.h) and interleaved over the light samples as the
+// gather is over the VPLs.
+
+#include <vector>
+
+#include "renderer/gl/light_shadows.h"
+#include "renderer/gl/light_table.h"
+#include "renderer/gl/screen_pass.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+
+namespace vplab {
+
+class GlScene;
+
+// Texels per side of a light's cube-map face: a few lights, not one map per sample, so they can be sharp (a texel spans
+// 0.1 degrees: no stair-steps at contact shadows).
+inline constexpr int kLightShadowFaceSize = 1024;
+// Texels per side of a directional light's orthographic map over the scene's bounding sphere.
+inline constexpr int kDirectionalShadowSize = 2048;
+
+class DirectLightPass {
+ public:
+  DirectLightPass();
+
+  /// Chooses the area-light samples (Settings::directLightSamples and seed), uploads the light table and renders the
+  /// lights' shadow maps; far: the largest distance a cube map stores; sceneRadius: what a directional map covers.
+  void renderMaps(const GlScene& glScene, const Scene& scene, const Settings& settings, float far, float sceneRadius);
+  /// Draws the direct light into the interleaved layout of `raw`, reading the G-buffer bound at its units.
+  void draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius, Target& raw,
+            const InterleavedLayout& layout, const GlVertexArray& vao);
+
+ private:
+  void uploadLights(const Scene& scene, const Settings& settings);
+
+  BrdfVariants program_;
+  UniformTableLayout tableLayout_;
+  GlBuffer table_;
+  int lightCount_ = 0;
+  LightShadowMaps shadows_;
+  std::vector<LightShadowCaster> casters_;
+  std::vector<glm::vec3> directionalDirections_;
+};
+
+}  // namespace vplab

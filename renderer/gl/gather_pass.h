@@ -1,0 +1,48 @@
+#pragma once
+// Pass 4 of the preview (docs/theory.md §4, §7): every pixel sums the VPLs of its interleaving subset with the bounded
+// geometry term G_b, or the cone integral of a virtual spherical light, times the visibility the VPL technique answers
+// (vpl_visibility.h). The gather is compiled once per technique, with and without the cone integral.
+
+#include <functional>
+#include <memory>
+
+#include "renderer/gl/light_table.h"
+#include "renderer/gl/screen_pass.h"
+#include "renderer/gl/vpl_visibility.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+#include "renderer/vpl/vpl.h"
+
+namespace vplab {
+
+// VPLs a gather draw evaluates per pixel at most (per interleaving subset): the unit a frame budget can stop after.
+inline constexpr int kGatherVplsPerDraw = 64;
+
+class VplGatherPass {
+ public:
+  VplGatherPass();
+
+  /// Compiles the gather for `visibility` (its shader define).
+  void useVisibility(const VplVisibility& visibility);
+  /// Uploads the VPLs with their materials.
+  void upload(const Scene& scene, const VplSet& vpls);
+  /// The next draw() starts from its first draw: what it sums over changed.
+  void restart() { nextDraw_ = 0; }
+  /// Draws the gather into the interleaved layout of `raw`, reading the G-buffer bound at its units; far and bias as
+  /// the VPL maps were built with. With outOfTime, stops after the draw at which it says so and returns false; the next
+  /// call goes on from there. The same draws in the same order either way, so the image is the same.
+  bool draw(bool lambertOnly, const Camera& camera, const Settings& settings, float far, float bias,
+            const VplVisibility& visibility, Target& raw, const InterleavedLayout& layout, const GlVertexArray& vao,
+            const std::function<bool()>& outOfTime = {});
+
+ private:
+  std::unique_ptr<BrdfVariants> point_, sphere_;
+  UniformTableLayout tableLayout_;
+  GlBuffer table_;
+  /// Whether any uploaded VPL is a VSL (radius > 0): selects the variant with the cone integral.
+  bool haveRadius_ = false;
+  /// The first draw of a gather that outOfTime cut short (0: none pending).
+  int nextDraw_ = 0;
+};
+
+}  // namespace vplab

@@ -1,0 +1,104 @@
+#include "renderer/gl/light_table.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <numeric>
+
+namespace vplab {
+
+namespace {
+// Calls visit(base, begin, end) for consecutive ranges [begin, end) that cover [first, last), each of which fits one
+// uniform block bound from element base <= begin on.
+template <class F>
+void forEachUniformRange(const UniformTableLayout& layout, int first, int last, F&& visit) {
+  for (int begin = first; begin < last;) {
+    int base = begin / layout.alignment * layout.alignment;
+    int end = std::min(last, base + layout.capacity);
+    visit(base, begin, end);
+    begin = end;
+  }
+}
+
+// Subset s of a k x k pattern takes the lights i = s, s + k^2, ...; this is how far the first of them lies after
+// `rangeBegin`, the first light of a draw's range (common/interleaved.glsl).
+int subsetOffset(int rangeBegin, int subset, int k) {
+  int k2 = k * k;
+  return ((subset - rangeBegin % k2) + k2) % k2;
+}
+}  // namespace
+
+UniformTableLayout uniformTableLayout(std::size_t elementBytes) {
+  UniformTableLayout layout;
+  layout.elementBytes = elementBytes;
+  GLint blockBytes = 0, offsetAlignment = 1;
+  glGetIntegerv(GL_MAX_UNIFORM_BLOCK_SIZE, &blockBytes);
+  glGetIntegerv(GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT, &offsetAlignment);
+  const GLint bytes = static_cast<GLint>(elementBytes);
+  layout.capacity = std::clamp(static_cast<int>(blockBytes / bytes), 1, 1024);
+  // Element i starts at byte i * elementBytes, a multiple of the alignment when i is a multiple of this.
+  layout.alignment = std::max(1, offsetAlignment / std::gcd(offsetAlignment, bytes));
+  if (layout.alignment > layout.capacity) throw GlError("uniform buffer offset alignment larger than a block");
+  return layout;
+}
+
+std::string uniformTableDefine(const char* name, std::size_t elementBytes) {
+  return std::string(name) + " " + std::to_string(uniformTableLayout(elementBytes).capacity);
+}
+
+bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const InterleavedLayout& layout,
+                               const LightTable& table, const GlVertexArray& vao, int* cursor,
+                               const std::function<bool()>& outOfTime) {
+  struct Range {
+    int chunk, base, begin, end;
+  };
+  std::vector<Range> ranges;
+  for (int c = 0; c < static_cast<int>(table.chunks.size()); ++c)
+    forEachUniformRange(table.layout, table.chunks[c].begin, table.chunks[c].end, [&](int base, int begin, int end) {
+      ranges.push_back({c, base, begin, end});
+    });
+  const int k = layout.k;
+  const int perSubset = static_cast<int>(ranges.size()), total = k * k * perSubset;
+  const int first = cursor ? *cursor : 0;
+  raw.framebuffer.bind(layout.blockWidth * k, layout.blockHeight * k);
+  if (perSubset != 1 && first == 0) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
+  program.set("uInterleave", k);
+  program.set("uImageSize", glm::ivec2(layout.width, layout.height));
+  if (perSubset > 1) {
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+  }
+  bool done = true;
+  int boundChunk = -1;
+  for (int draw = first; draw < total; ++draw) {
+    const int subset = draw / perSubset;
+    const Range& r = ranges[static_cast<std::size_t>(draw % perSubset)];
+    const int sx = subset % k, sy = subset / k;
+    glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
+    glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
+    program.set("uSubsetXY", glm::ivec2(sx, sy));
+    program.set("uBlockOrigin", origin);
+    if (r.chunk != boundChunk) {
+      if (table.bindChunk) table.bindChunk(r.chunk);
+      program.set("uFirstLight", table.chunks[static_cast<std::size_t>(r.chunk)].begin);
+      boundChunk = r.chunk;
+    }
+    table.buffer->bindUniformRange(binding(table.binding), static_cast<std::size_t>(r.base) * table.layout.elementBytes,
+                                   static_cast<std::size_t>(r.end - r.base) * table.layout.elementBytes);
+    program.set("uUboBase", r.base);
+    program.set("uLightBegin", r.begin);
+    program.set("uSubsetOffset", subsetOffset(r.begin, subset, k));
+    program.set("uLightEnd", r.end);
+    drawFullscreen(program, vao);
+    if (cursor && outOfTime && draw + 1 < total && outOfTime()) {
+      *cursor = draw + 1;
+      done = false;
+      break;
+    }
+  }
+  if (done && cursor) *cursor = 0;
+  glDisable(GL_BLEND);
+  return done;
+}
+
+}  // namespace vplab

@@ -1,0 +1,55 @@
+#pragma once
+// A table of lights (the direct light's samples, the VPLs) that a screen pass sums over, read from uniform blocks, and
+// its interleaved draw (common/interleaved.glsl).
+
+#include <cstddef>
+#include <functional>
+#include <string>
+#include <vector>
+
+#include "renderer/gl/resources.h"
+#include "renderer/gl/screen_pass.h"
+#include "renderer/gl/shader.h"
+#include "renderer/gl/texture_units.h"
+
+namespace vplab {
+
+/// How a table is split into uniform-block ranges: llvmpipe reads uniform blocks faster than storage buffers, so a
+/// table longer than a block is drawn in ranges.
+struct UniformTableLayout {
+  std::size_t elementBytes = 0;
+  int capacity = 1;   ///< elements per block
+  int alignment = 1;  ///< a bound range starts at a multiple of this many elements
+};
+
+/// A block holds what GL_MAX_UNIFORM_BLOCK_SIZE allows, at most 1024 elements (so that the shader's array stays small
+/// where a driver allows very large blocks); a range is bound from an element whose byte offset is a multiple of
+/// GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT. Needs a current context.
+UniformTableLayout uniformTableLayout(std::size_t elementBytes);
+/// "NAME capacity": the define that sizes the shader's array.
+std::string uniformTableDefine(const char* name, std::size_t elementBytes);
+
+/// Lights [begin, end) of a table that share one bound set of shadow maps.
+struct LightChunk {
+  int begin = 0, end = 0;
+};
+
+struct LightTable {
+  const GlBuffer* buffer = nullptr;
+  BufferBinding binding = BufferBinding::Vpls;
+  UniformTableLayout layout;
+  std::vector<LightChunk> chunks;
+  /// Binds a chunk's maps and sets their uniforms; may be empty.
+  std::function<void(int chunk)> bindChunk;
+};
+
+/// Draws `table` with `program` into the interleaved layout of `raw`: for each subset, one draw per uniform-block range
+/// of each chunk. A single draw per subset replaces its block's texels (every fragment writes), so it needs neither a
+/// clear nor blending; several draws add up. With a cursor, the draws from *cursor on run until outOfTime() says stop
+/// after one (a draw's sum is complete on its own, so the rest can follow later): returns false and leaves *cursor at
+/// the first draw not made, or true after the last one. The draws and their order do not depend on where it stopped.
+bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const InterleavedLayout& layout,
+                               const LightTable& table, const GlVertexArray& vao, int* cursor = nullptr,
+                               const std::function<bool()>& outOfTime = {});
+
+}  // namespace vplab

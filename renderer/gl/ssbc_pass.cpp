@@ -1,0 +1,165 @@
+#include "renderer/gl/ssbc_pass.h"
+
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <cmath>
+
+#include "renderer/gl/texture_units.h"
+
+namespace vplab {
+
+struct SsbcPass::Targets {
+  int width, height;
+  // Per mip texel of the G-buffer: x2 with the packed unit normal, and dA, of a compensation tap
+  // (ssbc_taps.frag.glsl), one framebuffer per level; I dA per mip texel of a step's input (ssbc_radiance.frag.glsl).
+  GlTexture taps, area, radiance;
+  std::vector<GlFramebuffer> tapLevels, radianceLevels;
+  // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
+  // far rings alone (second attachment of coarse.framebuffer).
+  Target coarse;
+  GlTexture coarseFar;
+  // Per coarse block: whether every fine-ring tap of its pixels is coplanar with them (ssbc_flat.frag.glsl), from
+  // per-row summaries of the blocks' windows (plane, and state: found, all on it, tolerance).
+  Target flat;
+  GlTexture flatRowPlanes, flatRowStates;
+  GlFramebuffer flatRows;
+
+  Targets(int w, int h)
+      : width(w),
+        height(h),
+        taps(w, h, TextureFormat::Rgba32F, 0),
+        area(w, h, TextureFormat::R32F, 0),
+        radiance(w, h, TextureFormat::Rgba32F, 0),
+        coarse((w + 3) / 4, (h + 3) / 4),
+        coarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F),
+        flat((w + 3) / 4, (h + 3) / 4),
+        flatRowPlanes((w + 3) / 4, h, TextureFormat::Rgba32F),
+        flatRowStates((w + 3) / 4, h, TextureFormat::Rgba32F) {
+    flatRows.attachColor(0, flatRowPlanes);
+    flatRows.attachColor(1, flatRowStates);
+    flatRows.finalize(2);
+    coarse.framebuffer.attachColor(1, coarseFar);
+    coarse.framebuffer.finalize(2);
+    tapLevels.resize(static_cast<std::size_t>(taps.levels()));
+    radianceLevels.resize(static_cast<std::size_t>(taps.levels()));
+    for (int level = 0; level < taps.levels(); ++level) {
+      tapLevels[static_cast<std::size_t>(level)].attachColor(0, taps, level);
+      tapLevels[static_cast<std::size_t>(level)].attachColor(1, area, level);
+      tapLevels[static_cast<std::size_t>(level)].finalize(2);
+      radianceLevels[static_cast<std::size_t>(level)].attachColor(0, radiance, level);
+      radianceLevels[static_cast<std::size_t>(level)].finalize(1);
+    }
+  }
+};
+
+SsbcPass::SsbcPass()
+    : ssbc_("preview/ssbc.frag.glsl"),
+      taps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
+      radiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}),
+      split_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1"}),
+      coarse_("preview/ssbc.frag.glsl", {"SSBC_COARSE_PASS 1"}),
+      fine_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1"}),
+      flatRows_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}, {"SSBC_FLAT_ROWS 1"}),
+      flatColumns_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}, {"SSBC_FLAT_ROWS 0"}),
+      fallback_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
+      upsample_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_UPSAMPLE_PASS 1"}) {}
+
+SsbcPass::~SsbcPass() = default;
+
+int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settings, const SsbcImages& images,
+                  const GlVertexArray& vao) {
+  const bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
+  if (!compensate) return 0;
+  const int width = images.i0.texture.width(), height = images.i0.texture.height();
+  if (!targets_ || targets_->width != width || targets_->height != height)
+    targets_ = std::make_unique<Targets>(width, height);
+  Targets& tg = *targets_;
+  const int steps = std::min(settings.ssbcSteps, 2);
+  float focal = 0.5f * static_cast<float>(height) / std::tan(0.5f * camera.yfov);
+  const bool split = settings.ssbcCoarseRings;
+  ShaderProgram& ssbc = split ? split_[lambertOnly] : ssbc_[lambertOnly];
+  ShaderProgram& coarse = coarse_[lambertOnly];
+  ShaderProgram& fallback = fallback_[lambertOnly];
+  ShaderProgram& fine = fine_[lambertOnly];
+  ShaderProgram& upsample = upsample_[lambertOnly];
+  for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine, &upsample}) {
+    program->set("uCameraPosition", camera.position);
+    program->set("uCameraForward", camera.forward);
+    program->set("uClampBound", settings.clampBound);
+    program->set("uFocalPixels", focal);
+    program->set("uMaxLevel", images.gPosition.levels() - 1);
+  }
+  ssbc.set("uScale", 1);
+  coarse.set("uScale", 4);
+  fallback.set("uScale", 1);
+  fine.set("uScale", 1);
+  upsample.set("uScale", 1);
+  // Draws `program` into every mip level of a full-resolution texture (one framebuffer per level), uLevel set.
+  auto drawEveryLevel = [&](std::vector<GlFramebuffer>& levels, ShaderProgram& program) {
+    for (std::size_t level = 0; level < levels.size(); ++level) {
+      const int l = static_cast<int>(level);
+      levels[level].bind(std::max(1, width >> l), std::max(1, height >> l));
+      program.set("uLevel", l);
+      drawFullscreen(program, vao);
+    }
+  };
+  // Multi-resolution rings: adds (blending) the fine rings where they are not zero, and (withFallback) the coarse rings
+  // where the pass before could not interpolate them from the coarse grid.
+  auto addSplitPasses = [&](bool withFallback) {
+    if (!split) return;
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    drawFullscreen(fine, vao);
+    if (withFallback) drawFullscreen(fallback, vao);
+    glDisable(GL_BLEND);
+  };
+  if (split) {
+    // Which coarse blocks lie on one plane: depends on the camera and the G-buffer only, once for both steps.
+    tg.flatRows.bind(tg.flat.texture.width(), height);
+    drawFullscreen(flatRows_, vao);
+    tg.flatRowPlanes.bind(unit(TextureUnit::PassInput4));
+    tg.flatRowStates.bind(unit(TextureUnit::PassInput6));
+    tg.flat.framebuffer.bind(tg.flat.texture.width(), tg.flat.texture.height());
+    drawFullscreen(flatColumns_, vao);
+    tg.flat.texture.bind(unit(TextureUnit::PassInput7));
+  }
+  // Mips of position and normal feed the hierarchical compensation (coverage and normal length flag edges): made here,
+  // so that a frame without compensation does not pay for them.
+  if (!images.gbufferMipsCurrent) {
+    images.gPosition.generateMipmaps();
+    images.gNormal.generateMipmaps();
+    images.gbufferMipsCurrent = true;
+  }
+  // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
+  taps_.set("uCameraPosition", camera.position);
+  taps_.set("uFocalPixels", focal);
+  drawEveryLevel(tg.tapLevels, taps_);
+  tg.taps.bind(unit(TextureUnit::PassInput3));
+  tg.area.bind(unit(TextureUnit::PassInput5));
+  Target* input = &images.i0;
+  Target* outputs[2] = {&images.r1, &images.r2};
+  for (int step = 0; step < steps; ++step) {
+    // The radiance factor of the taps, I dA, at every mip level of this step's input.
+    input->texture.generateMipmaps();
+    input->texture.bind(unit(TextureUnit::PassInput0));
+    drawEveryLevel(tg.radianceLevels, radiance_);
+    tg.radiance.bind(unit(TextureUnit::PassInput0));
+    if (split) {
+      tg.coarse.framebuffer.bind(tg.coarse.texture.width(), tg.coarse.texture.height());
+      drawFullscreen(coarse, vao);
+      tg.coarse.texture.bind(unit(TextureUnit::PassInput4));
+      tg.coarseFar.bind(unit(TextureUnit::PassInput6));
+    }
+    outputs[step]->framebuffer.bind(width, height);
+    // R2 = T_r(R1) carries about a tenth of the compensation: there the coarse rings are extrapolated along p's
+    // surface where they cannot be interpolated, instead of being evaluated at those pixels.
+    const bool extrapolate = split && step == 1;
+    drawFullscreen(extrapolate ? upsample : ssbc, vao);
+    addSplitPasses(!extrapolate);
+    input = outputs[step];
+  }
+  return steps;
+}
+
+}  // namespace vplab

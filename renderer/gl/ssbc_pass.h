@@ -1,0 +1,52 @@
+#pragma once
+// Pass 5 of the preview: screen-space bias compensation (Novak et al. 2011; docs/theory.md §6, common/ssbc.glsl).
+// R1 = T_r(I0) adds back what the bound b removed, as an image filter over the pixels within 1/sqrt(b); a second step
+// R2 = T_r(R1) adds the next bounce of it. Hierarchical rings over mip levels of the G-buffer and of the step's input;
+// with Settings::ssbcCoarseRings the coarse rings are evaluated on a 4x coarser grid and interpolated where the
+// pixels' blocks are flat, and R2 extrapolates them instead.
+
+#include <memory>
+
+#include "renderer/gl/resources.h"
+#include "renderer/gl/screen_pass.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+
+namespace vplab {
+
+/// What a compensation step reads and writes. The G-buffer must be bound at its units; its position and normal
+/// textures get their mips here unless `gbufferMipsCurrent` says they have them.
+struct SsbcImages {
+  GlTexture& gPosition;
+  GlTexture& gNormal;
+  bool& gbufferMipsCurrent;
+  Target& i0;  ///< direct + indirect light, the first step's input (its mips are made here)
+  Target& r1;  ///< T_r(I0), and the second step's input
+  Target& r2;  ///< T_r(R1)
+};
+
+class SsbcPass {
+ public:
+  SsbcPass();
+  ~SsbcPass();
+  /// Runs min(ssbcSteps, 2) steps when the bound is finite (else none) and returns how many ran: R1 and R2 hold the
+  /// residuals of the steps that ran.
+  int run(bool lambertOnly, const Camera& camera, const Settings& settings, const SsbcImages& images,
+          const GlVertexArray& vao);
+
+ private:
+  struct Targets;
+  std::unique_ptr<Targets> targets_;
+  BrdfVariants ssbc_;
+  ShaderProgram taps_, radiance_;
+  // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
+  // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are
+  // not zero (SSBC_FINE_PASS, with the flat-block mask of flatRows_ and flatColumns_) and the pass that adds what could
+  // not be interpolated (SSBC_FALLBACK_PASS); in the second step, the coarse rings extrapolated instead
+  // (SSBC_UPSAMPLE_PASS).
+  BrdfVariants split_, coarse_, fine_;
+  ShaderProgram flatRows_, flatColumns_;
+  BrdfVariants fallback_, upsample_;
+};
+
+}  // namespace vplab
