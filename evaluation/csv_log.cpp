@@ -105,6 +105,24 @@ void CsvLog::save() const {
   }
 }
 
+std::size_t CsvLog::removeRows(const std::string& column, const std::string& value) {
+  const std::size_t before = rows_.size();
+  std::erase_if(rows_, [&](const CsvRow& r) {
+    auto it = r.find(column);
+    return it != r.end() && it->second == value;
+  });
+  const std::size_t removed = before - rows_.size();
+  if (removed == 0) return 0;
+  keys_.clear();
+  for (const CsvRow& r : rows_) {
+    std::vector<std::string> key;
+    for (std::size_t i = 0; i < keyColumns_; ++i) key.push_back(r.at(header_[i]));
+    keys_.insert(join(key));
+  }
+  save();
+  return removed;
+}
+
 void CsvLog::append(const std::vector<std::string>& values, bool saveNow) {
   assert(values.size() == header_.size());
   CsvRow row;

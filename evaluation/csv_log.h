@@ -36,6 +36,8 @@ class CsvLog {
   bool contains(const std::vector<std::string>& key) const { return keys_.count(join(key)) > 0; }
   /// Appends one row (values in header order; the count must match the header) and, with saveNow, rewrites the file.
   void append(const std::vector<std::string>& values, bool saveNow = true);
+  /// Drops every row whose `column` holds `value` and rewrites the file; returns how many were dropped.
+  std::size_t removeRows(const std::string& column, const std::string& value);
   /// Rewrites the file with every row (after appends without saving).
   void save() const;
 

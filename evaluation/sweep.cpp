@@ -89,7 +89,8 @@ std::vector<std::string> keyOf(const std::string& scene, const BenchCase& c, con
 }
 
 std::string generationKey(const Settings& s) {
-  return std::string(toString(s.generation)) + "|" + std::to_string(s.vplCount) + "|" + std::to_string(s.vplMaxBounces) + "|" + std::to_string(s.seed) + "|" +
+  return std::string(toString(s.generation)) + "|" + std::to_string(s.vplCount) + "|" +
+         std::to_string(s.vplMaxBounces) + "|" + std::to_string(s.seed) + "|" +
          (s.rejection ? fmt(s.rejectionEpsilon) : "off") + "|" + fmt(s.vslRadius) + "|" +
          std::to_string(s.vslRadiusFromDensity);
 }
@@ -169,10 +170,11 @@ unsigned benchMethodColourRgb(const std::string& method) {
 
 const std::vector<std::string>& benchCsvHeader() {
   static const std::vector<std::string> header = {
-      "scene",     "method",   "backend",         "components",    "width",   "height",     "seed", "vpls",
-      "bounces",   "clamp_b",  "vsl_r",           "rejection",     "epsilon", "interleave", "ssbc", "shadow_map",
-      "spp",       "ref_spp",  "gen_ms",          "render_ms",     "time_ms", "relmse",     "rmse", "energy_ratio",
-      "nonfinite", "negative", "acceptance_rate", "acceptance_spread", "vpls_accepted", "image_id"};
+      "scene",         "method",     "backend",      "components", "width",     "height",          "seed",
+      "vpls",          "bounces",    "clamp_b",      "vsl_r",      "rejection", "epsilon",         "interleave",
+      "ssbc",          "shadow_map", "spp",          "ref_spp",    "gen_ms",    "render_ms",       "time_ms",
+      "relmse",        "rmse",       "energy_ratio", "nonfinite",  "negative",  "acceptance_rate", "acceptance_spread",
+      "vpls_accepted", "image_id"};
   return header;
 }
 
@@ -264,7 +266,8 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
     const std::size_t firstRun = run;
     run += cases.size();
     auto inShard = [&](std::size_t i) {
-      return (firstRun + i) % static_cast<std::size_t>(config.shardCount) == static_cast<std::size_t>(config.shardIndex);
+      return (firstRun + i) % static_cast<std::size_t>(config.shardCount) ==
+             static_cast<std::size_t>(config.shardIndex);
     };
     bool anyInShard = false;
     for (std::size_t i = 0; i < cases.size(); ++i) anyInShard = anyInShard || inShard(i);
@@ -284,6 +287,12 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
     say(config,
         name + ": reference " +
             (cached ? std::string("reused from the cache") : "rendered in " + fmt(ref.renderMs / 1000.0) + " s"));
+    // The cached reference's name holds a hash of the loaded scene (staging and lights sidecar included): a reference
+    // rendered anew means the rows already logged for this scene name may measure another scene, so they are redone.
+    if (!cached)
+      if (std::size_t dropped = log.removeRows("scene", name))
+        say(config, name + ": " + std::to_string(dropped) +
+                        " row(s) in bench.csv were measured against another reference of this scene and are redone");
     const float exposure = autoExposure(ref.image);
     const std::string imageDir = config.outDir + "/images/" + name;
     if (config.writeImages) {
@@ -329,11 +338,11 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
         return k;
       }());
       std::vector<std::string> row = key;
-      for (const std::string& v : {fmt(m.generationMs), fmt(m.renderMs), fmt(m.totalMs()), fmt(metrics.relMse),
-                                   fmt(metrics.rmse), fmt(metrics.energyRatioOverall),
-                                   std::to_string(metrics.nonFinitePixels), std::to_string(metrics.negativePixels),
-                                   fmt(m.vplStats.acceptanceRate), fmt(m.vplStats.acceptanceSpread),
-                                   std::to_string(m.vplStats.accepted), id})
+      for (const std::string& v :
+           {fmt(m.generationMs), fmt(m.renderMs), fmt(m.totalMs()), fmt(metrics.relMse), fmt(metrics.rmse),
+            fmt(metrics.energyRatioOverall), std::to_string(metrics.nonFinitePixels),
+            std::to_string(metrics.negativePixels), fmt(m.vplStats.acceptanceRate), fmt(m.vplStats.acceptanceSpread),
+            std::to_string(m.vplStats.accepted), id})
         row.push_back(v);
       log.append(row);
       ++outcome.rowsMeasured;
@@ -385,7 +394,8 @@ BenchOutcome mergeBench(const std::vector<std::string>& shardDirs, BenchConfig c
     }
     // The per-run images the report links to, under the same names.
     if (fs::is_directory(dir + "/images"))
-      fs::copy(dir + "/images", config.outDir + "/images", fs::copy_options::recursive | fs::copy_options::skip_existing);
+      fs::copy(dir + "/images", config.outDir + "/images",
+               fs::copy_options::recursive | fs::copy_options::skip_existing);
   }
   log.save();
   std::vector<std::string> names;
@@ -422,7 +432,8 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
                "pass and shadow-mapped in GL, so it is left out of the comparison)"
              : " (the full image)")
      << ".\n"
-     << "- **Time** = VPL generation (pilots, importance, resampling or chains included) + render. CPU: wall time of the exact VPL render "
+     << "- **Time** = VPL generation (pilots, importance, resampling or chains included) + render. CPU: wall time of "
+        "the exact VPL render "
         "on "
         "all threads. GL: wall time of a whole preview frame from scratch up to glFinish (VPL shadow maps included; "
         "the faster of two)"
@@ -565,7 +576,8 @@ BenchOutcome writeBenchReport(const std::vector<std::string>& sceneNames, const 
       for (const CsvRow* r : g)
         md << "| " << k.method << " | " << k.backend << " | " << describeRow(*r) << " | " << r->at("gen_ms") << " | "
            << r->at("render_ms") << " | " << r->at("relmse") << " | " << r->at("rmse") << " | " << r->at("energy_ratio")
-           << " | " << r->at("acceptance_rate") << spreadOf(*r) << " | " << r->at("nonfinite") << " | " << r->at("negative") << " |\n";
+           << " | " << r->at("acceptance_rate") << spreadOf(*r) << " | " << r->at("nonfinite") << " | "
+           << r->at("negative") << " |\n";
     md << "\n";
   }
   writeFileAtomically(outcome.reportPath, md.str());

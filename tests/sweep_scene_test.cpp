@@ -60,8 +60,8 @@ std::string writeLightlessModel(const std::string& folder) {
   test::GltfBuilder b;
   std::vector<glm::vec3> p = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}, {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
   const int pos = b.vec3(p);
-  const int idx = b.indicesU16({0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4,
-                                3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5});
+  const int idx = b.indicesU16(
+      {0, 2, 1, 0, 3, 2, 4, 5, 6, 4, 6, 7, 0, 1, 5, 0, 5, 4, 3, 7, 6, 3, 6, 2, 0, 4, 7, 0, 7, 3, 1, 2, 6, 1, 6, 5});
   const int material = b.push("materials", {{"name", "grey"}, {"pbrMetallicRoughness", {{"metallicFactor", 0.0}}}});
   b.meshNode(b.mesh({test::GltfBuilder::primitive(pos, idx, -1, material)}));
   const std::string path = test::tmpPath(folder + "/cube.glb");
@@ -80,7 +80,8 @@ double meanOfCachedReference(const std::string& outDir) {
   return n ? sum / static_cast<double>(n) : -1.0;
 }
 
-const std::string kBench = " --quick --size 8x8 --ref-spp 4 --exact-samples-per-pixel 1 --methods vpl --gl off --threads 1";
+const std::string kBench =
+    " --quick --size 8x8 --ref-spp 4 --exact-samples-per-pixel 1 --methods vpl --gl off --threads 1";
 const std::string kStability =
     " --quick --frames 2 --size 8x8 --vpl-count 8 --ref-spp 4 --methods vpl --gl off --threads 1 --no-images";
 
@@ -106,6 +107,29 @@ TEST(SweepScenes, BenchAndStabilityStageAsTheOtherCommands) {
   CommandRun bad = vplab("stability " + model + kStability + " --stage nowhere --out " + dir + "/stability-bad");
   EXPECT_NE(bad.status, 0);
   EXPECT_NE(bad.out.find("--stage"), std::string::npos) << bad.out;
+}
+
+// Re-running bench into the same folder after the staging changed must not keep rows measured on the other scene: the
+// rows of a scene whose reference is rendered anew are redone, and the next run with the same scene reuses them.
+TEST(SweepScenes, BenchRedoesTheRowsOfAChangedScene) {
+  const std::string model = writeLightlessModel("sweep-restage");
+  const std::string out = test::tmpPath("sweep-restage") + "/bench";
+  CommandRun staged = vplab("bench " + model + kBench + " --out " + out);
+  ASSERT_EQ(staged.status, 0) << staged.out;
+  const std::size_t rows = readCsv(out + "/bench.csv").size();
+  ASSERT_GT(rows, 0u);
+
+  CommandRun unlit = vplab("bench " + model + kBench + " --stage none --out " + out);
+  ASSERT_EQ(unlit.status, 0) << unlit.out;
+  EXPECT_NE(unlit.out.find("are redone"), std::string::npos) << unlit.out;
+  EXPECT_EQ(unlit.out.find("already in bench.csv"), std::string::npos) << unlit.out;
+  EXPECT_EQ(readCsv(out + "/bench.csv").size(), rows);
+
+  CommandRun again = vplab("bench " + model + kBench + " --stage none --out " + out);
+  ASSERT_EQ(again.status, 0) << again.out;
+  EXPECT_EQ(again.out.find("are redone"), std::string::npos) << again.out;
+  EXPECT_NE(again.out.find("already in bench.csv"), std::string::npos) << again.out;
+  EXPECT_EQ(readCsv(out + "/bench.csv").size(), rows);
 }
 
 TEST(SweepScenes, BenchAndStabilityApplyTheLightsSidecar) {
