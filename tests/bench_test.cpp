@@ -204,7 +204,9 @@ TEST(BenchSweep, TinySweepWritesFiniteRowsChartsAndResumes) {
     if (r.at("method") == "reject") {
       EXPECT_LE(std::stod(r.at("acceptance_rate")), 1.0);
       // The pilot predicts a spread wherever something can be rejected.
-      if (std::stod(r.at("epsilon")) < 1.0) EXPECT_GT(std::stod(r.at("acceptance_spread")), 0.0) << r.at("epsilon");
+      if (std::stod(r.at("epsilon")) < 1.0) {
+        EXPECT_GT(std::stod(r.at("acceptance_spread")), 0.0) << r.at("epsilon");
+      }
     }
     if (r.at("method") == "bidirectional" || r.at("method") == "metropolis") {
       // Compared at the VPL counts of plain light tracing: the kept count is the requested one, give or take.
