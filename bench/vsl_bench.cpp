@@ -19,7 +19,8 @@
 //      de-interleave) and the exact CPU render at --spp samples per pixel, point VPLs (b = inf) against VSLs. Each is
 //      also given as the process CPU time (all threads, llvmpipe's included; the minimum over the repetitions), which
 //      other processes on a shared machine disturb much less than the wall clock: the ratios come from these. A GL
-//      frame renders only the indirect component without SSBC, so the gather is nearly all of its CPU time.
+//      frame renders only the indirect component without SSBC, so the gather is nearly all of its CPU time; point
+//      and VSL frames alternate, so that a change of load touches both.
 //
 // usage: vplab_bench_vsl_bench [--gl auto|egl|osmesa] [--vpls N] [--radius r] [--frames F] [--spp S]
 //                              [--repeats R] [--csv out.csv] [--split-grid n] [--quick] [--gl-speed-only]
@@ -174,22 +175,28 @@ struct Timing {
   double cpuMs = 0.0;  ///< minimum process CPU time
 };
 
-Timing gatherTiming(PreviewRenderer& renderer, const OfflineScene& l, const VplSet& vpls, const Settings& s,
-                    int frames) {
-  renderer.render(l.scene(), vpls, s, l.scene().camera);  // compiles, renders the shadow maps
-  renderer.invalidateFrame();
-  renderer.render(l.scene(), vpls, s, l.scene().camera);
-  std::vector<double> ms;
-  Timing t;
-  t.cpuMs = 1e30;
-  for (int f = 0; f < frames; ++f) {
-    renderer.invalidateFrame();
-    double c0 = processCpuSeconds();
-    ms.push_back(renderer.render(l.scene(), vpls, s, l.scene().camera).gatherMs);
-    t.cpuMs = std::min(t.cpuMs, 1e3 * (processCpuSeconds() - c0));
+/// GL frames of the point VPLs and of the VSLs, alternating (one renderer each, warmed up), so that a change of the
+/// machine's load during the measurement touches both alike.
+std::pair<Timing, Timing> gatherTimings(const OfflineScene& l, const VplSet& points, const VplSet& vsls,
+                                        const Settings& s, int frames) {
+  PreviewRenderer pointRenderer, vslRenderer;
+  PreviewRenderer* renderers[2] = {&pointRenderer, &vslRenderer};
+  const VplSet* sets[2] = {&points, &vsls};
+  std::vector<double> ms[2];
+  Timing t[2];
+  for (int k = 0; k < 2; ++k) {
+    renderers[k]->render(l.scene(), *sets[k], s, l.scene().camera);  // compiles, renders the shadow maps
+    t[k].cpuMs = 1e30;
   }
-  t.ms = median(ms);
-  return t;
+  for (int f = 0; f < frames; ++f)
+    for (int k = 0; k < 2; ++k) {
+      renderers[k]->invalidateFrame();
+      double c0 = processCpuSeconds();
+      ms[k].push_back(renderers[k]->render(l.scene(), *sets[k], s, l.scene().camera).gatherMs);
+      t[k].cpuMs = std::min(t[k].cpuMs, 1e3 * (processCpuSeconds() - c0));
+    }
+  for (int k = 0; k < 2; ++k) t[k].ms = median(ms[k]);
+  return {t[0], t[1]};
 }
 
 Timing cpuTiming(const OfflineScene& l, const VplSet& vpls, Method method, const Settings& s, int repeats) {
@@ -276,7 +283,6 @@ int main(int argc, char** argv) {
     VplSet vsls = generateVpls(l, s);
     VplSet points = withRadius(vsls, 0.0f);
 
-    PreviewRenderer renderer;
     PairError pe;
     ImageMetrics m;
     double noise = 0.0;
@@ -287,6 +293,7 @@ int main(int argc, char** argv) {
       // 2. Images at 128^2.
       Settings t = s;
       t.width = t.height = 128;
+      PreviewRenderer renderer;
       renderer.render(l.scene(), vsls, t, l.scene().camera);
       Image gl = renderer.readLinear(PreviewOutput::Indirect);
       t.samplesPerPixel = quick ? 2 : 8;
@@ -306,8 +313,7 @@ int main(int argc, char** argv) {
       t.height = h;
       t.samplesPerPixel = spp;
       t.clampBound = kInfinity;
-      Timing glPoint = gatherTiming(renderer, l, points, t, frames);
-      Timing glVsl = gatherTiming(renderer, l, vsls, t, frames);
+      auto [glPoint, glVsl] = gatherTimings(l, points, vsls, t, frames);
       char line[256];
       if (glSpeedOnly) {
         std::snprintf(line, sizeof(line), "%-15s %4dx%-4d %8.0f %8.0f %8.0f %8.0f %6.2fx", name.c_str(), w, h,
