@@ -1,6 +1,7 @@
 #include "renderer/gl/gather_pass.h"
 
 #include <algorithm>
+#include <numeric>
 
 #include "renderer/core/sampling.h"
 
@@ -20,13 +21,30 @@ void VplGatherPass::useVisibility(const VplVisibility& visibility) {
                                             visibility.shaderDefine()};
   point_ = std::make_unique<BrdfVariants>("preview/gather.frag.glsl", defines);
   sphere_ = std::make_unique<BrdfVariants>("preview/gather_vsl.frag.glsl", defines);
+  sphereLambertVpls_.reset();
+  defines_ = defines;
 }
 
-void VplGatherPass::upload(const Scene& scene, const VplSet& set) {
+std::vector<uint32_t> gatherOrder(const Scene& scene, const VplSet& vpls, int* lambertCount) {
+  std::vector<uint32_t> order(vpls.vpls.size());
+  std::iota(order.begin(), order.end(), 0u);
+  // The same test as evaluateBrdf's Lambert fast path.
+  auto lambert = [&](uint32_t i) {
+    const Material& m = scene.materials[vpls.vpls[i].material];
+    return m.metallic <= 0.0f && m.specular <= 0.0f;
+  };
+  auto glossy = std::stable_partition(order.begin(), order.end(), lambert);
+  *lambertCount = static_cast<int>(glossy - order.begin());
+  return order;
+}
+
+void VplGatherPass::upload(const Scene& scene, const VplSet& set, const std::vector<uint32_t>& order,
+                           int lambertCount) {
+  lambertCount_ = lambertCount;
   std::vector<VplGpu> gpu(set.vpls.size());
   haveRadius_ = false;
   for (std::size_t i = 0; i < gpu.size(); ++i) {
-    const Vpl& v = set.vpls[i];
+    const Vpl& v = set.vpls[order[i]];
     haveRadius_ = haveRadius_ || v.radius > 0.0f;
     const Material& m = scene.materials[v.material];
     gpu[i] = {glm::vec4(v.position, v.radius),
@@ -49,17 +67,36 @@ bool VplGatherPass::draw(bool lambertOnly, const Camera& camera, const Settings&
                          const GlVertexArray& vao, const std::function<bool()>& outOfTime) {
   // A set without VSLs uses the variant without the cone integral (common/gather.glsl).
   ShaderProgram& gather = (haveRadius_ ? *sphere_ : *point_)[lambertOnly];
-  gather.set("uCameraPosition", camera.position);
-  gather.set("uClampBound", settings.clampBound);
-  gather.set("uShadowFar", far);
-  gather.set("uShadowBias", bias);
+  auto setUniforms = [&](ShaderProgram& program) {
+    program.set("uCameraPosition", camera.position);
+    program.set("uClampBound", settings.clampBound);
+    program.set("uShadowFar", far);
+    program.set("uShadowBias", bias);
+  };
+  setUniforms(gather);
   // At most kGatherVplsPerDraw VPLs per pixel and draw, so that a budget can stop between draws; the same split with
   // or without a budget, so that both sum in the same order and give the same image.
-  LightTable table{&table_, BufferBinding::Vpls, tableLayout_, {}, [&](int c) { visibility.bindChunk(c, gather); }};
+  LightTable table{&table_, BufferBinding::Vpls, tableLayout_, {},
+                   [&](int maps, ShaderProgram& program) { visibility.bindChunk(maps, program); }};
   const int k = layout.k;
-  table.layout.capacity = std::max(table.layout.alignment, std::min(table.layout.capacity, kGatherVplsPerDraw * k * k));
-  for (int c = 0; c < visibility.chunkCount(); ++c)
-    table.chunks.push_back({visibility.chunkBegin(c), visibility.chunkEnd(c)});
+  table.layout.capacity =
+      std::max(table.layout.alignment, std::min(table.layout.capacity, kGatherVplsPerDraw * k * k));
+  // With VSLs on a scene with glossy materials, the VPLs on Lambert materials (first in the table) skip the lobe at
+  // their end.
+  const int lambertEnd = haveRadius_ && !lambertOnly ? lambertCount_ : 0;
+  if (lambertEnd > 0 && !sphereLambertVpls_) {
+    std::vector<std::string> defines = defines_;
+    defines.push_back("VSL_LAMBERT_VPLS 1");
+    sphereLambertVpls_ = std::make_unique<ShaderProgram>(
+        std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/gather_vsl.frag.glsl"}, defines);
+  }
+  if (lambertEnd > 0) setUniforms(*sphereLambertVpls_);
+  for (int c = 0; c < visibility.chunkCount(); ++c) {
+    const int begin = visibility.chunkBegin(c), end = visibility.chunkEnd(c);
+    const int split = std::clamp(lambertEnd, begin, end);
+    if (split > begin) table.chunks.push_back({begin, split, c, begin, sphereLambertVpls_.get()});
+    if (end > split) table.chunks.push_back({split, end, c, begin, nullptr});
+  }
   return drawInterleavedLightTable(gather, raw, layout, table, vao, &nextDraw_, outOfTime);
 }
 

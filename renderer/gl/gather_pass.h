@@ -15,6 +15,12 @@
 
 namespace vplab {
 
+/// The order the gather takes the VPLs in (also the order of their maps): those on Lambert materials first, each group
+/// in the set's order. For VSLs the Lambert ones are drawn by a variant without the lobe at the VPL's end, the costlier
+/// half of the cone integral (common/vsl.glsl, vslLambertVplTransfer). Returns the indices into vpls.vpls;
+/// *lambertCount receives how many lead.
+std::vector<uint32_t> gatherOrder(const Scene& scene, const VplSet& vpls, int* lambertCount);
+
 // VPLs a gather draw evaluates per pixel at most (per interleaving subset): the unit a frame budget can stop after.
 inline constexpr int kGatherVplsPerDraw = 64;
 
@@ -24,8 +30,8 @@ class VplGatherPass {
 
   /// Compiles the gather for `visibility` (its shader define).
   void useVisibility(const VplVisibility& visibility);
-  /// Uploads the VPLs with their materials.
-  void upload(const Scene& scene, const VplSet& vpls);
+  /// Uploads the VPLs with their materials, in gatherOrder().
+  void upload(const Scene& scene, const VplSet& vpls, const std::vector<uint32_t>& order, int lambertCount);
   /// The next draw() starts from its first draw: what it sums over changed.
   void restart() { nextDraw_ = 0; }
   /// Draws the gather into the interleaved layout of `raw`, reading the G-buffer bound at its units; far and bias as
@@ -37,10 +43,15 @@ class VplGatherPass {
 
  private:
   std::unique_ptr<BrdfVariants> point_, sphere_;
+  /// The VSL gather of VPLs on Lambert materials (VSL_LAMBERT_VPLS), compiled when first needed.
+  std::unique_ptr<ShaderProgram> sphereLambertVpls_;
+  std::vector<std::string> defines_;
   UniformTableLayout tableLayout_;
   GlBuffer table_;
   /// Whether any uploaded VPL is a VSL (radius > 0): selects the variant with the cone integral.
   bool haveRadius_ = false;
+  /// How many of the uploaded VPLs lead with a Lambert material.
+  int lambertCount_ = 0;
   /// The first draw of a gather that outOfTime cut short (0: none pending).
   int nextDraw_ = 0;
 };

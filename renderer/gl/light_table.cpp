@@ -54,9 +54,9 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
   };
   std::vector<Range> ranges;
   for (int c = 0; c < static_cast<int>(table.chunks.size()); ++c)
-    forEachUniformRange(table.layout, table.chunks[c].begin, table.chunks[c].end, [&](int base, int begin, int end) {
-      ranges.push_back({c, base, begin, end});
-    });
+    forEachUniformRange(table.layout, table.chunks[c].begin, table.chunks[c].end,
+                        [&](int base, int begin, int end) { ranges.push_back({c, base, begin, end}); });
+  auto programOf = [&](const LightChunk& c) -> ShaderProgram& { return c.program ? *c.program : program; };
   const int k = layout.k;
   const int perSubset = static_cast<int>(ranges.size()), total = k * k * perSubset;
   const int first = cursor ? *cursor : 0;
@@ -64,6 +64,10 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
   if (perSubset != 1 && first == 0) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
   program.set("uInterleave", k);
   program.set("uImageSize", glm::ivec2(layout.width, layout.height));
+  for (const LightChunk& c : table.chunks) {
+    programOf(c).set("uInterleave", k);
+    programOf(c).set("uImageSize", glm::ivec2(layout.width, layout.height));
+  }
   if (perSubset > 1) {
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
@@ -73,23 +77,25 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
   for (int draw = first; draw < total; ++draw) {
     const int subset = draw / perSubset;
     const Range& r = ranges[static_cast<std::size_t>(draw % perSubset)];
+    const LightChunk& chunk = table.chunks[static_cast<std::size_t>(r.chunk)];
+    ShaderProgram& p = programOf(chunk);
     const int sx = subset % k, sy = subset / k;
     glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
     glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
-    program.set("uSubsetXY", glm::ivec2(sx, sy));
-    program.set("uBlockOrigin", origin);
+    p.set("uSubsetXY", glm::ivec2(sx, sy));
+    p.set("uBlockOrigin", origin);
     if (r.chunk != boundChunk) {
-      if (table.bindChunk) table.bindChunk(r.chunk);
-      program.set("uFirstLight", table.chunks[static_cast<std::size_t>(r.chunk)].begin);
+      if (table.bindChunk) table.bindChunk(chunk.maps, p);
+      p.set("uFirstLight", chunk.mapsBegin);
       boundChunk = r.chunk;
     }
     table.buffer->bindUniformRange(binding(table.binding), static_cast<std::size_t>(r.base) * table.layout.elementBytes,
                                    static_cast<std::size_t>(r.end - r.base) * table.layout.elementBytes);
-    program.set("uUboBase", r.base);
-    program.set("uLightBegin", r.begin);
-    program.set("uSubsetOffset", subsetOffset(r.begin, subset, k));
-    program.set("uLightEnd", r.end);
-    drawFullscreen(program, vao);
+    p.set("uUboBase", r.base);
+    p.set("uLightBegin", r.begin);
+    p.set("uSubsetOffset", subsetOffset(r.begin, subset, k));
+    p.set("uLightEnd", r.end);
+    drawFullscreen(p, vao);
     if (cursor && outOfTime && draw + 1 < total && outOfTime()) {
       *cursor = draw + 1;
       done = false;

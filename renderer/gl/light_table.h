@@ -29,9 +29,13 @@ UniformTableLayout uniformTableLayout(std::size_t elementBytes);
 /// "NAME capacity": the define that sizes the shader's array.
 std::string uniformTableDefine(const char* name, std::size_t elementBytes);
 
-/// Lights [begin, end) of a table that share one bound set of shadow maps.
+/// Lights [begin, end) of a table that share one bound set of shadow maps and one program.
 struct LightChunk {
   int begin = 0, end = 0;
+  /// Which set of maps (LightTable::bindChunk's argument), and its first light (the shader's uFirstLight).
+  int maps = 0, mapsBegin = 0;
+  /// The program that draws these lights; nullptr: the one drawInterleavedLightTable is given.
+  ShaderProgram* program = nullptr;
 };
 
 struct LightTable {
@@ -39,12 +43,12 @@ struct LightTable {
   BufferBinding binding = BufferBinding::Vpls;
   UniformTableLayout layout;
   std::vector<LightChunk> chunks;
-  /// Binds a chunk's maps and sets their uniforms; may be empty.
-  std::function<void(int chunk)> bindChunk;
+  /// Binds a set of maps and sets their uniforms on `program`; may be empty.
+  std::function<void(int maps, ShaderProgram& program)> bindChunk;
 };
 
-/// Draws `table` with `program` into the interleaved layout of `raw`: for each subset, one draw per uniform-block range
-/// of each chunk. A single draw per subset replaces its block's texels (every fragment writes), so it needs neither a
+/// Draws `table` with `program` (or each chunk's own) into the interleaved layout of `raw`: for each subset, one draw
+/// per uniform-block range of each chunk. A single draw per subset replaces its block's texels (every fragment writes), so it needs neither a
 /// clear nor blending; several draws add up. With a cursor, the draws from *cursor on run until outOfTime() says stop
 /// after one (a draw's sum is complete on its own, so the rest can follow later): returns false and leaves *cursor at
 /// the first draw not made, or true after the last one. The draws and their order do not depend on where it stopped.

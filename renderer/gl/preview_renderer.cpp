@@ -214,8 +214,12 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // flux, radius or material edits just re-upload the VPLs.
   const bool vplDataChanged = vplsDirty_ || stale.vpls;
   stale.vpls = false;
+  // The gather's order (Lambert VPLs first, gather_pass.h) is also the maps'.
+  int lambertVpls = 0;
+  const std::vector<uint32_t> order = gatherOrder(scene, vpls, &lambertVpls);
   std::vector<IsmCaster> casters(vpls.vpls.size());
-  for (std::size_t i = 0; i < casters.size(); ++i) casters[i] = {vpls.vpls[i].position, vpls.vpls[i].geometricNormal};
+  for (std::size_t i = 0; i < casters.size(); ++i)
+    casters[i] = {vpls.vpls[order[i]].position, vpls.vpls[order[i]].geometricNormal};
   if (stale.vplShadowMaps || vplDataChanged) stale.vplShadowMaps = vplVisibility_->stale(casters, settings);
   stale.gather |= vplDataChanged;
   stale = stale.propagated();
@@ -298,7 +302,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     finished(pending_.directMaps);
   }
 
-  if (vplDataChanged) gather_.upload(scene, vpls);
+  if (vplDataChanged) gather_.upload(scene, vpls, order, lambertVpls);
   vplsDirty_ = false;
   // Pass 3: the VPLs' visibility maps. A technique that builds them in slices stops when the budget is spent and goes
   // on in the next call.

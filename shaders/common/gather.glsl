@@ -69,6 +69,11 @@ void main() {
 #ifdef BRDF_LAMBERT_ONLY
     sum += vslLambertCosineTransfer(x1, n1, ng, x2, vpl.normal.xyz, vpl.geoNormal.xyz, vpl.position.w) * v *
            vpl.lambertPower.rgb;
+#elif defined(VSL_LAMBERT_VPLS)
+    // The draw's VPLs lie on Lambert materials (the renderer puts them first): no lobe at their end, and f(x2) Phi
+    // comes precomputed.
+    sum += vslLambertVplTransfer(x1, n1, ng, wo, p1, x2, vpl.normal.xyz, vpl.geoNormal.xyz, vpl.position.w) * v *
+           vpl.lambertPower.rgb;
 #else
     BrdfParams p2 = BrdfParams(vpl.baseColor.rgb, vpl.normal.w, vpl.incoming.w, vpl.flux.w);
     sum += vslApproxTransfer(x1, n1, ng, wo, p1, x2, vpl.normal.xyz, vpl.geoNormal.xyz, vpl.incoming.xyz, p2,

@@ -200,6 +200,25 @@ vec3 vslApproxTransfer(vec3 x1, vec3 n1, vec3 g1, vec3 wo, BrdfParams p1, vec3 x
   return valid ? mean * cone.solidAngleOverArea : vec3(0.0);
 }
 
+// vslApproxTransfer for a VPL on a Lambert material (metallic = specular = 0): its lobe is zero, so T = f2 times what
+// is left, and f2 Phi leaves the integral (the caller multiplies by it, GlVpl::lambertPower). Same terms as above with
+// s2 = 0; the VPL-side lobe is the costlier half of the integral, and most VPLs of a scene lie on Lambert materials.
+vec3 vslLambertVplTransfer(vec3 x1, vec3 n1, vec3 g1, vec3 wo, BrdfParams p1, vec3 x2, vec3 n2, vec3 g2, float radius) {
+  vec3 d = x2 - x1;
+  VslCone cone = vslCone(d, radius, n1);
+  vec3 a = cone.axis;
+  vec3 c = vslCosineMeans(cone, n1, g1, -n2, -g2);
+  vec3 mean = vslDiffuseBrdf(p1, n1, wo, a) * c.x;
+  VslLobe s1 = vslMeanSpecular(p1, n1, wo, a, cone, c.y);
+  vec3 w1 = s1.peak;
+  float atPeak1 = dot(g1, w1) > 0.0 && dot(g2, w1) < 0.0 ? max(0.0, -dot(n2, w1)) : 0.0;
+  float mean1 = c.x / max(c.y, 1e-30);  // <c1 c2> / <c1>
+  float partner1 = mean1 + s1.coverage * (atPeak1 - mean1);
+  mean += c.x > 0.0 ? s1.mean * partner1 : vec3(0.0);
+  bool valid = dot(d, d) > 0.0 || radius > 0.0;
+  return valid ? mean * cone.solidAngleOverArea : vec3(0.0);
+}
+
 // The pure-Lambert case (BRDF_LAMBERT_ONLY): f(x1) and f(x2) Phi leave the integral, T = f1 f2 <c1 c2> Omega/(pi r^2);
 // this returns <c1 c2> Omega / (pi r^2), the caller multiplies by f1 and f2 Phi.
 float vslLambertCosineTransfer(vec3 x1, vec3 n1, vec3 g1, vec3 x2, vec3 n2, vec3 g2, float radius) {
