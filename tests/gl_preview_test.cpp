@@ -11,6 +11,7 @@
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/invalidation.h"
+#include "tests/gl_test_util.h"
 
 namespace vplab {
 namespace {
@@ -249,6 +250,41 @@ TEST(GlPreview, BudgetedRenderConvergesToTheUnbudgetedImage) {
   Image a = stepped.readLinear(), b = whole.readLinear();
   ASSERT_EQ(a.pixels.size(), b.pixels.size());
   for (std::size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], b.pixels[i]) << i;
+}
+
+// The lights' shadow maps are split a cube face (or directional map) at a time under a budget; the stepped maps shade
+// exactly as the unbudgeted ones.
+TEST(GlPreview, LightMapsSplitAcrossCallsGiveTheSameImage) {
+  HeadlessGlContext context;
+  Scene scene = floorScene();
+  // A small occluder above the floor, so that both lights cast a shadow on it.
+  addQuad(scene, glm::vec3(0.8f, 0.8f, 0.3f), glm::vec3(0.4f, 0, 0), glm::vec3(0, 0.4f, 0), 0);
+  PunctualLight point;
+  point.position = glm::vec3(1.0f, 1.0f, 1.5f);
+  point.intensity = glm::vec3(2.0f);
+  PunctualLight sun;
+  sun.type = PunctualLight::Type::Directional;
+  sun.direction = glm::normalize(glm::vec3(0.3f, 0.2f, -1.0f));
+  sun.intensity = glm::vec3(1.0f);
+  scene.punctualLights = {point, sun};
+  scene.finalize();
+  VplSet vpls = oneVpl(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(1.0f));
+  Settings settings = smallSettings();
+  PreviewRenderer stepped;
+  int calls = 0, mapCalls = 0;
+  PreviewTimings t;
+  do {
+    t = stepped.render(scene, vpls, settings, scene.camera, 0.0);
+    mapCalls += t.directShadowMs > 0.0 || t.directShadowWallMs > 0.0;
+  } while (!t.complete && ++calls < 100);
+  ASSERT_TRUE(t.complete);
+  EXPECT_GE(mapCalls, 7) << "six cube faces and one directional map, one per call";
+  EXPECT_EQ(stepped.counters().directShadowMaps, 1);
+  PreviewRenderer whole;
+  EXPECT_TRUE(whole.render(scene, vpls, settings, scene.camera).complete);
+  Image a = stepped.readLinear(), b = whole.readLinear();
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  EXPECT_EQ(test::differingPixels(a, b), 0u);
 }
 
 TEST(GlPreview, InvalidationRedoesOnlyDependentPasses) {

@@ -19,12 +19,24 @@ DirectLightPass::DirectLightPass()
     : program_("preview/direct.frag.glsl", {uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
       tableLayout_(uniformTableLayout(sizeof(DirectLightGpu))) {}
 
-void DirectLightPass::renderMaps(const GlScene& glScene, const Scene& scene, const Settings& settings, float far,
-                                 float sceneRadius) {
-  uploadLights(scene, settings);
-  shadows_.render(glScene, casters_, kLightShadowFaceSize, far);
-  shadows_.renderDirectional(glScene, directionalDirections_, scene.bounds.center(), sceneRadius,
-                             kDirectionalShadowSize);
+bool DirectLightPass::renderMaps(const GlScene& glScene, const Scene& scene, const Settings& settings, float far,
+                                 float sceneRadius, const std::function<bool()>& outOfTime) {
+  if (!mapsStarted_) {
+    uploadLights(scene, settings);
+    mapsStarted_ = true;
+    nextFace_ = nextDirectional_ = 0;
+  }
+  if (nextFace_ >= 0) {
+    nextFace_ = shadows_.render(glScene, casters_, kLightShadowFaceSize, far, nextFace_, outOfTime);
+    if (nextFace_ >= 0) return false;
+    // The last face was a slice of its own too.
+    if (!casters_.empty() && !directionalDirections_.empty() && outOfTime && outOfTime()) return false;
+  }
+  nextDirectional_ = shadows_.renderDirectional(glScene, directionalDirections_, scene.bounds.center(), sceneRadius,
+                                                kDirectionalShadowSize, nextDirectional_, outOfTime);
+  if (nextDirectional_ >= 0) return false;
+  mapsStarted_ = false;
+  return true;
 }
 
 void DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius,

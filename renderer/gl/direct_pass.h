@@ -3,6 +3,7 @@
 // of the punctual lights, shadowed by one map per light (light_shadows.h) and interleaved over the light samples as the
 // gather is over the VPLs.
 
+#include <functional>
 #include <vector>
 
 #include "renderer/gl/light_shadows.h"
@@ -27,7 +28,12 @@ class DirectLightPass {
 
   /// Chooses the area-light samples (Settings::directLightSamples and seed), uploads the light table and renders the
   /// lights' shadow maps; far: the largest distance a cube map stores; sceneRadius: what a directional map covers.
-  void renderMaps(const GlScene& glScene, const Scene& scene, const Settings& settings, float far, float sceneRadius);
+  /// With outOfTime, stops after a map face once it says so and returns false; the next call goes on (one face of a
+  /// 1024^2 cube is what a frame waits for at most). True when every map is rendered.
+  bool renderMaps(const GlScene& glScene, const Scene& scene, const Settings& settings, float far, float sceneRadius,
+                  const std::function<bool()>& outOfTime = {});
+  /// The next renderMaps() starts over (the lights or their samples changed while it was under way).
+  void restartMaps() { mapsStarted_ = false; }
   /// Draws the direct light into the interleaved layout of `raw`, reading the G-buffer bound at its units.
   void draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius, Target& raw,
             const InterleavedLayout& layout, const GlVertexArray& vao);
@@ -42,6 +48,9 @@ class DirectLightPass {
   LightShadowMaps shadows_;
   std::vector<LightShadowCaster> casters_;
   std::vector<glm::vec3> directionalDirections_;
+  // The map rendering under way: the next cube face and directional map (-1: done).
+  bool mapsStarted_ = false;
+  int nextFace_ = 0, nextDirectional_ = 0;
 };
 
 }  // namespace vplab

@@ -86,8 +86,8 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
   return groups;
 }
 
-void LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize,
-                             float far) {
+int LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize,
+                            float far, int first, const std::function<bool()>& outOfTime) {
   if (!program_.valid())
     program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
   count_ = static_cast<int>(casters.size());
@@ -105,31 +105,39 @@ void LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadow
   static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
   const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far);
   // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
-  if (count_ == 0) return;
+  if (count_ == 0) return -1;
   program_.set("uMaxSlopeBias", 4.0f * 2.0f / static_cast<float>(faceSize));
   program_.use();
   glEnable(GL_DEPTH_TEST);
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
-  for (int c = 0; c < count_; ++c)
-    for (int f = 0; f < 6; ++f) {
-      framebuffer_.attachColor(0, cubes_, 0, 6 * c + f);
-      framebuffer_.attachDepth(depth_);
-      framebuffer_.finalize(1);
-      framebuffer_.bind(faceSize, faceSize);
-      framebuffer_.clearColor(0, glm::vec4(3.0e38f));
-      framebuffer_.clearDepth(1.0f);
-      const glm::vec3& origin = casters[static_cast<std::size_t>(c)].position;
-      program_.set("uViewProjection", projection * glm::lookAt(origin, origin + kTargets[f], kUps[f]));
-      program_.set("uLightPosition", origin);
-      scene.drawIndexed();
+  const int faces = 6 * count_;
+  int next = -1;
+  for (int face = first; face < faces; ++face) {
+    const int c = face / 6, f = face % 6;
+    framebuffer_.attachColor(0, cubes_, 0, face);
+    framebuffer_.attachDepth(depth_);
+    framebuffer_.finalize(1);
+    framebuffer_.bind(faceSize, faceSize);
+    framebuffer_.clearColor(0, glm::vec4(3.0e38f));
+    framebuffer_.clearDepth(1.0f);
+    const glm::vec3& origin = casters[static_cast<std::size_t>(c)].position;
+    program_.set("uViewProjection", projection * glm::lookAt(origin, origin + kTargets[f], kUps[f]));
+    program_.set("uLightPosition", origin);
+    scene.drawIndexed();
+    if (outOfTime && face + 1 < faces && outOfTime()) {
+      next = face + 1;
+      break;
     }
+  }
   glDisable(GL_DEPTH_TEST);
+  return next;
 }
 
-void LightShadowMaps::renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions,
-                                        glm::vec3 centre, float radius, int size) {
+int LightShadowMaps::renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions,
+                                       glm::vec3 centre, float radius, int size, int first,
+                                       const std::function<bool()>& outOfTime) {
   if (!program_.valid())
     program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
   directionalCount_ = static_cast<int>(directions.size());
@@ -147,7 +155,8 @@ void LightShadowMaps::renderDirectional(const GlScene& scene, const std::vector<
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
-  for (int i = 0; i < layers; ++i) {
+  int next = -1;
+  for (int i = first; i < layers; ++i) {
     framebuffer_.attachColor(0, planes_, 0, i);
     framebuffer_.attachDepth(planeDepth_);
     framebuffer_.finalize(1);
@@ -171,9 +180,14 @@ void LightShadowMaps::renderDirectional(const GlScene& scene, const std::vector<
     program_.set("uLightPosition", origin);
     program_.set("uDirection", dir);
     scene.drawIndexed();
+    if (outOfTime && i + 1 < layers && outOfTime()) {
+      next = i + 1;
+      break;
+    }
   }
   program_.set("uAlongDirection", 0);
   glDisable(GL_DEPTH_TEST);
+  return next;
 }
 
 void LightShadowMaps::bind() const {

@@ -14,6 +14,7 @@
 // grazing surfaces without a large constant bias.
 //  - A directional light: an orthographic map over the scene's bounding sphere, filtered over about a texel.
 
+#include <functional>
 #include <vector>
 
 #include "renderer/gl/resources.h"
@@ -45,12 +46,16 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene);
 
 class LightShadowMaps {
  public:
-  /// Renders one cube of faceSize^2 texels per caster (radial distance, up to `far`).
-  void render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize, float far);
+  /// Renders one cube of faceSize^2 texels per caster (radial distance, up to `far`), face 6 c + f of caster c, from
+  /// face `first` on. With outOfTime, stops after a face once it says so and returns the first face not rendered (the
+  /// next call's `first`); -1 when every face is rendered. The maps do not depend on where it stopped.
+  int render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize, float far,
+             int first = 0, const std::function<bool()>& outOfTime = {});
   /// Renders one orthographic map of size^2 texels per directional light (unit direction of travel), over the disc of
-  /// `radius` around `centre` perpendicular to it (the scene's bounding sphere).
-  void renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions, glm::vec3 centre, float radius,
-                         int size);
+  /// `radius` around `centre` perpendicular to it (the scene's bounding sphere), from map `first` on; stops and
+  /// returns as render() does.
+  int renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions, glm::vec3 centre, float radius,
+                        int size, int first = 0, const std::function<bool()>& outOfTime = {});
   /// Binds the cube-map array and the directional maps (TextureUnit::LightShadows, DirectionalShadows).
   void bind() const;
   int count() const { return count_; }

@@ -228,6 +228,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // order from the first pending one until the budget is spent.
   const bool jobRunning = pending_.any();
   pending_.gbuffer |= stale.gbuffer;
+  // Maps cut short by a budget start over when the lights or their samples changed again.
+  if (stale.lightShadowMaps) direct_.restartMaps();
   pending_.directMaps |= stale.lightShadowMaps;
   pending_.vplMaps |= stale.vplShadowMaps;
   pending_.direct |= stale.direct;
@@ -294,12 +296,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     finished(pending_.gbuffer);
   }
 
-  // The lights' shadow maps.
+  // The lights' shadow maps, a cube face at a time when a budget is given.
   if (pending_.directMaps && !outOfBudget) {
-    t.directShadowMs =
-        timed(timer_, t.directShadowWallMs, [&] { direct_.renderMaps(*glScene_, scene, settings, far, sceneRadius); });
-    ++counters_.directShadowMaps;
-    finished(pending_.directMaps);
+    bool built = false;
+    t.directShadowMs = timed(timer_, t.directShadowWallMs, [&] {
+      built = direct_.renderMaps(*glScene_, scene, settings, far, sceneRadius, outOfTime);
+    });
+    if (built) {
+      ++counters_.directShadowMaps;
+      finished(pending_.directMaps);
+    } else {
+      outOfBudget = true;
+    }
   }
 
   if (vplDataChanged) gather_.upload(scene, vpls, order, lambertVpls);

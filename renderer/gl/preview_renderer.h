@@ -85,8 +85,8 @@ class PreviewRenderer {
   /// call invalidateScene() / invalidateVpls() after editing them in place.
   /// budgetMs splits long work across calls (the editor's frames): passes run in order until one finishes after the
   /// budget is spent; the next call resumes with the remaining ones (and redoes any that a new change made stale).
-  /// The VPL maps (for a technique that slices them, ISM) and the gather (draws of at most 64 VPLs per pixel) are split
-  /// too, so that a call overruns the budget by at most one slice, not one pass.
+  /// The lights' maps (a cube face at a time), the VPL maps (for a technique that slices them, ISM) and the gather (draws
+  /// of at most 64 VPLs per pixel) are split too, so that a call overruns the budget by at most one slice, not one pass.
   /// The image is final when the result's `complete` is set; it is then the same as one unbudgeted call gives.
   PreviewTimings render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera,
                         double budgetMs = std::numeric_limits<double>::infinity());
