@@ -1,6 +1,7 @@
 #include "ui/editor.h"
 
 #include "evaluation/sweep.h"
+#include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
@@ -337,6 +338,7 @@ Editor::Editor(const EditorOptions& options)
     throw std::runtime_error("cannot create a window with an OpenGL 4.5 core context");
   }
   glfwMakeContextCurrent(window_);
+  keepGlDriversLoaded();
   // Load every gl* through the window system's own getProcAddress, never libGL's exported symbols.
   if (!gladLoadGL(glfwGetProcAddress)) throw std::runtime_error("cannot load OpenGL functions through GLFW");
   glfwSwapInterval(script_.empty() ? 1 : 0);

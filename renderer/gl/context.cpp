@@ -7,8 +7,13 @@
 #include <EGL/eglext.h>
 #include <GL/osmesa.h>
 
+#include <dlfcn.h>
+#include <link.h>
+
 #include <cstdio>
+#include <cstring>
 #include <mutex>
+#include <string>
 #include <vector>
 
 namespace vplab {
@@ -75,6 +80,13 @@ void releaseEglDisplay(EGLDisplay display) {
   }
 }
 
+int collectGlDriver(dl_phdr_info* info, std::size_t, void* names) {
+  const char* name = info->dlpi_name;
+  if (name && (std::strstr(name, "_dri.so") || std::strstr(name, "libEGL_mesa") || std::strstr(name, "libGLX_mesa")))
+    static_cast<std::vector<std::string>*>(names)->push_back(name);
+  return 0;
+}
+
 GLADapiproc eglLoad(const char* name) { return reinterpret_cast<GLADapiproc>(eglGetProcAddress(name)); }
 GLADapiproc osMesaLoad(const char* name) { return reinterpret_cast<GLADapiproc>(OSMesaGetProcAddress(name)); }
 
@@ -132,6 +144,7 @@ struct HeadlessGlContext::Impl {
     if (display == EGL_NO_DISPLAY) return name + ": no display";
     EGLint maj = 0, min = 0;
     if (!eglInitialize(display, &maj, &min)) return name + ": eglInitialize failed";
+    keepGlDriversLoaded();
     retainEglDisplay(display);
     eglDisplay = display;
     if (!eglBindAPI(EGL_OPENGL_API)) return name + ": eglBindAPI(EGL_OPENGL_API) failed";
@@ -308,6 +321,13 @@ int HeadlessGlContext::minorVersion() const { return impl_->minor; }
 
 std::string HeadlessGlContext::description() const {
   return impl_->platform + ", " + impl_->renderer + ", OpenGL " + impl_->version;
+}
+
+void keepGlDriversLoaded() {
+  std::vector<std::string> drivers;
+  dl_iterate_phdr(collectGlDriver, &drivers);
+  // RTLD_NOLOAD only takes another reference to a library already loaded; RTLD_NODELETE keeps it for good.
+  for (const std::string& path : drivers) dlopen(path.c_str(), RTLD_NOW | RTLD_NOLOAD | RTLD_NODELETE);
 }
 
 }  // namespace vplab

@@ -65,4 +65,11 @@ class HeadlessGlContext {
   std::unique_ptr<Impl> impl_;
 };
 
+/// Keeps the GL driver libraries that the EGL or GLX front end loaded at run time (Mesa's *_dri.so, libEGL_mesa,
+/// libGLX_mesa) loaded until the process exits. Without it the last eglTerminate unloads the driver: the next context
+/// pays for loading it again, and the allocations it keeps for the process's lifetime lose the module they came from,
+/// so LeakSanitizer reports them as leaks it cannot attribute (tests/lsan-mesa.supp names Mesa's libraries).
+/// Called after a display is initialised; cheap after the first call.
+void keepGlDriversLoaded();
+
 }  // namespace vplab
