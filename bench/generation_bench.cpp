@@ -1,12 +1,13 @@
 // VPL generation benchmark: every generation variant (renderer/vpl/generation_methods.h) at an equal accepted VPL
 // count and at equal total time, over several seeds, against a path-traced reference (indirect component, clamped
-// CPU VPL renders). Prints per variant: mean relMSE (per pixel and of 4x4 block averages), mean energy ratio,
+// CPU VPL renders). Prints per variant: mean relMSE (per pixel and of 4x4 and 16x16 block averages: how much of the
+// error is at the pixel scale), mean energy ratio and its spread over the seeds,
 // acceptance rate with its spread over the seeds, generation and render time; then the ratios to plain light
 // tracing. Times are process CPU time (all threads together), which other processes on a shared machine disturb
 // much less than the wall clock; equal time gives plain light tracing as many VPLs as fit in a variant's CPU time.
 // docs/methods.md and docs/benchmarks.md record its output.
 //   vplab_bench_generation_bench [--size N|WxH] [--vpls N] [--seeds S] [--clamp b] [--epsilon e] [--ref-spp N]
-//                                [--threads T] [--cache DIR] [--csv out.csv] [scene.gltf ...]
+//                                [--threads T] [--cache DIR] [--csv out.csv] [--mir-chains C] [scene.gltf ...]
 // Defaults: 64x64, 256 VPLs, 8 seeds, b = 100, rejection epsilon 0.05, 4096 reference spp, cornell-box and two-rooms.
 
 #include "bench/bench_args.h"
@@ -30,7 +31,8 @@ using namespace vplab;
 namespace {
 
 struct Summary {
-  double relMse = 0.0, blockRelMse = 0.0, energy = 0.0, acceptance = 0.0, acceptanceMin = 1e30,
+  double relMse = 0.0, blockRelMse = 0.0, coarseRelMse = 0.0, energy = 0.0, energySpread = 0.0, acceptance = 0.0,
+         acceptanceMin = 1e30,
          acceptanceMax = 0.0, genMs = 0.0, renderMs = 0.0, vpls = 0.0;
   double totalMs() const { return genMs + renderMs; }
 };
@@ -48,9 +50,13 @@ Summary measure(const OfflineScene& setup, const Image& ref, Settings s, int see
     const double c2 = processCpuMs();
     ImageMetrics px = compareImages(m.image, ref);
     ImageMetrics blk = compareImages(blockAverage(m.image, 4), blockAverage(ref, 4));
+    ImageMetrics coarse = compareImages(blockAverage(m.image, 16), blockAverage(ref, 16));
     sum.relMse += px.relMse / seeds;
     sum.blockRelMse += blk.relMse / seeds;
+    sum.coarseRelMse += coarse.relMse / seeds;
     sum.energy += px.energyRatioOverall / seeds;
+    // Second moment of the energy ratio; the spread over seeds is formed after the loop.
+    sum.energySpread += px.energyRatioOverall * px.energyRatioOverall / seeds;
     sum.acceptance += vpls.stats.acceptanceRate / seeds;
     sum.acceptanceMin = std::min(sum.acceptanceMin, vpls.stats.acceptanceRate);
     sum.acceptanceMax = std::max(sum.acceptanceMax, vpls.stats.acceptanceRate);
@@ -58,6 +64,7 @@ Summary measure(const OfflineScene& setup, const Image& ref, Settings s, int see
     sum.renderMs += (c2 - c1) / seeds;
     sum.vpls += static_cast<double>(vpls.vpls.size()) / seeds;
   }
+  sum.energySpread = std::sqrt(std::max(0.0, sum.energySpread - sum.energy * sum.energy));
   return sum;
 }
 
@@ -67,6 +74,7 @@ int main(int argc, char** argv) {
   int width = 64, height = 64, vpls = 256, seeds = 8, refSpp = 4096, threads = 0;
   float clamp = 100.0f, epsilon = 0.05f;
   std::string csvPath, cacheDir = "generation-bench-cache";
+  int mirChains = Settings{}.mirChains;
   std::vector<std::string> scenes;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
@@ -83,6 +91,7 @@ int main(int argc, char** argv) {
     else if (a == "--threads") threads = std::atoi(benchOptionValue(argc, argv, i).c_str());
     else if (a == "--cache") cacheDir = benchOptionValue(argc, argv, i);
     else if (a == "--csv") csvPath = benchOptionValue(argc, argv, i);
+    else if (a == "--mir-chains") mirChains = std::atoi(benchOptionValue(argc, argv, i).c_str());
     else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "%s: unknown option %s\n", argv[0], a.c_str());
       return 2;
@@ -113,6 +122,7 @@ int main(int argc, char** argv) {
     base.samplesPerPixel = 1;
     base.clampBound = clamp;
     base.rejectionEpsilon = epsilon;
+    base.mirChains = mirChains;
     Settings refSettings = base;
     refSettings.samplesPerPixel = refSpp;
     Image ref = cachedReference(setup, sceneStem(path), refSettings, cacheDir).image;
@@ -147,6 +157,8 @@ int main(int argc, char** argv) {
         std::printf("%-26s %-10s %6.0f %9.4g %9.4g %7.3f %18s %9.1f %9.1f %8.3f %8.3f\n", name.c_str(), at.c_str(),
                     shown.vpls, shown.relMse, shown.blockRelMse, shown.energy, acc, shown.genMs, shown.renderMs,
                     ratio, ratioBlock);
+        std::printf("%-26s %-10s 16x16 relMSE %.4g, energy spread over seeds %.3f\n", "", "", shown.coarseRelMse,
+                    shown.energySpread);
         if (csv)
           std::fprintf(csv, "%s,%s,%s,%.0f,%d,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g,%.6g\n", sceneStem(path).c_str(),
                        v.name, at == "equal N" ? "equal-count" : "plain-at-equal-time", shown.vpls, seeds,
