@@ -16,8 +16,8 @@ struct DirectLightGpu {
 }  // namespace
 
 DirectLightPass::DirectLightPass()
-    : program_("preview/direct.frag.glsl", {uniformTableDefine("DIRECT_UBO_LIGHTS", sizeof(DirectLightGpu))}),
-      tableLayout_(uniformTableLayout(sizeof(DirectLightGpu))) {}
+    : tableLayout_(uniformTableLayout(sizeof(DirectLightGpu))),
+      program_("preview/direct.frag.glsl", {uniformTableDefine("DIRECT_UBO_LIGHTS", tableLayout_)}) {}
 
 bool DirectLightPass::renderMaps(const GlScene& glScene, const Scene& scene, const Settings& settings, float far,
                                  float sceneRadius, const std::function<bool()>& outOfTime) {

@@ -41,8 +41,8 @@ class DirectLightPass {
  private:
   void uploadLights(const Scene& scene, const Settings& settings);
 
-  BrdfVariants program_;
   UniformTableLayout tableLayout_;
+  BrdfVariants program_;
   GlBuffer table_;
   int lightCount_ = 0;
   LightShadowMaps shadows_;

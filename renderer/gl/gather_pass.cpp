@@ -17,7 +17,7 @@ struct VplGpu {
 VplGatherPass::VplGatherPass() : tableLayout_(uniformTableLayout(sizeof(VplGpu))) {}
 
 void VplGatherPass::useVisibility(const VplVisibility& visibility) {
-  const std::vector<std::string> defines = {uniformTableDefine("GATHER_UBO_VPLS", sizeof(VplGpu)),
+  const std::vector<std::string> defines = {uniformTableDefine("GATHER_UBO_VPLS", tableLayout_),
                                             visibility.shaderDefine()};
   point_ = std::make_unique<BrdfVariants>("preview/gather.frag.glsl", defines);
   sphere_ = std::make_unique<BrdfVariants>("preview/gather_vsl.frag.glsl", defines);

@@ -42,8 +42,8 @@ UniformTableLayout uniformTableLayout(std::size_t elementBytes) {
   return layout;
 }
 
-std::string uniformTableDefine(const char* name, std::size_t elementBytes) {
-  return std::string(name) + " " + std::to_string(uniformTableLayout(elementBytes).capacity);
+std::string uniformTableDefine(const char* name, const UniformTableLayout& layout) {
+  return std::string(name) + " " + std::to_string(layout.capacity);
 }
 
 bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const InterleavedLayout& layout,
@@ -62,8 +62,6 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
   const int first = cursor ? *cursor : 0;
   raw.framebuffer.bind(layout.blockWidth * k, layout.blockHeight * k);
   if (perSubset != 1 && first == 0) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
-  program.set("uInterleave", k);
-  program.set("uImageSize", glm::ivec2(layout.width, layout.height));
   for (const LightChunk& c : table.chunks) {
     programOf(c).set("uInterleave", k);
     programOf(c).set("uImageSize", glm::ivec2(layout.width, layout.height));

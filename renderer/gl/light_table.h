@@ -27,7 +27,7 @@ struct UniformTableLayout {
 /// GL_UNIFORM_BUFFER_OFFSET_ALIGNMENT. Needs a current context.
 UniformTableLayout uniformTableLayout(std::size_t elementBytes);
 /// "NAME capacity": the define that sizes the shader's array.
-std::string uniformTableDefine(const char* name, std::size_t elementBytes);
+std::string uniformTableDefine(const char* name, const UniformTableLayout& layout);
 
 /// Lights [begin, end) of a table that share one bound set of shadow maps and one program.
 struct LightChunk {
