@@ -1,6 +1,6 @@
 // Imperfect shadow maps, CPU half (renderer/gl/ism.h): the point set is area-proportional and deterministic, each
-// caster's subset is spread like the whole set, and the splatted, hole-filled tiles answer visibility like exact ray
-// casting except where their documented failure (thin occluders, gaps) applies. The GL lookup of the same tiles is
+// caster's run of points is spread like the whole set, and the splatted, hole-filled tiles answer visibility like exact
+// ray casting except where their documented failure (thin occluders, gaps) applies. The GL lookup of the same tiles is
 // compared with the CPU's exact visibility in gl_accuracy_test.cpp.
 
 #include "renderer/gl/ism.h"
@@ -43,22 +43,24 @@ TEST(Ism, PointsAreAreaProportionalAndDeterministic) {
   EXPECT_NEAR(onOccluder / 20000.0, 0.25 / 4.25, 1.0 / 20000.0 + 1e-9);
 }
 
-TEST(Ism, EveryCasterSubsetCoversTheSurface) {
+TEST(Ism, EveryCasterRunCoversTheSurface) {
   Scene scene = floorWithOccluder();
   IsmPoints points = sampleIsmPoints(scene, 40000);
-  IsmSubsets subsets = arrangeIsmSubsets(scene, points, 100);
-  ASSERT_EQ(subsets.casterCount(), 100);
-  ASSERT_EQ(subsets.positions.size(), points.size());
-  // Each subset of 400 points has points in every quarter of the floor, about a quarter of its floor points each.
-  for (int i = 0; i < 100; ++i) {
-    int quarter[4] = {0, 0, 0, 0}, floor = 0;
-    for (std::size_t j = subsets.begin[i]; j < subsets.begin[i + 1]; ++j) {
-      glm::vec3 p = subsets.positions[j];
-      if (p.y > 0.25f) continue;
-      ++floor;
-      ++quarter[(p.x > 0) + 2 * (p.z > 0)];
+  // For any caster count (a VPL set's size changes from one set to the next, the points do not) each caster's run has
+  // points in every quarter of the floor, about a quarter of its floor points each.
+  for (int casters : {100, 97, 256}) {
+    EXPECT_EQ(points.casterRange(casters - 1, casters).second, points.size());
+    for (int i = 0; i < casters; ++i) {
+      int quarter[4] = {0, 0, 0, 0}, floor = 0;
+      const auto [begin, end] = points.casterRange(i, casters);
+      for (std::size_t j = begin; j < end; ++j) {
+        glm::vec3 p = points.positions[j];
+        if (p.y > 0.25f) continue;
+        ++floor;
+        ++quarter[(p.x > 0) + 2 * (p.z > 0)];
+      }
+      for (int q : quarter) EXPECT_NEAR(q, floor / 4.0, 0.03 * floor) << "caster " << i << " of " << casters;
     }
-    for (int q : quarter) EXPECT_NEAR(q, floor / 4.0, 0.03 * floor) << "caster " << i;
   }
 }
 
@@ -69,11 +71,10 @@ TEST(Ism, TilesAnswerVisibilityLikeRayCasting) {
   std::vector<IsmCaster> casters;
   for (int i = 0; i < 16; ++i)
     casters.push_back({glm::vec3(-0.3f + 0.04f * i, 0.9f, 0.05f * (i % 3)), glm::vec3(0, -1, 0)});
-  IsmSubsets subsets = arrangeIsmSubsets(scene, points, static_cast<int>(casters.size()));
   IsmLayout layout = ismLayout(16, 64, 4096);
   const float far = 6.0f, bias = 0.01f;
-  std::vector<uint16_t> tiles = splatIsmTiles(subsets, casters, layout, far, 3, 2);
-  EXPECT_EQ(tiles, splatIsmTiles(subsets, casters, layout, far, 3, 1)) << "thread count changed the tiles";
+  std::vector<uint16_t> tiles = splatIsmTiles(points, casters, layout, far, 3, 2);
+  EXPECT_EQ(tiles, splatIsmTiles(points, casters, layout, far, 3, 1)) << "thread count changed the tiles";
   int agree = 0, total = 0;
   for (int c = 0; c < 16; ++c)
     for (int yi = 0; yi < 24; ++yi)

@@ -8,6 +8,40 @@
 
 namespace vplab {
 
+namespace {
+
+// The barycentric coordinates (of the first two corners) of the point at fraction u of a triangle's area: u's base-4
+// digits pick one of the four half-size sub-triangles (three corners and the inverted middle one) at each level, so
+// points at evenly spread fractions fall into distinct sub-triangles of every level that has fewer of them.
+glm::vec2 trianglePointAtAreaFraction(double u) {
+  // The current sub-triangle's corners, in barycentric coordinates (b0, b1).
+  glm::dvec2 a(1.0, 0.0), b(0.0, 1.0), c(0.0, 0.0);
+  for (int level = 0; level < 16; ++level) {
+    u *= 4.0;
+    const int digit = std::min(3, static_cast<int>(u));
+    u -= digit;
+    const glm::dvec2 ab = 0.5 * (a + b), bc = 0.5 * (b + c), ca = 0.5 * (c + a);
+    if (digit == 0) {
+      b = ab, c = ca;
+    } else if (digit == 1) {
+      a = ab, c = bc;
+    } else if (digit == 2) {
+      a = ca, b = bc;
+    } else {
+      a = bc, b = ca, c = ab;
+    }
+  }
+  return glm::vec2((a + b + c) / 3.0);
+}
+
+uint64_t reverseBits(uint64_t k, int bits) {
+  uint64_t r = 0;
+  for (int i = 0; i < bits; ++i, k >>= 1) r = (r << 1) | (k & 1u);
+  return r;
+}
+
+}  // namespace
+
 IsmPoints sampleIsmPoints(const Scene& scene, int count) {
   IsmPoints points;
   const std::size_t triangles = scene.triangles.size();
@@ -21,48 +55,41 @@ IsmPoints sampleIsmPoints(const Scene& scene, int count) {
   }
   points.totalArea = total;
   if (!(total > 0.0)) return points;
-  points.triangles.reserve(static_cast<std::size_t>(count));
-  // Point j lies in the area stratum [j, j + 1) / count, jittered; the strata are in increasing order, so one sweep
-  // over the CDF finds every point's triangle.
+  // Stratum j's point lies at (j + xi_j) / count of the total area, jittered; the strata are in increasing order, so
+  // one sweep over the CDF finds every point's triangle and its fraction of that triangle's area.
+  const std::size_t n = static_cast<std::size_t>(count);
+  std::vector<glm::vec3> positions(n), normals(n);
+  std::vector<uint32_t> stratumTriangles(n);
   std::size_t t = 0;
-  for (int j = 0; j < count; ++j) {
+  for (std::size_t j = 0; j < n; ++j) {
     Rng rng(hashKey(0x49534d, static_cast<uint64_t>(j)));
-    double u = (static_cast<double>(j) + static_cast<double>(rng.next1D())) / count * total;
+    const double u = (static_cast<double>(j) + static_cast<double>(rng.next1D())) / static_cast<double>(n) * total;
     while (t + 1 < triangles && cdf[t] <= u) ++t;
-    points.triangles.push_back(static_cast<uint32_t>(t));
+    const double below = t > 0 ? cdf[t - 1] : 0.0, area = cdf[t] - below;
+    const double fraction = area > 0.0 ? std::clamp((u - below) / area, 0.0, 1.0 - 1e-12) : 0.5;
+    const glm::vec2 bary = trianglePointAtAreaFraction(fraction);
+    const uint32_t tri = static_cast<uint32_t>(t);
+    const glm::uvec3& v = scene.triangles[tri];
+    positions[j] =
+        bary.x * scene.positions[v.x] + bary.y * scene.positions[v.y] + (1.0f - bary.x - bary.y) * scene.positions[v.z];
+    normals[j] = scene.geometricNormal(tri);
+    stratumTriangles[j] = tri;
+  }
+  // Van der Corput order of the strata: any run of k consecutive points then has at most about one point in each run
+  // of count / k strata (Niederreiter 1992), so each caster's run is spread over the surface like the whole set.
+  int bits = 0;
+  while ((uint64_t{1} << bits) < n) ++bits;
+  points.positions.reserve(n);
+  points.normals.reserve(n);
+  points.triangles.reserve(n);
+  for (uint64_t k = 0; k < (uint64_t{1} << bits); ++k) {
+    const uint64_t j = reverseBits(k, bits);
+    if (j >= n) continue;
+    points.positions.push_back(positions[j]);
+    points.normals.push_back(normals[j]);
+    points.triangles.push_back(stratumTriangles[j]);
   }
   return points;
-}
-
-IsmSubsets arrangeIsmSubsets(const Scene& scene, const IsmPoints& points, int casters) {
-  IsmSubsets subsets;
-  subsets.totalArea = points.totalArea;
-  const std::size_t n = static_cast<std::size_t>(std::max(casters, 0));
-  subsets.begin.assign(n + 1, 0);
-  if (n == 0) return subsets;
-  const std::size_t count = points.size();
-  subsets.positions.reserve(count);
-  subsets.normals.reserve(count);
-  const double g = 1.32471795724474602596;  // the plastic number: R2 = fract(shift + m (1/g, 1/g^2))
-  const double a1 = 1.0 / g, a2 = 1.0 / (g * g);
-  for (std::size_t i = 0; i < n; ++i) {
-    subsets.begin[i] = subsets.positions.size();
-    Rng rng(hashKey(0x49534d, i, 1));
-    const glm::vec2 shift = rng.next2D();
-    std::size_t m = 0;
-    for (std::size_t j = i; j < count; j += n, ++m) {
-      double r1 = shift.x + a1 * static_cast<double>(m), r2 = shift.y + a2 * static_cast<double>(m);
-      glm::vec2 b = sampleUniformTriangle(
-          {static_cast<float>(r1 - std::floor(r1)), static_cast<float>(r2 - std::floor(r2))});
-      const uint32_t tri = points.triangles[j];
-      const glm::uvec3& v = scene.triangles[tri];
-      subsets.positions.push_back(b.x * scene.positions[v.x] + b.y * scene.positions[v.y] +
-                                  (1.0f - b.x - b.y) * scene.positions[v.z]);
-      subsets.normals.push_back(scene.geometricNormal(tri));
-    }
-  }
-  subsets.begin[n] = subsets.positions.size();
-  return subsets;
 }
 
 IsmLayout ismLayout(int tiles, int tileSize, int maxTextureSize) {
@@ -119,7 +146,8 @@ void pullPush(std::vector<float>& tile, int size, int levels) {
     for (int y = 0; y < s; ++y)
       for (int x = 0; x < s; ++x) {
         float& d = fine[static_cast<std::size_t>(y) * s + x];
-        if (d == kEmpty) d = coarse[static_cast<std::size_t>(std::min(y / 2, half - 1)) * half + std::min(x / 2, half - 1)];
+        if (d == kEmpty)
+          d = coarse[static_cast<std::size_t>(std::min(y / 2, half - 1)) * half + std::min(x / 2, half - 1)];
       }
   }
   tile = std::move(pyramid[0]);
@@ -127,19 +155,20 @@ void pullPush(std::vector<float>& tile, int size, int levels) {
 
 }  // namespace
 
-std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters,
+std::vector<uint16_t> splatIsmTiles(const IsmPoints& points, const std::vector<IsmCaster>& casters,
                                     const IsmLayout& layout, float far, int fillLevels, int threads) {
   std::vector<uint16_t> atlas(static_cast<std::size_t>(layout.atlasSize()) * layout.atlasSize() * layout.layers, 65535);
-  splatIsmTileRange(subsets, casters, layout, far, fillLevels, threads, 0, static_cast<int>(casters.size()), atlas);
+  splatIsmTileRange(points, casters, layout, far, fillLevels, threads, 0, static_cast<int>(casters.size()), atlas);
   return atlas;
 }
 
-void splatIsmTileRange(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters, const IsmLayout& layout,
+void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& casters, const IsmLayout& layout,
                        float far, int fillLevels, int threads, int firstCaster, int endCaster,
                        std::vector<uint16_t>& atlas) {
   const int side = layout.atlasSize();
   const int tileSize = layout.tileSize;
-  endCaster = std::min({endCaster, static_cast<int>(casters.size()), subsets.casterCount()});
+  const int casterCount = static_cast<int>(casters.size());
+  endCaster = std::min(endCaster, casterCount);
   if (firstCaster >= endCaster) return;
   const float invFar = 1.0f / far;
   const float halfSize = 0.5f * static_cast<float>(tileSize);
@@ -150,7 +179,8 @@ void splatIsmTileRange(const IsmSubsets& subsets, const std::vector<IsmCaster>& 
   std::vector<glm::vec3> texelDirections(static_cast<std::size_t>(tileSize) * tileSize, glm::vec3(0.0f));
   for (int y = 0; y < tileSize; ++y)
     for (int x = 0; x < tileSize; ++x) {
-      const float tu = (static_cast<float>(x) + 0.5f) / halfSize - 1.0f, tv = (static_cast<float>(y) + 0.5f) / halfSize - 1.0f;
+      const float tu = (static_cast<float>(x) + 0.5f) / halfSize - 1.0f,
+                  tv = (static_cast<float>(y) + 0.5f) / halfSize - 1.0f;
       const float q = tu * tu + tv * tv;
       if (q <= 1.0f)
         texelDirections[static_cast<std::size_t>(y) * tileSize + x] =
@@ -160,16 +190,16 @@ void splatIsmTileRange(const IsmSubsets& subsets, const std::vector<IsmCaster>& 
     const int i = firstCaster + static_cast<int>(index);
     const IsmCaster& c = casters[static_cast<std::size_t>(i)];
     const Frame frame(c.normal);
-    const std::size_t begin = subsets.begin[static_cast<std::size_t>(i)], end = subsets.begin[static_cast<std::size_t>(i) + 1];
+    const auto [begin, end] = points.casterRange(i, casterCount);
     if (end == begin) return;
-    // Each point of the subset stands for this much surface.
-    const float pointArea = static_cast<float>(subsets.totalArea / static_cast<double>(end - begin));
+    // Each point of the caster's run stands for this much surface.
+    const float pointArea = static_cast<float>(points.totalArea / static_cast<double>(end - begin));
     // Solid angle -> texels: a texel spans (2 / T)^2 of the uv square, and d omega = 4 / (1 + |uv|^2)^2 d uv.
     const float texelsPerSteradian = static_cast<float>(tileSize) * static_cast<float>(tileSize) / 16.0f;
     std::vector<float> tile(static_cast<std::size_t>(tileSize) * tileSize, kEmpty);
     const float rimSkip = 0.5f * 4.0f / static_cast<float>(tileSize);
     for (std::size_t j = begin; j < end; ++j) {
-      const glm::vec3 d = subsets.positions[j] - c.position;
+      const glm::vec3 d = points.positions[j] - c.position;
       const glm::vec3 local = frame.toLocal(d);
       const float r2 = glm::dot(d, d);
       const float r = std::sqrt(r2);
@@ -182,7 +212,7 @@ void splatIsmTileRange(const IsmSubsets& subsets, const std::vector<IsmCaster>& 
       const float rho2 = u * u + v * v;
       const float fx = (u + 1.0f) * halfSize, fy = (v + 1.0f) * halfSize;
       // The disc covers the solid angle of the point's share of the area, foreshortened (two-sided occluders).
-      const glm::vec3& np = subsets.normals[j];
+      const glm::vec3& np = points.normals[j];
       const float cosP = std::abs(glm::dot(np, d)) / r;
       const float texels = pointArea * cosP / r2 * (1.0f + rho2) * (1.0f + rho2) * texelsPerSteradian;
       const float radius = kSplatScale * std::sqrt(texels / kPi);
@@ -193,8 +223,10 @@ void splatIsmTileRange(const IsmSubsets& subsets, const std::vector<IsmCaster>& 
       const float rad = std::clamp(radius, 0.5f, maxRadius);
       const glm::vec3 localNormal = frame.toLocal(np);
       const float planeOffset = glm::dot(local, localNormal);
-      const int x0 = std::max(0, static_cast<int>(std::floor(fx - rad))), x1 = std::min(tileSize - 1, static_cast<int>(fx + rad));
-      const int y0 = std::max(0, static_cast<int>(std::floor(fy - rad))), y1 = std::min(tileSize - 1, static_cast<int>(fy + rad));
+      const int x0 = std::max(0, static_cast<int>(std::floor(fx - rad))),
+                x1 = std::min(tileSize - 1, static_cast<int>(fx + rad));
+      const int y0 = std::max(0, static_cast<int>(std::floor(fy - rad))),
+                y1 = std::min(tileSize - 1, static_cast<int>(fy + rad));
       for (int y = y0; y <= y1; ++y)
         for (int x = x0; x <= x1; ++x) {
           const float cx = static_cast<float>(x) + 0.5f - fx, cy = static_cast<float>(y) + 0.5f - fy;

@@ -19,33 +19,30 @@
 
 namespace vplab {
 
-/// Surface points sampled with probability proportional to area, stratified along the triangles' area CDF: point j
-/// lies in the stratum [j, j + 1) / count of the total area, so every triangle gets its share up to one point. This
-/// holds each point's triangle; where inside it the point lies is decided per caster subset (arrangeIsmSubsets), so
-/// that every subset is well spread on its own. The same scene and count give the same points.
+/// Surface points sampled with probability proportional to area, stratified along the triangles' area CDF: the point
+/// of stratum j lies at the position (j + xi_j) / count of the total area, so every triangle gets its share up to one
+/// point, and inside its triangle at the same fraction of the triangle's own area, mapped to 2D by the triangle's
+/// recursive subdivision into four (a stratified 1D position stays stratified in 2D).
+/// The points are stored in van der Corput order of their strata (point k holds stratum bitreverse(k), skipping
+/// strata past the count), so that every contiguous run of them is itself stratified along the CDF: each caster takes
+/// one run (casterRange), and a change of the caster count changes nothing but where the runs begin. The same scene
+/// and count give the same points.
 struct IsmPoints {
-  std::vector<uint32_t> triangles;
-  /// Total surface area of the scene, m^2.
-  double totalArea = 0.0;
-  std::size_t size() const { return triangles.size(); }
-};
-
-IsmPoints sampleIsmPoints(const Scene& scene, int count);
-
-/// The points of each of N casters: caster i takes the points j with j mod N = i (still stratified along the area
-/// CDF, and the same for as long as N does not change), stored contiguously from begin[i] on so that splatting reads
-/// memory in order. Inside its triangle the m-th point of subset i sits at the m-th point of the 2D R2 sequence
-/// (Roberts 2018), shifted per subset: one low-discrepancy sequence per subset, where subsampling a single sequence
-/// every N-th point would line the points up in stripes.
-struct IsmSubsets {
   std::vector<glm::vec3> positions;
   /// Geometric normal of each point's triangle (its splat is sized by the projected area).
   std::vector<glm::vec3> normals;
-  std::vector<std::size_t> begin;  // N + 1 offsets
+  std::vector<uint32_t> triangles;
+  /// Total surface area of the scene, m^2.
   double totalArea = 0.0;
-  int casterCount() const { return static_cast<int>(begin.size()) - 1; }
+  std::size_t size() const { return positions.size(); }
+  /// The run [first, second) of points of caster i of n.
+  std::pair<std::size_t, std::size_t> casterRange(int i, int n) const {
+    const auto at = [&](int c) { return static_cast<std::size_t>(static_cast<uint64_t>(size()) * c / n); };
+    return {at(i), at(i + 1)};
+  }
 };
-IsmSubsets arrangeIsmSubsets(const Scene& scene, const IsmPoints& points, int casters);
+
+IsmPoints sampleIsmPoints(const Scene& scene, int count);
 
 /// Paraboloid parameterisation of the hemisphere around a VPL's normal n: a unit direction w with n.w >= 0 maps to
 /// uv = (s.w, t.w) / (1 + n.w) in the unit disc, (s, t, n) the orthonormal Frame of renderer/core/sampling.h (the
@@ -78,16 +75,16 @@ struct IsmCaster {
   bool operator==(const IsmCaster&) const = default;
 };
 
-/// Splats each caster's subset into its 16-bit depth tile (depth = distance / far, 65535 = nothing there), each point
-/// as a disc of the solid angle its share of the surface area subtends, then fills holes by pull-push over at most
-/// `fillLevels` levels of the tile's pyramid (holes up to about 2^fillLevels texels wide: larger empty regions are
-/// directions where no surface lies and stay empty).
-/// Returns layers x atlasSize^2 texels, row 0 first (GL's texture row 0), tile by tile in parallel on `threads`.
-std::vector<uint16_t> splatIsmTiles(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters,
+/// Splats each caster's run of points (IsmPoints::casterRange over the casters) into its 16-bit depth tile (depth =
+/// distance / far, 65535 = nothing there), each point as a disc of the solid angle its share of the surface area
+/// subtends, then fills holes by pull-push over at most `fillLevels` levels of the tile's pyramid (holes up to about
+/// 2^fillLevels texels wide: larger empty regions are directions where no surface lies and stay empty). Returns layers
+/// x atlasSize^2 texels, row 0 first (GL's texture row 0), tile by tile in parallel on `threads`.
+std::vector<uint16_t> splatIsmTiles(const IsmPoints& points, const std::vector<IsmCaster>& casters,
                                     const IsmLayout& layout, float far, int fillLevels, int threads);
-/// The same for casters [firstCaster, endCaster) only, into their tiles of `atlas` (layers x atlasSize^2 texels): an update can
-/// be spread over several calls, and gives the same tiles.
-void splatIsmTileRange(const IsmSubsets& subsets, const std::vector<IsmCaster>& casters, const IsmLayout& layout,
+/// The same for casters [firstCaster, endCaster) only, into their tiles of `atlas` (layers x atlasSize^2 texels): an
+/// update can be spread over several calls, and gives the same tiles.
+void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& casters, const IsmLayout& layout,
                        float far, int fillLevels, int threads, int firstCaster, int endCaster,
                        std::vector<uint16_t>& atlas);
 

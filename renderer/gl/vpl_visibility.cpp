@@ -70,8 +70,8 @@ VisibilityFootprint visibilityFootprint(VisibilityMethod method, int casters, co
     return fit;
   }
   fit.bytes = 2.0 * 6.0 * face * face * static_cast<double>(casters);
-  fit.what = std::to_string(casters) + " VPLs with cube shadow maps of " + std::to_string(settings.shadowMapSize) +
-             " texels";
+  fit.what =
+      std::to_string(casters) + " VPLs with cube shadow maps of " + std::to_string(settings.shadowMapSize) + " texels";
   return fit;
 }
 
@@ -107,7 +107,6 @@ void IsmVisibility::resetScene() {
   nextCaster_ = -1;
   scene_ = nullptr;
   points_ = {};
-  subsets_ = {};
 }
 
 bool IsmVisibility::stale(const std::vector<IsmCaster>& casters, const Settings& settings) const {
@@ -128,14 +127,12 @@ bool IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector
                       updateFar_ == far && pointBudget_ == settings.ismPointBudget && scene_ == &scene;
   if (!resume) {
     sampleMs = splatMs = uploadMs = 0.0;
-    // The point set depends on the geometry and the budget only: the same points every frame.
+    // The point set depends on the geometry and the budget only: the same points every frame, for any VPL count.
     if (scene_ != &scene || pointBudget_ != settings.ismPointBudget || points_.size() == 0) {
       points_ = sampleIsmPoints(scene, settings.ismPointBudget);
-      subsets_ = {};
       scene_ = &scene;
       pointBudget_ = settings.ismPointBudget;
     }
-    if (subsets_.casterCount() != n) subsets_ = arrangeIsmSubsets(scene, points_, n);
     sampleMs = msSince(start);
     start = std::chrono::steady_clock::now();
     layout_ = ismLayout(n, settings.ismTileSize, glInteger(GL_MAX_TEXTURE_SIZE));
@@ -150,7 +147,7 @@ bool IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector
   const int slice = 8 * std::max(1, resolveThreadCount(settings.threads));
   do {
     const int end = std::min(n, nextCaster_ + slice);
-    splatIsmTileRange(subsets_, casters, layout_, far, ismFillLevels(settings.ismTileSize), settings.threads,
+    splatIsmTileRange(points_, casters, layout_, far, ismFillLevels(settings.ismTileSize), settings.threads,
                       nextCaster_, end, updateTiles_);
     nextCaster_ = end;
   } while (nextCaster_ < n && !outOfTime());
