@@ -330,6 +330,47 @@ TEST(GlPreview, InvalidationRedoesOnlyDependentPasses) {
   EXPECT_EQ(c4.tonemap, c3.tonemap);
 }
 
+// What a renderer keeps between calls (the lights' maps, the compensation's G-buffer-derived inputs) gives, after any
+// change, exactly the image a renderer that starts from nothing gives for the same inputs.
+TEST(GlPreview, KeptPassesGiveTheImageOfAFreshRenderer) {
+  HeadlessGlContext context;
+  Scene scene = floorScene();
+  // A ramp rising at 45 degrees from the line x = 0.5 of the floor: the crease is where the compensation adds light.
+  addQuad(scene, glm::vec3(1.0f, 0.0f, 0.5f), glm::vec3(0.5f, 0.0f, 0.5f), glm::vec3(0.0f, 2.0f, 0.0f), 0);
+  scene.finalize();
+  VplSet vpls = oneVpl(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(1.0f));
+  Settings settings = smallSettings();
+  settings.ssbcSteps = 2;
+  settings.clampBound = 2.0f;
+  PreviewRenderer kept;
+  Camera camera = scene.camera;
+  auto expectFreshImage = [&](const char* change) {
+    ASSERT_TRUE(kept.render(scene, vpls, settings, camera).complete);
+    PreviewRenderer fresh;
+    ASSERT_TRUE(fresh.render(scene, vpls, settings, camera).complete);
+    EXPECT_EQ(test::differingPixels(kept.readLinear(), fresh.readLinear()), 0u) << change;
+  };
+  expectFreshImage("first image");
+  kept.render(scene, vpls, settings, camera);
+  Image residual = kept.readLinear(PreviewOutput::Residual);
+  double compensation = 0.0;
+  for (const glm::vec3& p : residual.pixels) compensation += p.x;
+  ASSERT_GT(compensation, 0.0) << "the scene must have something to compensate";
+  vpls.vpls[0].position.x += 0.2f;
+  kept.invalidateVpls();
+  expectFreshImage("a VPL change");
+  settings.clampBound = 1.0f;
+  expectFreshImage("a clamp change");
+  camera.position.x += 0.1f;
+  expectFreshImage("a camera move");
+  settings.ssbcCoarseRings = !settings.ssbcCoarseRings;
+  expectFreshImage("coarse rings toggled");
+  settings.ssbcCoarseRings = !settings.ssbcCoarseRings;
+  vpls.vpls[0].position.y -= 0.1f;
+  kept.invalidateVpls();
+  expectFreshImage("coarse rings back and a VPL change");
+}
+
 // The passes a change re-runs are the stages renderer/invalidation.h names for it: the preview follows the same model
 // as the editor instead of rules of its own. (Changes of VPL generation are left out: the renderer takes the VPLs it
 // is handed, and keeps their maps when the casters did not move.)

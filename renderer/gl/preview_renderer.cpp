@@ -48,8 +48,9 @@ struct PreviewRenderer::Targets {
   int width, height;
   GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gMergeKey, gDepth;
   GlFramebuffer gbuffer;
-  // Whether the mips of gPosition and gNormal (compensation only) were made from the current G-buffer.
-  bool gbufferMipsCurrent = false;
+  // Whether what the compensation derives from the G-buffer alone (mips of gPosition and gNormal, tap factors, flat
+  // blocks) was made from the current G-buffer: a VPL change does not redo it.
+  bool gbufferDerivedCurrent = false;
   Target direct, indirect, i0, r1, r2, linear, display;
   // Row sums of the separable de-interleave (deinterleave.frag.glsl), accepted count in w.
   Target rows;
@@ -290,7 +291,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       vao_.bind();
       drawProceduralTriangles(3 * glScene_->triangleCount());
       glDisable(GL_DEPTH_TEST);
-      tg.gbufferMipsCurrent = false;
+      tg.gbufferDerivedCurrent = false;
     });
     ++counters_.gbuffer;
     finished(pending_.gbuffer);
@@ -375,7 +376,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (pending_.ssbc && !pending_.merge && !outOfBudget) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       residualSteps_ = ssbc_.run(lambertOnly_, camera, settings,
-                                 {tg.gPosition, tg.gNormal, tg.gbufferMipsCurrent, tg.i0, tg.r1, tg.r2}, vao_);
+                                 {tg.gPosition, tg.gNormal, tg.gbufferDerivedCurrent, tg.i0, tg.r1, tg.r2}, vao_);
       tg.bindGbuffer();
       tg.i0.texture.bind(unit(TextureUnit::PassInput0));
       tg.r1.texture.bind(unit(TextureUnit::PassInput2));

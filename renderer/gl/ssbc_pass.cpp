@@ -24,6 +24,8 @@ struct SsbcPass::Targets {
   Target flat;
   GlTexture flatRowPlanes, flatRowStates;
   GlFramebuffer flatRows;
+  // Whether taps/area and flat were made from the current G-buffer (flat: only made with the coarse rings).
+  bool tapsCurrent = false, flatCurrent = false;
 
   Targets(int w, int h)
       : width(w),
@@ -75,6 +77,14 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   if (!targets_ || targets_->width != width || targets_->height != height)
     targets_ = std::make_unique<Targets>(width, height);
   Targets& tg = *targets_;
+  // Mips of position and normal feed the hierarchical compensation (coverage and normal length flag edges): made here,
+  // so that a frame without compensation does not pay for them.
+  if (!images.gbufferDerivedCurrent) {
+    images.gPosition.generateMipmaps();
+    images.gNormal.generateMipmaps();
+    images.gbufferDerivedCurrent = true;
+    tg.tapsCurrent = tg.flatCurrent = false;
+  }
   const int steps = std::min(settings.ssbcSteps, 2);
   float focal = 0.5f * static_cast<float>(height) / std::tan(0.5f * camera.yfov);
   const bool split = settings.ssbcCoarseRings;
@@ -114,27 +124,25 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     if (withFallback) drawFullscreen(fallback, vao);
     glDisable(GL_BLEND);
   };
-  if (split) {
-    // Which coarse blocks lie on one plane: depends on the camera and the G-buffer only, once for both steps.
+  if (split && !tg.flatCurrent) {
+    // Which coarse blocks lie on one plane: depends on the G-buffer only, once for both steps and every VPL set.
     tg.flatRows.bind(tg.flat.texture.width(), height);
     drawFullscreen(flatRows_, vao);
     tg.flatRowPlanes.bind(unit(TextureUnit::PassInput4));
     tg.flatRowStates.bind(unit(TextureUnit::PassInput6));
     tg.flat.framebuffer.bind(tg.flat.texture.width(), tg.flat.texture.height());
     drawFullscreen(flatColumns_, vao);
-    tg.flat.texture.bind(unit(TextureUnit::PassInput7));
+    tg.flatCurrent = true;
   }
-  // Mips of position and normal feed the hierarchical compensation (coverage and normal length flag edges): made here,
-  // so that a frame without compensation does not pay for them.
-  if (!images.gbufferMipsCurrent) {
-    images.gPosition.generateMipmaps();
-    images.gNormal.generateMipmaps();
-    images.gbufferMipsCurrent = true;
+  if (split) tg.flat.texture.bind(unit(TextureUnit::PassInput7));
+  // The tap factors depend on the camera and the G-buffer only (the camera cannot move without the G-buffer being
+  // drawn again): once for both steps and every VPL set.
+  if (!tg.tapsCurrent) {
+    taps_.set("uCameraPosition", camera.position);
+    taps_.set("uFocalPixels", focal);
+    drawEveryLevel(tg.tapLevels, taps_);
+    tg.tapsCurrent = true;
   }
-  // The tap factors depend on the camera and the G-buffer only: once per frame, for both steps.
-  taps_.set("uCameraPosition", camera.position);
-  taps_.set("uFocalPixels", focal);
-  drawEveryLevel(tg.tapLevels, taps_);
   tg.taps.bind(unit(TextureUnit::PassInput3));
   tg.area.bind(unit(TextureUnit::PassInput5));
   Target* input = &images.i0;

@@ -14,12 +14,13 @@
 
 namespace vplab {
 
-/// What a compensation step reads and writes. The G-buffer must be bound at its units; its position and normal
-/// textures get their mips here unless `gbufferMipsCurrent` says they have them.
+/// What a compensation step reads and writes. The G-buffer must be bound at its units. What depends on it alone (the
+/// mips of its position and normal textures, the tap factors, the flat blocks) is made here when
+/// `gbufferDerivedCurrent` is false, and kept until the G-buffer is drawn again.
 struct SsbcImages {
   GlTexture& gPosition;
   GlTexture& gNormal;
-  bool& gbufferMipsCurrent;
+  bool& gbufferDerivedCurrent;
   Target& i0;  ///< direct + indirect light, the first step's input (its mips are made here)
   Target& r1;  ///< T_r(I0), and the second step's input
   Target& r2;  ///< T_r(R1)
