@@ -17,8 +17,12 @@
 // --point-light adds a point light above the model (the editor's "+ point": irradiance pi at the model's centre), so
 // that a third-party model measures the light move too.
 //
+// --ism-point-budget P and --ism-tile-size T set the ISM parameters (defaults: the Settings defaults), for the sweep of
+// scripts/ism_sweep.sh.
+//
 // usage: vplab_bench_scale_bench [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv out.csv]
-//                                [--size WxH] [--stage auto|none|studio] [--point-light] scene.gltf...
+//                                [--size WxH] [--stage auto|none|studio] [--point-light] [--ism-point-budget P]
+//                                [--ism-tile-size T] scene.gltf...
 
 #include <algorithm>
 #include <chrono>
@@ -94,6 +98,8 @@ int main(int argc, char** argv) {
   int repeats = 3, width = 640, height = 480;
   Stage stage = Stage::Auto;
   bool pointLight = false;
+  const Settings defaults;
+  int ismPointBudget = defaults.ismPointBudget, ismTileSize = defaults.ismTileSize;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--gl") {
@@ -117,11 +123,16 @@ int main(int argc, char** argv) {
       if (!parseStage(benchOptionValue(argc, argv, i), stage)) return std::fprintf(stderr, "bad --stage\n"), 2;
     } else if (a == "--point-light") {
       pointLight = true;
+    } else if (a == "--ism-point-budget") {
+      ismPointBudget = std::atoi(benchOptionValue(argc, argv, i).c_str());
+    } else if (a == "--ism-tile-size") {
+      ismTileSize = std::atoi(benchOptionValue(argc, argv, i).c_str());
     } else if (a == "--help" || (!a.empty() && a[0] == '-')) {
-      std::fprintf(stderr,
-                   "usage: %s [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv F] [--size WxH] "
-                   "[--stage auto|none|studio] [--point-light] scene.gltf...\n",
-                   argv[0]);
+      std::fprintf(
+          stderr,
+          "usage: %s [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv F] [--size WxH] "
+          "[--stage auto|none|studio] [--point-light] [--ism-point-budget P] [--ism-tile-size T] scene.gltf...\n",
+          argv[0]);
       return a == "--help" ? 0 : 2;
     } else {
       scenes.push_back(a);
@@ -152,6 +163,10 @@ int main(int argc, char** argv) {
       s.ssbcSteps = 2;
       s.clampBound = 20.0f;
       s.visibility = method;
+      s.ismPointBudget = ismPointBudget;
+      s.ismTileSize = ismTileSize;
+      if (const std::vector<std::string> problems = validateSettings(s, SettingSpelling::Flag); !problems.empty())
+        return std::fprintf(stderr, "%s\n", problems.front().c_str()), 2;
       PreviewRenderer renderer;
       t = Clock::now();
       VplSet vpls = generateVpls(offline, s);

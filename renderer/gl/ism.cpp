@@ -110,7 +110,7 @@ constexpr float kEmpty = std::numeric_limits<float>::infinity();
 
 // Splat radius over the radius of the disc whose area is the point's projected share of the surface. Larger discs close
 // more gaps between stratified points but widen every shadow (measured: 1.6 darkens the Cornell box's indirect light by
-// 4 %, docs/benchmarks.md "Imperfect shadow maps"); the gaps left are filled by pull-push.
+// 4 %, docs/methods.md "VPL visibility"); the gaps left are filled by pull-push.
 constexpr float kSplatScale = 1.0f;
 
 // Fills holes of one tile (row-major depths, kEmpty = no splat) by pull-push (Grossman & Dally 1998; Marroquim et al.
