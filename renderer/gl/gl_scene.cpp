@@ -3,13 +3,19 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <atomic>
 #include <cassert>
 
 #include "renderer/gl/texture_units.h"
 
 namespace vplab {
 
-GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_cast<int>(scene.triangles.size())) {
+namespace {
+std::atomic<uint64_t> nextSerial{1};
+}  // namespace
+
+GlScene::GlScene(const Scene& scene)
+    : source_(&scene), serial_(nextSerial++), triangleCount_(static_cast<int>(scene.triangles.size())) {
   assert(scene.normals.size() == scene.positions.size() && scene.uvs.size() == scene.positions.size());
   std::vector<glm::vec4> p(scene.positions.size()), n(scene.normals.size());
   for (std::size_t i = 0; i < p.size(); ++i) {
@@ -61,6 +67,10 @@ GlScene::GlScene(const Scene& scene) : source_(&scene), triangleCount_(static_ca
 void GlScene::drawIndexed() const {
   indexedVertices_.bind();
   glDrawElements(GL_TRIANGLES, 3 * triangleCount_, GL_UNSIGNED_INT, nullptr);
+}
+
+void GlScene::attachPositions(GlVertexArray& vertices, const GlBuffer& indices) const {
+  vertices.setPositionsAndIndices(positions_, indices);
 }
 
 void GlScene::bind() const {

@@ -3,9 +3,11 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
 #include <numeric>
 
+#include "renderer/core/parallel.h"
 #include "renderer/core/sampling.h"
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/texture_units.h"
@@ -36,7 +38,9 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
     for (int c = 0; c < 3; ++c) corners.push_back({scene.positions[v[c]], static_cast<int>(e)});
   }
   auto less = [](const auto& a, const auto& b) {
-    return a.first.x != b.first.x ? a.first.x < b.first.x : a.first.y != b.first.y ? a.first.y < b.first.y : a.first.z < b.first.z;
+    return a.first.x != b.first.x   ? a.first.x < b.first.x
+           : a.first.y != b.first.y ? a.first.y < b.first.y
+                                    : a.first.z < b.first.z;
   };
   std::sort(corners.begin(), corners.end(), less);
   for (std::size_t i = 1; i < corners.size(); ++i)
@@ -66,10 +70,12 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
     if (power > 0.0) g.centre = glm::vec3(weighted / power);
     g.radius = 0.0f;
     for (uint32_t t : g.triangles)
-      for (int c = 0; c < 3; ++c) g.radius = std::max(g.radius, glm::length(scene.positions[scene.triangles[t][c]] - g.centre));
+      for (int c = 0; c < 3; ++c)
+        g.radius = std::max(g.radius, glm::length(scene.positions[scene.triangles[t][c]] - g.centre));
   };
   for (AreaLightGroup& g : groups) measure(g);
-  std::sort(groups.begin(), groups.end(), [](const AreaLightGroup& a, const AreaLightGroup& b) { return a.power > b.power; });
+  std::sort(groups.begin(), groups.end(),
+            [](const AreaLightGroup& a, const AreaLightGroup& b) { return a.power > b.power; });
   if (groups.size() > static_cast<std::size_t>(kMaxAreaGroups)) {
     // Too many emitters for a map each: the weaker ones join the nearest of the strongest, whose centre and radius
     // then cover them.
@@ -78,7 +84,8 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
       for (std::size_t j = 1; j < static_cast<std::size_t>(kMaxAreaGroups); ++j)
         if (glm::length(groups[j].centre - groups[i].centre) < glm::length(groups[best].centre - groups[i].centre))
           best = j;
-      groups[best].triangles.insert(groups[best].triangles.end(), groups[i].triangles.begin(), groups[i].triangles.end());
+      groups[best].triangles.insert(groups[best].triangles.end(), groups[i].triangles.begin(),
+                                    groups[i].triangles.end());
     }
     groups.resize(kMaxAreaGroups);
     for (AreaLightGroup& g : groups) measure(g);
@@ -86,10 +93,58 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
   return groups;
 }
 
+CubeFaceTriangles cubeFaceTriangles(const Scene& scene, glm::vec3 origin) {
+  // Per vertex, 4 bits per face: which side planes of the face's frustum it lies outside. Face f looks along axis
+  // a = f / 2 with sign s; its planes are s d_a >= +-d_b and s d_a >= +-d_c for the other two axes (d = vertex -
+  // origin). The planes are widened by a millionth of the distance, so that rounding never drops a triangle on a face's
+  // edge.
+  constexpr int64_t kBlock = 1 << 16;
+  std::vector<uint32_t> outside(scene.positions.size());
+  const int64_t vertexBlocks = (static_cast<int64_t>(outside.size()) + kBlock - 1) / kBlock;
+  parallelFor(vertexBlocks, 0, [&](int64_t block, int) {
+    const std::size_t end = std::min(outside.size(), static_cast<std::size_t>((block + 1) * kBlock));
+    for (std::size_t v = static_cast<std::size_t>(block * kBlock); v < end; ++v) {
+      const glm::vec3 d = scene.positions[v] - origin;
+      const float slack = 1e-6f * (std::abs(d.x) + std::abs(d.y) + std::abs(d.z));
+      uint32_t bits = 0;
+      for (int f = 0; f < 6; ++f) {
+        const int a = f / 2, b = (a + 1) % 3, c = (a + 2) % 3;
+        const float u = (f % 2 ? -d[a] : d[a]) + slack;
+        bits |= ((u < d[b] ? 1u : 0u) | (u < -d[b] ? 2u : 0u) | (u < d[c] ? 4u : 0u) | (u < -d[c] ? 8u : 0u))
+                << (4 * f);
+      }
+      outside[v] = bits;
+    }
+  });
+  // Blocks of triangles in parallel, each block's lists in the scene's order, joined block by block.
+  const int64_t triangleBlocks = (static_cast<int64_t>(scene.triangles.size()) + kBlock - 1) / kBlock;
+  std::vector<std::array<std::vector<uint32_t>, 6>> blockLists(static_cast<std::size_t>(triangleBlocks));
+  parallelFor(triangleBlocks, 0, [&](int64_t block, int) {
+    std::array<std::vector<uint32_t>, 6>& lists = blockLists[static_cast<std::size_t>(block)];
+    const std::size_t end = std::min(scene.triangles.size(), static_cast<std::size_t>((block + 1) * kBlock));
+    for (std::size_t i = static_cast<std::size_t>(block * kBlock); i < end; ++i) {
+      const glm::uvec3& t = scene.triangles[i];
+      const uint32_t common = outside[t.x] & outside[t.y] & outside[t.z];
+      for (std::size_t f = 0; f < 6; ++f)
+        if (((common >> (4 * f)) & 15u) == 0) {
+          lists[f].push_back(t.x);
+          lists[f].push_back(t.y);
+          lists[f].push_back(t.z);
+        }
+    }
+  });
+  CubeFaceTriangles out;
+  for (std::size_t f = 0; f < 6; ++f) {
+    out.begin[f] = out.indices.size();
+    for (const auto& lists : blockLists) out.indices.insert(out.indices.end(), lists[f].begin(), lists[f].end());
+  }
+  out.begin[6] = out.indices.size();
+  return out;
+}
+
 int LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize,
                             float far, int first, const std::function<bool()>& outOfTime) {
-  if (!program_.valid())
-    program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
+  if (!program_.valid()) program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
   count_ = static_cast<int>(casters.size());
   // One cube at least, so that the direct pass's sampler is complete in a scene without such lights.
   const int cubes = std::max(count_, 1);
@@ -125,7 +180,20 @@ int LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadowC
     const glm::vec3& origin = casters[static_cast<std::size_t>(c)].position;
     program_.set("uViewProjection", projection * glm::lookAt(origin, origin + kTargets[f], kUps[f]));
     program_.set("uLightPosition", origin);
-    scene.drawIndexed();
+    if (faceScene_ != scene.serial() || faceOrigin_ != origin) {
+      const CubeFaceTriangles lists = cubeFaceTriangles(*scene.source(), origin);
+      faceIndices_.assign(lists.indices.data(), std::max<std::size_t>(lists.indices.size(), 1) * sizeof(uint32_t));
+      scene.attachPositions(faceVertices_, faceIndices_);
+      faceBegin_ = lists.begin;
+      faceScene_ = scene.serial();
+      faceOrigin_ = origin;
+    }
+    faceVertices_.bind();
+    const std::size_t begin = faceBegin_[static_cast<std::size_t>(f)],
+                      end = faceBegin_[static_cast<std::size_t>(f) + 1];
+    if (end > begin)
+      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(end - begin), GL_UNSIGNED_INT,
+                     reinterpret_cast<const void*>(begin * sizeof(uint32_t)));
     if (outOfTime && face + 1 < faces && outOfTime()) {
       next = face + 1;
       break;
@@ -135,11 +203,9 @@ int LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadowC
   return next;
 }
 
-int LightShadowMaps::renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions,
-                                       glm::vec3 centre, float radius, int size, int first,
-                                       const std::function<bool()>& outOfTime) {
-  if (!program_.valid())
-    program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
+int LightShadowMaps::renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions, glm::vec3 centre,
+                                       float radius, int size, int first, const std::function<bool()>& outOfTime) {
+  if (!program_.valid()) program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
   directionalCount_ = static_cast<int>(directions.size());
   // A 1-layer placeholder keeps the sampler complete when there is no directional light.
   const int layers = std::max(1, directionalCount_);

@@ -9,11 +9,13 @@
 //    fraction of the emitter that is visible. The K area samples still give the unshadowed light (unbiased); only the
 //    visibility is the filtered approximation.
 // Maps store the radial distance to the light in a colour cube map, rendered with an ordinary depth test (so early
-// depth rejection works) by indexed draws without a geometry shader; the triangles are drawn with a slope-scaled
-// polygon offset and the receiver is offset along its normal by a texel's footprint, which together remove acne on
-// grazing surfaces without a large constant bias.
+// depth rejection works) by indexed draws without a geometry shader, each face drawing only the triangles that can
+// reach its frustum (cubeFaceTriangles: each triangle about once, instead of every triangle six times); the triangles
+// are drawn with a slope-scaled polygon offset and the receiver is offset along its normal by a texel's footprint,
+// which together remove acne on grazing surfaces without a large constant bias.
 //  - A directional light: an orthographic map over the scene's bounding sphere, filtered over about a texel.
 
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -31,8 +33,8 @@ struct LightShadowCaster {
   float radius = 0.0f;
 };
 
-/// An emitter made of emissive triangles: a connected group (triangles sharing vertices), merged into the nearest of the
-/// kMaxAreaGroups most powerful groups when there are more.
+/// An emitter made of emissive triangles: a connected group (triangles sharing vertices), merged into the nearest of
+/// the kMaxAreaGroups most powerful groups when there are more.
 struct AreaLightGroup {
   std::vector<uint32_t> triangles;
   /// Power-weighted centre (luminance(Le) x area) and the largest distance from it to a vertex of the group.
@@ -43,6 +45,16 @@ struct AreaLightGroup {
 
 inline constexpr int kMaxAreaGroups = 8;
 std::vector<AreaLightGroup> groupAreaLights(const Scene& scene);
+
+/// The triangles that can cover each face of a cube map at `origin`, face f's as vertex-index triples at
+/// [begin[f], begin[f + 1]) of `indices` (faces in GL's order +x, -x, +y, -y, +z, -z), in the scene's triangle order.
+/// A triangle is left out of a face only when its three vertices lie outside one side plane of the face's 90-degree
+/// frustum, so it could not have produced a fragment there: the map is the one every triangle gives.
+struct CubeFaceTriangles {
+  std::vector<uint32_t> indices;
+  std::array<std::size_t, 7> begin{};
+};
+CubeFaceTriangles cubeFaceTriangles(const Scene& scene, glm::vec3 origin);
 
 class LightShadowMaps {
  public:
@@ -64,6 +76,12 @@ class LightShadowMaps {
  private:
   GlTexture cubes_, depth_, planes_, planeDepth_;
   GlFramebuffer framebuffer_;
+  // The per-face triangle lists of the caster whose faces are being drawn (kept across calls of a sliced render).
+  uint64_t faceScene_ = 0;  // GlScene::serial()
+  glm::vec3 faceOrigin_{0.0f};
+  std::array<std::size_t, 7> faceBegin_{};
+  GlBuffer faceIndices_;
+  GlVertexArray faceVertices_;
   ShaderProgram program_;
   int count_ = 0, faceSize_ = 0, directionalCount_ = 0;
 };
