@@ -11,8 +11,8 @@
 
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
-#include "renderer/invalidation.h"
 #include "renderer/image/metrics.h"
+#include "renderer/invalidation.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "tests/gl_test_util.h"
@@ -49,9 +49,10 @@ ImageMetrics ismAgainstExact(const OfflineScene& l, const Settings& s, const cha
   renderer.render(l.scene(), vpls, cube, l.scene().camera);
   ImageMetrics cubeMetrics = compareImages(renderer.readLinear(PreviewOutput::Indirect), exact);
   ImageMetrics m = compareImages(ism, exact);
-  std::printf("[ measured ] %s %dx%d, %zu VPLs, b = %g: ISM vs exact relMSE %.5f, energy %.4f (cube maps: %.5f, %.4f)\n",
-              name, s.width, s.height, vpls.vpls.size(), s.clampBound, m.relMse, m.energyRatioOverall,
-              cubeMetrics.relMse, cubeMetrics.energyRatioOverall);
+  std::printf(
+      "[ measured ] %s %dx%d, %zu VPLs, b = %g: ISM vs exact relMSE %.5f, energy %.4f (cube maps: %.5f, %.4f)\n", name,
+      s.width, s.height, vpls.vpls.size(), s.clampBound, m.relMse, m.energyRatioOverall, cubeMetrics.relMse,
+      cubeMetrics.energyRatioOverall);
   EXPECT_EQ(m.nonFinitePixels, 0u);
   return m;
 }
@@ -92,34 +93,41 @@ TEST_P(GlIsm, SameSettingsSameImage) {
   EXPECT_EQ(test::differingPixels(ia, ib), 0u);
 }
 
-// A zero budget spreads the ISM tiles and the gather's interleaving subsets over many calls; the image is the same as
-// one unbudgeted call gives, also when the VPL set changes while the tiles are half done.
+// A zero budget spreads the VPL maps (ISM tiles, or cube maps a VPL at a time) and the gather's interleaving subsets
+// over many calls; the image is the same as one unbudgeted call gives, also when the VPL set changes while the maps are
+// half done.
 TEST_P(GlIsm, SlicedUpdateGivesTheWholeImage) {
   auto l = test::loadAssetScene("cornell-box");
-  Settings s = ismSettings(48, 96);
-  s.components = Components::All;
-  s.ssbcSteps = 1;
-  s.interleave = 4;
-  VplSet first = generateVpls(*l, s);
-  Settings reseeded = s;
-  reseeded.vplMaxBounces = 2;
-  VplSet second = generateVpls(*l, reseeded);
-  PreviewRenderer sliced;
-  sliced.render(l->scene(), first, s, l->scene().camera, 0.0);
-  PreviewTimings t = sliced.render(l->scene(), first, s, l->scene().camera, 0.0);
-  EXPECT_FALSE(t.complete);
-  int calls = 2;
-  do t = sliced.render(l->scene(), second, s, l->scene().camera, 0.0);
-  while (!t.complete && ++calls < 1000);
-  ASSERT_TRUE(t.complete);
-  // At least a call per slice of 16 tiles (8 per thread, 2 threads) and per interleaving subset.
-  EXPECT_GE(calls, 96 / 16 + 4 * 4) << "the tiles and the subsets should need several calls each";
-  EXPECT_EQ(sliced.counters().vplShadowMaps, 1) << "the half-built tiles of the first set were never finished";
-  PreviewRenderer whole;
-  whole.render(l->scene(), second, s, l->scene().camera);
-  Image a = sliced.readLinear(), b = whole.readLinear();
-  ASSERT_EQ(a.pixels.size(), b.pixels.size());
-  EXPECT_EQ(test::differingPixels(a, b), 0u);
+  for (VisibilityMethod visibility : {VisibilityMethod::Ism, VisibilityMethod::Cube}) {
+    SCOPED_TRACE(toString(visibility));
+    Settings s = ismSettings(48, 96);
+    s.visibility = visibility;
+    s.components = Components::All;
+    s.ssbcSteps = 1;
+    s.interleave = 4;
+    VplSet first = generateVpls(*l, s);
+    Settings reseeded = s;
+    reseeded.vplMaxBounces = 2;
+    VplSet second = generateVpls(*l, reseeded);
+    PreviewRenderer sliced;
+    sliced.render(l->scene(), first, s, l->scene().camera, 0.0);
+    PreviewTimings t = sliced.render(l->scene(), first, s, l->scene().camera, 0.0);
+    EXPECT_FALSE(t.complete);
+    int calls = 2;
+    do t = sliced.render(l->scene(), second, s, l->scene().camera, 0.0);
+    while (!t.complete && ++calls < 1000);
+    ASSERT_TRUE(t.complete);
+    // At least a call per slice of maps (16 tiles: 8 per thread, 2 threads; or one cube map) and per interleaving
+    // subset.
+    const int mapSlices = visibility == VisibilityMethod::Ism ? 96 / 16 : static_cast<int>(second.vpls.size()) - 1;
+    EXPECT_GE(calls, mapSlices + 4 * 4) << "the maps and the subsets should need several calls each";
+    EXPECT_EQ(sliced.counters().vplShadowMaps, 1) << "the half-built maps of the first set were never finished";
+    PreviewRenderer whole;
+    whole.render(l->scene(), second, s, l->scene().camera);
+    Image a = sliced.readLinear(), b = whole.readLinear();
+    ASSERT_EQ(a.pixels.size(), b.pixels.size());
+    EXPECT_EQ(test::differingPixels(a, b), 0u);
+  }
 }
 
 // The renderer redoes exactly the maps renderer/invalidation names stale: the VPL maps for the technique and its sizes,
@@ -201,9 +209,10 @@ TEST_P(GlIsm, ThinWallLeakIsBounded) {
       leaked += ism.at(x, y).g;
       total += unoccluded.at(x, y).g;
     }
-  std::printf("[ measured ] thin wall, ISM 64^2 tiles, 64 VPLs: floor behind the wall receives %.3f%% of its unoccluded "
-              "VPL light\n",
-              100.0 * leaked / total);
+  std::printf(
+      "[ measured ] thin wall, ISM 64^2 tiles, 64 VPLs: floor behind the wall receives %.3f%% of its unoccluded "
+      "VPL light\n",
+      100.0 * leaked / total);
   ASSERT_GT(total, 0.0);
   EXPECT_LE(leaked / total, 0.02);
 }

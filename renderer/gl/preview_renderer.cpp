@@ -317,10 +317,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // on in the next call.
   if (pending_.vplMaps && !outOfBudget) {
     bool built = false;
-    t.vplShadowMs = timed(timer_, t.vplShadowWallMs, [&] {
-      built = vplVisibility_->update(*glScene_, scene, casters, settings, far,
-                                     [&] { return msSince(frameStart) > budgetMs; });
-    });
+    t.vplShadowMs = timed(timer_, t.vplShadowWallMs,
+                          [&] { built = vplVisibility_->update(*glScene_, scene, casters, settings, far, outOfTime); });
     if (built) {
       ++counters_.vplShadowMaps;
       finished(pending_.vplMaps);

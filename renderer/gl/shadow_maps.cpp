@@ -10,7 +10,8 @@
 
 namespace vplab {
 
-void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& casters, int faceSize, float far) {
+int CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& casters, int faceSize, float far,
+                           int first, const std::function<bool()>& outOfTime) {
   if (!program_.valid())
     program_ = ShaderProgram({"preview/shadow.vert.glsl", "preview/shadow.geom.glsl", "preview/shadow.frag.glsl"});
   GLint maxLayers = 0;
@@ -37,7 +38,7 @@ void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& 
     }
     faceSize_ = faceSize;
   }
-  if (count_ == 0) return;
+  if (count_ == 0) return -1;
 
   std::vector<glm::vec4> positions(casters.size());
   for (std::size_t i = 0; i < casters.size(); ++i) positions[i] = glm::vec4(casters[i], 1.0f);
@@ -61,15 +62,31 @@ void CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& 
   glDepthFunc(GL_LESS);
   glDisable(GL_CULL_FACE);
   glDisable(GL_BLEND);
-  for (int c = 0; c < chunkCount(); ++c) {
+  int next = -1;
+  for (int c = 0; c < chunkCount() && next < 0; ++c) {
+    if (chunkEnd(c) <= first) continue;
     framebuffer_.attachDepth(chunks_[static_cast<std::size_t>(c)]);
     framebuffer_.finalize(0);
     framebuffer_.bind(faceSize, faceSize);
-    framebuffer_.clearDepth(1.0f);
+    // A chunk is cleared once, when its first caster is drawn; a resumed update goes on drawing into it.
+    if (first <= chunkBegin(c)) framebuffer_.clearDepth(1.0f);
     program_.set("uFirstCaster", chunkBegin(c));
-    drawProceduralTriangles(3 * scene.triangleCount(), chunkEnd(c) - chunkBegin(c));
+    if (!outOfTime) {
+      program_.set("uInstanceOffset", 0);
+      drawProceduralTriangles(3 * scene.triangleCount(), chunkEnd(c) - chunkBegin(c));
+      continue;
+    }
+    for (int i = std::max(first, chunkBegin(c)); i < chunkEnd(c); ++i) {
+      program_.set("uInstanceOffset", i - chunkBegin(c));
+      drawProceduralTriangles(3 * scene.triangleCount(), 1);
+      if (i + 1 < count_ && outOfTime()) {
+        next = i + 1;
+        break;
+      }
+    }
   }
   glDisable(GL_DEPTH_TEST);
+  return next;
 }
 
 }  // namespace vplab

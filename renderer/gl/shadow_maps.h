@@ -10,15 +10,16 @@
 // picks the face itself: on llvmpipe a 2D-array PCF fetch is several times cheaper than seamless cube filtering, at
 // the price of clamping the 2x2 filter at face edges. The cost is six faces per caster, so each face is
 // shadowMapSize / 2 texels wide: 6 (S/2)^2 = 1.5 S^2 texels per caster, close to one S x S paraboloid. All casters of
-// one chunk render in a single instanced draw (a geometry shader fans each triangle out to the six faces).
+// one chunk render in a single instanced draw (a geometry shader fans each triangle out to the six faces); under a
+// time budget they render a caster per draw instead, so that an update can be spread over several calls.
 // Depth stores the radial distance / far, so one comparison works on every face.
+
+#include <functional>
+#include <glm/glm.hpp>
+#include <vector>
 
 #include "renderer/gl/resources.h"
 #include "renderer/gl/shader.h"
-
-#include <glm/glm.hpp>
-
-#include <vector>
 
 namespace vplab {
 
@@ -27,8 +28,12 @@ class GlScene;
 class CubeShadowMaps {
  public:
   CubeShadowMaps() = default;
-  /// Renders one cube per caster position; faces are faceSize texels wide. far: largest distance stored.
-  void render(const GlScene& scene, const std::vector<glm::vec3>& casters, int faceSize, float far);
+  /// Renders one cube per caster position from caster `first` on; faces are faceSize texels wide. far: largest
+  /// distance stored. With outOfTime, draws a caster at a time and stops after one once it says so: returns the first
+  /// caster not rendered (the next call's `first`, with the same casters), or -1 when every cube is rendered. The maps
+  /// do not depend on where it stopped.
+  int render(const GlScene& scene, const std::vector<glm::vec3>& casters, int faceSize, float far, int first = 0,
+             const std::function<bool()>& outOfTime = {});
 
   /// Casters are split into chunks of at most casterCapacity() cubes (GL_MAX_ARRAY_TEXTURE_LAYERS / 6).
   int chunkCount() const { return static_cast<int>(chunks_.size()); }

@@ -86,11 +86,22 @@ bool CubeVisibility::stale(const std::vector<IsmCaster>& casters, const Settings
 }
 
 bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vector<IsmCaster>& casters,
-                            const Settings& settings, float far, const std::function<bool()>&) {
-  // One instanced draw per chunk of casters: not sliced (a large scene takes ISM).
-  positions_.resize(casters.size());
-  for (std::size_t i = 0; i < casters.size(); ++i) positions_[i] = casters[i].position;
-  maps_.render(glScene, positions_, std::max(8, settings.shadowMapSize / 2), far);
+                            const Settings& settings, float far, const std::function<bool()>& outOfTime) {
+  std::vector<glm::vec3> positions(casters.size());
+  for (std::size_t i = 0; i < casters.size(); ++i) positions[i] = casters[i].position;
+  // A caster per draw under a budget: on a large scene one cube can take tens of milliseconds.
+  const bool resume = nextCaster_ >= 0 && updatePositions_ == positions && updateMapSize_ == settings.shadowMapSize &&
+                      updateFar_ == far;
+  if (!resume) {
+    updatePositions_ = std::move(positions);
+    updateMapSize_ = settings.shadowMapSize;
+    updateFar_ = far;
+    nextCaster_ = 0;
+    valid_ = false;
+  }
+  nextCaster_ = maps_.render(glScene, updatePositions_, std::max(8, updateMapSize_ / 2), far, nextCaster_, outOfTime);
+  if (nextCaster_ >= 0) return false;
+  positions_ = updatePositions_;
   mapSize_ = settings.shadowMapSize;
   valid_ = true;
   return true;
@@ -150,7 +161,7 @@ bool IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector
     splatIsmTileRange(points_, casters, layout_, far, ismFillLevels(settings.ismTileSize), settings.threads,
                       nextCaster_, end, updateTiles_);
     nextCaster_ = end;
-  } while (nextCaster_ < n && !outOfTime());
+  } while (nextCaster_ < n && !(outOfTime && outOfTime()));
   splatMs += msSince(start);
   if (nextCaster_ < n) return false;
 

@@ -35,7 +35,8 @@ class VplVisibility {
   /// update and after a new scene).
   virtual bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const = 0;
   /// Rebuilds the maps; far: the largest distance stored (the same value the lookup divides by). A technique may
-  /// build them a slice at a time: it stops after a slice once outOfTime() says so and returns false, and the next
+  /// build them a slice at a time: given outOfTime (empty: no budget), it stops after a slice once outOfTime() says
+  /// so and returns false, and the next
   /// call with the same casters and settings goes on where it stopped (other casters start over). Returns true when
   /// every map is built; the maps are the same however the work was sliced.
   virtual bool update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
@@ -71,7 +72,10 @@ class CubeVisibility final : public VplVisibility {
   bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const override;
   bool update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
               const Settings& settings, float far, const std::function<bool()>& outOfTime) override;
-  void resetScene() override { valid_ = false; }
+  void resetScene() override {
+    valid_ = false;
+    nextCaster_ = -1;
+  }
   int chunkCount() const override { return maps_.chunkCount(); }
   int chunkBegin(int chunk) const override { return maps_.chunkBegin(chunk); }
   int chunkEnd(int chunk) const override { return maps_.chunkEnd(chunk); }
@@ -82,6 +86,11 @@ class CubeVisibility final : public VplVisibility {
   std::vector<glm::vec3> positions_;
   int mapSize_ = 0;
   bool valid_ = false;
+  // The update under way (its casters, map size and far distance) and the first caster not yet rendered.
+  std::vector<glm::vec3> updatePositions_;
+  int updateMapSize_ = 0;
+  float updateFar_ = 0.0f;
+  int nextCaster_ = -1;
 };
 
 class IsmVisibility final : public VplVisibility {
