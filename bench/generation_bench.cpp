@@ -7,8 +7,10 @@
 // much less than the wall clock; equal time gives plain light tracing as many VPLs as fit in a variant's CPU time.
 // docs/methods.md and docs/benchmarks.md record its output.
 //   vplab_bench_generation_bench [--size N|WxH] [--vpls N] [--seeds S] [--clamp b] [--epsilon e] [--ref-spp N]
-//                                [--threads T] [--cache DIR] [--csv out.csv] [--mir-chains C] [scene.gltf ...]
-// Defaults: 64x64, 256 VPLs, 8 seeds, b = 100, rejection epsilon 0.05, 4096 reference spp, cornell-box and two-rooms.
+//                                [--threads T] [--cache DIR] [--csv out.csv] [--mir-chains C]
+//                                [--variants a,b,...] [scene.gltf ...]
+// Defaults: 64x64, 256 VPLs, 8 seeds, b = 100, rejection epsilon 0.05, 4096 reference spp, cornell-box and two-rooms,
+// every variant (--variants names some of generationVariants(); plain light tracing, the baseline, always runs).
 
 #include "bench/bench_args.h"
 #include "evaluation/harness.h"
@@ -17,6 +19,7 @@
 #include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <ctime>
@@ -75,7 +78,7 @@ int main(int argc, char** argv) {
   float clamp = 100.0f, epsilon = 0.05f;
   std::string csvPath, cacheDir = "generation-bench-cache";
   int mirChains = Settings{}.mirChains;
-  std::vector<std::string> scenes;
+  std::vector<std::string> scenes, only;
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     if (a == "--size") {
@@ -92,6 +95,19 @@ int main(int argc, char** argv) {
     else if (a == "--cache") cacheDir = benchOptionValue(argc, argv, i);
     else if (a == "--csv") csvPath = benchOptionValue(argc, argv, i);
     else if (a == "--mir-chains") mirChains = std::atoi(benchOptionValue(argc, argv, i).c_str());
+    else if (a == "--variants") {
+      const std::string list = benchOptionValue(argc, argv, i);
+      for (std::size_t begin = 0; begin <= list.size();) {
+        std::size_t end = std::min(list.find(',', begin), list.size());
+        const std::string name = list.substr(begin, end - begin);
+        if (!findGenerationVariant(name)) {
+          std::fprintf(stderr, "%s: --variants: no generation variant named '%s'\n", argv[0], name.c_str());
+          return 2;
+        }
+        only.push_back(name);
+        begin = end + 1;
+      }
+    }
     else if (a.rfind("--", 0) == 0) {
       std::fprintf(stderr, "%s: unknown option %s\n", argv[0], a.c_str());
       return 2;
@@ -131,6 +147,8 @@ int main(int argc, char** argv) {
                 "x relMSE", "x 4x4");
     Summary plain;
     for (const GenerationVariant& v : generationVariants()) {
+      const bool isPlain = v.generation == VplGeneration::Light && !v.rejection;
+      if (!isPlain && !only.empty() && std::find(only.begin(), only.end(), v.name) == only.end()) continue;
       Settings s = base;
       applyGenerationVariant(v, s);
       s.vplCount = vpls;
