@@ -4,23 +4,38 @@
 // over u have the target
 //   f(u) = I(u) / I_mean + epsilon F(u) / F_mean,   I = sum of the path's VPL importances, F = sum of their fluxes
 // so paths are visited in proportion to what they bring to the camera (the epsilon term keeps every path that
-// carries light reachable: unbiased for epsilon > 0). b = E[f] over uniform u, I_mean and F_mean come from
-// independent bootstrap paths; each chain starts from a bootstrap path drawn in proportion to f (no start-up
-// bias). Every mutation records the proposal with weight a = min(1, f(u') / f(u)) and the current state with 1 - a
-// (Veach's expected-value recording), so a VPL of a path with total recorded weight W carries
-//   flux = alpha W b / (T f(u))          T = recorded mutations over all chains,
-// an unbiased estimate of the light-traced sum given the chain's distribution.
+// carries light reachable). b = E[f] over uniform u, I_mean and F_mean come from independent stratified bootstrap
+// paths. Each chain starts from a bootstrap path drawn in proportion to f and records it (sampling-importance
+// resampling of the bootstrap: b / f times the path's flux has the light-traced sum's expectation); every mutation
+// then records the proposal with weight a = min(1, f(u') / f(u)) and the current state with 1 - a (Veach's
+// expected-value recording). A VPL of a path with total recorded weight W carries
+//   flux = alpha W b / (T f(u))          T = recorded states: one start per chain plus the mutations,
+// and each recorded term has the light-traced sum's expectation, since the chains' moves keep the target
+// distribution (the b of the start's draw cancels the b of the flux). The chain plan and the target's normalisation
+// come from the same bootstrap, which makes the sum consistent rather than exactly unbiased (a bias of the order of
+// 1/mirBootstrapPaths); where the chains record only their bootstrap starts (no burn-in, no mutations) it is exactly
+// unbiased.
 //
-// Temporal coherence with a fixed seed: each chain step draws its numbers (step kind, perturbation, acceptance) from
-// a stream keyed by (seed, chain, step), and the bootstrap paths are Halton points. A small light move changes f a
-// little, so a chain takes the same steps to slightly moved paths until an acceptance decision flips; from there on
-// only that chain differs. More, shorter chains keep a flip's effect small.
+// Chains: as many as the VPL budget holds start paths, up to mirChains. A start path is independent of the other
+// chains' and already distributed as the target, where a mutation's proposal is a perturbed copy of its chain's
+// state, which at a small budget spends VPLs on near-duplicates of recorded paths; mutations take the budget beyond
+// the starts. A few mutations before the start is recorded (mirBurnIn) move each chain off its bootstrap path, so
+// that chains that drew the same one part (docs/methods.md measures all three).
+//
+// Temporal coherence with a fixed seed: each chain picks its start by an exponential race over the bootstrap paths
+// (path j wins with the smallest E_cj / f(u_j), E_cj ~ Exp(1) from a stream keyed by (seed, chain, j), which picks j
+// with probability f_j / sum f); a small light move changes the f_j a little and the winner only where two nearly
+// tie, and another chain count only adds or drops chains. Each chain step draws its numbers (step kind,
+// perturbation, acceptance) from a stream keyed by (seed, chain, step), and the bootstrap paths are Halton points. A
+// small light move changes f a little, so a chain takes the same steps to slightly moved paths until an acceptance
+// decision flips; from there on only that chain differs.
 
 #include "renderer/vpl/generation_detail.h"
 #include "renderer/vpl/vpl_importance.h"
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 
 namespace vplab {
 
@@ -29,6 +44,7 @@ namespace {
 constexpr uint64_t kTagMirBootstrap = 0x4d495242ull;
 constexpr uint64_t kTagMirChain = 0x4d495243ull;
 constexpr uint64_t kTagMirStep = 0x4d495253ull;
+constexpr uint64_t kTagMirStart = 0x4d495250ull;
 
 /// Kelemen's small-step perturbation: |du| from 1/1024 to 1/64, exponentially distributed in between.
 constexpr float kSmallStepMin = 1.0f / 1024.0f;
@@ -132,28 +148,25 @@ VplSet generateMetropolis(const GenerationContext& ctx) {
   if (!(meanCount > 0.0)) return set;  // no light path reaches a surface: there is no indirect light
   if (!(meanImp > 0.0)) return fallBackToLightTracing(ctx, "metropolis: no light path lights an importance point");
   const Target target{importance, meanImp, meanFlux, s.mirEpsilon};
-  std::vector<double> cdf(boot.size());
   double b = 0.0, countUnderF = 0.0;
   for (std::size_t j = 0; j < boot.size(); ++j) {
     boot[j].f = bootImp[j] / meanImp + (meanFlux > 0.0 ? s.mirEpsilon * bootFlux[j] / meanFlux : 0.0);
     b += boot[j].f;
     countUnderF += boot[j].f * static_cast<double>(boot[j].vpls.size());
-    cdf[j] = b;
   }
   countUnderF /= b;
   b /= static_cast<double>(nB);
 
-  // Plan the chain length: a proposal is a large step (a path as light tracing draws it) or a small one (a path
-  // like the target's), each recorded with its VPLs, so about vplCount VPLs take this many recorded mutations.
-  const double perProposal =
-      s.mirLargeStepProbability * meanCount + (1.0 - s.mirLargeStepProbability) * countUnderF;
-  // Each chain's start state is one more path with VPLs (countUnderF of them on average). Chains are capped so that
-  // their start states take at most half of the VPL budget; the mutations take the rest.
-  const int chains = static_cast<int>(std::clamp<int64_t>(
-      static_cast<int64_t>(std::floor(0.5 * s.vplCount / std::max(countUnderF, 1.0))), 1, s.mirChains));
-  const int64_t totalSteps = std::max<int64_t>(
-      chains, std::llround((s.vplCount - chains * countUnderF) / std::max(perProposal, 1e-9)));
+  // Plan: each chain's start path holds countUnderF VPLs on average, so the budget holds about vplCount /
+  // countUnderF chains (at most mirChains). The rest of the budget goes to mutations: a proposal is a large step (a
+  // path as light tracing draws it) or a small one (a path like the target's), recorded with its VPLs.
+  const int chains = static_cast<int>(
+      std::clamp<int64_t>(static_cast<int64_t>(std::floor(s.vplCount / std::max(countUnderF, 1.0))), 1, s.mirChains));
+  const double perProposal = s.mirLargeStepProbability * meanCount + (1.0 - s.mirLargeStepProbability) * countUnderF;
+  const int64_t totalSteps =
+      std::max<int64_t>(0, std::llround((s.vplCount - chains * countUnderF) / std::max(perProposal, 1e-9)));
   auto stepsOf = [&](int64_t c) { return totalSteps / chains + (c < totalSteps % chains ? 1 : 0); };
+  const double recorded = static_cast<double>(chains + totalSteps);
 
   struct ChainResult {
     std::vector<PathState> states;
@@ -164,14 +177,23 @@ VplSet generateMetropolis(const GenerationContext& ctx) {
       chains, s.threads,
       [&](int64_t c, int) {
         ChainResult& out = results[static_cast<std::size_t>(c)];
-        Rng start(hashKey(hashKey(s.seed, kTagMirChain), static_cast<uint64_t>(c)));
-        // Start from a bootstrap path drawn in proportion to f (CDF inversion keeps neighbouring u together).
-        double pick = start.next1D() * cdf.back();
-        std::size_t j = std::min(boot.size() - 1, static_cast<std::size_t>(
-                                                      std::upper_bound(cdf.begin(), cdf.end(), pick) - cdf.begin()));
+        // The start: an exponential race over the bootstrap paths (see the header), O(mirBootstrapPaths) per chain.
+        const uint64_t raceKey = hashKey(hashKey(s.seed, kTagMirStart), static_cast<uint64_t>(c));
+        std::size_t j = 0;
+        double best = std::numeric_limits<double>::infinity();
+        for (std::size_t k = 0; k < boot.size(); ++k) {
+          if (!(boot[k].f > 0.0)) continue;
+          // A uniform number in (0, 1] from 53 bits of the key's hash.
+          const double u = (static_cast<double>(hashKey(raceKey, k) >> 11) + 1.0) * 0x1p-53;
+          const double e = -std::log(u) / boot[k].f;
+          if (e < best) {
+            best = e;
+            j = k;
+          }
+        }
         std::vector<PathState>& states = out.states;
         states.push_back(boot[j]);
-        states.back().weight = 0.0;
+        states.back().weight = s.mirBurnIn == 0 ? 1.0 : 0.0;
         std::size_t current = 0;
         for (int64_t step = 0; step < s.mirBurnIn + stepsOf(c); ++step) {
           const bool record = step >= s.mirBurnIn;
@@ -198,6 +220,8 @@ VplSet generateMetropolis(const GenerationContext& ctx) {
             states.erase(states.begin(), states.end() - 1);
             current = 0;
           }
+          // After a burn-in the state it reached is the chain's recorded start.
+          if (step + 1 == s.mirBurnIn) states[current].weight += 1.0;
         }
       },
       ctx.control);
@@ -207,7 +231,7 @@ VplSet generateMetropolis(const GenerationContext& ctx) {
     accepted += r.accepted;
     for (const PathState& p : r.states) {
       if (!(p.weight > 0.0)) continue;
-      const float scale = static_cast<float>(p.weight * b / (static_cast<double>(totalSteps) * p.f));
+      const float scale = static_cast<float>(p.weight * b / (recorded * p.f));
       for (Vpl v : p.vpls) {
         v.flux *= scale;
         set.vpls.push_back(v);
@@ -217,7 +241,7 @@ VplSet generateMetropolis(const GenerationContext& ctx) {
   set.stats.candidates = set.vpls.size();
   set.stats.pathsTraced = static_cast<uint64_t>(nB);
   set.stats.chainSteps = static_cast<uint64_t>(totalSteps);
-  set.stats.mutationAcceptance = static_cast<double>(accepted) / static_cast<double>(totalSteps);
+  set.stats.mutationAcceptance = totalSteps > 0 ? static_cast<double>(accepted) / static_cast<double>(totalSteps) : 0.0;
   return set;
 }
 
