@@ -93,7 +93,7 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     changed |= settingSliderFloat(s, "birLightShare", 0.01f, 1.0f, "%.2f");
     changed |= settingSliderFloat(s, "birEpsilon", 0.0f, 1.0f, "%.2f");
   } else if (s.generation == VplGeneration::Metropolis) {
-    changed |= settingSliderInt(s, "mirChains", 1, 256, ImGuiSliderFlags_Logarithmic);
+    changed |= settingSliderInt(s, "mirChains", 1, 4096, ImGuiSliderFlags_Logarithmic);
     changed |= settingSliderFloat(s, "mirLargeStepProbability", 0.01f, 1.0f, "%.2f");
     changed |= settingSliderInt(s, "mirBurnIn", 0, 64);
     changed |= settingSliderInt(s, "mirBootstrapPaths", 16, 16384, ImGuiSliderFlags_Logarithmic);
