@@ -102,7 +102,7 @@ bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vec
   nextCaster_ = maps_.render(glScene, updatePositions_, std::max(8, updateMapSize_ / 2), far, nextCaster_, outOfTime);
   if (nextCaster_ >= 0) return false;
   positions_ = updatePositions_;
-  mapSize_ = settings.shadowMapSize;
+  mapSize_ = updateMapSize_;
   valid_ = true;
   return true;
 }
