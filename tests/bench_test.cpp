@@ -16,6 +16,7 @@
 #include "evaluation/sweep.h"
 #include "renderer/vpl/generation_methods.h"
 #include "tests/xml_check.h"
+#include "tests/test_tmp.h"
 
 namespace vplab {
 namespace {
@@ -23,7 +24,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string tmpDir(const std::string& name) {
-  std::string dir = std::string(VPLAB_TEST_TMP) + "/" + name;
+  std::string dir = vplab::test::tmpDir() + "/" + name;
   fs::remove_all(dir);
   fs::create_directories(dir);
   return dir;

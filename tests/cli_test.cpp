@@ -22,6 +22,7 @@
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/settings.h"
 #include "renderer/settings_json.h"
+#include "tests/test_tmp.h"
 
 namespace vplab {
 namespace {
@@ -29,7 +30,7 @@ namespace {
 namespace fs = std::filesystem;
 
 std::string tmp(const std::string& name) {
-  return std::string(VPLAB_TEST_TMP) + "/cli_test_" + name;
+  return vplab::test::tmpDir() + "/cli_test_" + name;
 }
 const std::string kScene = std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf";
 
@@ -198,7 +199,7 @@ TEST(CliRender, AFullDiskIsAnErrorNotAWroteAndTheOldFileSurvives) {
   EXPECT_NE(r.status, 0) << r.out;
   EXPECT_FALSE(contains(r.out, "wrote")) << r.out;
   EXPECT_EQ(readFile(out), before);
-  EXPECT_EQ(temporariesIn(std::string(VPLAB_TEST_TMP)), 0u);
+  EXPECT_EQ(temporariesIn(vplab::test::tmpDir()), 0u);
 }
 
 TEST(CliRender, AnUnwritableFolderFailsBeforeAnyWork) {

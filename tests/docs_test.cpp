@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 #include <vector>
+#include "tests/test_tmp.h"
 
 namespace vplab {
 namespace {
@@ -77,7 +78,7 @@ std::vector<DocCommand> allExamples() {
 }
 
 TEST(DocsExtractor, ReadsCommandsCommentsAndExpectations) {
-  fs::path md = fs::path(VPLAB_TEST_TMP) / "docs_extractor.md";
+  fs::path md = fs::path(vplab::test::tmpDir()) / "docs_extractor.md";
   std::ofstream(md) << "text\n```sh\nvplab not-an-example\n```\n```sh example\n# a comment line\nvplab info x.gltf\n"
                        "\nvplab compare a b --max-relmse 0  # exits 1, prints FAIL: relmse\n```\n```sh example\n"
                        "vplab info y.gltf  # prints PASS\n```\n";
@@ -96,7 +97,7 @@ TEST(DocsExamplesGl, RunAsWritten) {
   std::vector<DocCommand> commands = allExamples();
   ASSERT_GE(commands.size(), 5u) << "the guide's examples must be found";
   const fs::path root = fs::path(VPLAB_TEST_ASSETS).parent_path();
-  const fs::path work = fs::path(VPLAB_TEST_TMP) / "docs_examples";
+  const fs::path work = fs::path(vplab::test::tmpDir()) / "docs_examples";
   fs::remove_all(work);
   fs::create_directories(work);
   fs::create_directory_symlink(root / "assets", work / "assets");

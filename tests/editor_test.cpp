@@ -24,6 +24,7 @@
 #include "ui/panels.h"
 #include "ui/presets.h"
 #include "ui/script.h"
+#include "tests/test_tmp.h"
 #endif
 
 #include <gtest/gtest.h>
@@ -374,7 +375,7 @@ TEST(EditorOffline, ExactRendersTakeTheirOwnSampleCountAndEstimateTheTimeLeft) {
 
 // --- the window, under Xvfb -----------------------------------------------------------------------------------------
 
-std::string tmp(const std::string& name) { return std::string(VPLAB_TEST_TMP) + "/editor_" + name; }
+std::string tmp(const std::string& name) { return vplab::test::tmpDir() + "/editor_" + name; }
 
 struct RunResult {
   int status = -1;

@@ -5,6 +5,7 @@
 #include "renderer/gl/context.h"
 #include "renderer/gl/resources.h"
 #include "renderer/gl/shader.h"
+#include "tests/test_tmp.h"
 
 #include <gtest/gtest.h>
 
@@ -81,7 +82,7 @@ INSTANTIATE_TEST_SUITE_P(Gl, GlContextTest, ::testing::Values(GlBackend::OsMesa,
 
 TEST(GlShader, ErrorInIncludedFileNamesThatFile) {
   HeadlessGlContext context(GlBackend::Auto, [](GlMessageSeverity, const std::string&) {});
-  std::filesystem::path dir = std::filesystem::path(VPLAB_TEST_TMP) / "gl_shader_include";
+  std::filesystem::path dir = std::filesystem::path(vplab::test::tmpDir()) / "gl_shader_include";
   std::filesystem::create_directories(dir / "common");
   std::ofstream(dir / "common" / "bad.glsl") << "// line 1\nfloat f() { return missing; }\n";
   std::ofstream(dir / "p.frag.glsl") << "#version 450 core\n#include \"common/bad.glsl\"\nout vec4 c;\n"
@@ -97,7 +98,7 @@ TEST(GlShader, ErrorInIncludedFileNamesThatFile) {
 
 TEST(GlShader, MissingIncludeThrowsWithIncluder) {
   HeadlessGlContext context(GlBackend::Auto);
-  std::filesystem::path dir = std::filesystem::path(VPLAB_TEST_TMP) / "gl_shader_missing";
+  std::filesystem::path dir = std::filesystem::path(vplab::test::tmpDir()) / "gl_shader_missing";
   std::filesystem::create_directories(dir);
   std::ofstream(dir / "m.frag.glsl") << "#version 450 core\n\n#include \"common/none.glsl\"\nvoid main() {}\n";
   try {
@@ -110,7 +111,7 @@ TEST(GlShader, MissingIncludeThrowsWithIncluder) {
 
 TEST(GlShader, ReloadKeepsLastWorkingProgram) {
   HeadlessGlContext context(GlBackend::Auto, [](GlMessageSeverity, const std::string&) {});
-  std::filesystem::path dir = std::filesystem::path(VPLAB_TEST_TMP) / "gl_shader_reload";
+  std::filesystem::path dir = std::filesystem::path(vplab::test::tmpDir()) / "gl_shader_reload";
   std::filesystem::create_directories(dir);
   auto write = [&](const char* body) { std::ofstream(dir / "r.frag.glsl") << body; };
   write("#version 450 core\nout vec4 c;\nvoid main() { c = vec4(1.0); }\n");

@@ -16,13 +16,14 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/image/tonemap.h"
+#include "tests/test_tmp.h"
 
 namespace vplab {
 
 namespace {
 
 std::string tmpPath(const std::string& name) {
-  return std::string(VPLAB_TEST_TMP) + "/image_test_" + name;
+  return vplab::test::tmpDir() + "/image_test_" + name;
 }
 
 // Values that exercise sign, magnitude and position: a swapped row or channel shows up as a mismatch.

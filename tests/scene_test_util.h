@@ -1,5 +1,5 @@
 #pragma once
-// Builds small glTF files at test time (well-formed or deliberately broken) under VPLAB_TEST_TMP.
+// Builds small glTF files at test time (well-formed or deliberately broken) under the test's own directory (tests/test_tmp.h).
 
 #include <glm/glm.hpp>
 #include <nlohmann/json.hpp>
@@ -9,11 +9,12 @@
 #include <fstream>
 #include <string>
 #include <vector>
+#include "tests/test_tmp.h"
 
 namespace vplab::test {
 
 inline std::string tmpPath(const std::string& name) {
-  return std::string(VPLAB_TEST_TMP) + "/" + name;
+  return vplab::test::tmpDir() + "/" + name;
 }
 
 inline std::string base64(const std::vector<unsigned char>& data) {

@@ -11,6 +11,7 @@
 
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/generation_methods.h"
+#include "tests/test_tmp.h"
 
 namespace vplab {
 namespace {
@@ -23,7 +24,7 @@ Scene cornellBox() {
 
 StabilityConfig tinyConfig(const std::string& name) {
   StabilityConfig c;
-  c.outDir = std::string(VPLAB_TEST_TMP) + "/" + name;
+  c.outDir = vplab::test::tmpDir() + "/" + name;
   fs::remove_all(c.outDir);
   c.width = c.height = 64;
   c.frames = 3;

@@ -10,6 +10,7 @@
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vpl_json.h"
 #include "tests/test_scenes.h"
+#include "tests/test_tmp.h"
 
 #include <gtest/gtest.h>
 
@@ -165,7 +166,7 @@ TEST(VplGeneration, JsonRoundTripIsExact) {
   s.importancePoints = 16;
   s.rejectionPilotVpls = 16;
   VplSet set = generate(*l, s);
-  std::string path = std::string(VPLAB_TEST_TMP) + "/vpl_roundtrip.json";
+  std::string path = vplab::test::tmpDir() + "/vpl_roundtrip.json";
   saveVplSet(path, set);
   VplSet back = loadVplSet(path);
   ASSERT_EQ(back.vpls.size(), set.vpls.size());
@@ -174,7 +175,7 @@ TEST(VplGeneration, JsonRoundTripIsExact) {
   EXPECT_EQ(back.stats.pathsTraced, set.stats.pathsTraced);
   EXPECT_EQ(back.stats.candidates, set.stats.candidates);
   EXPECT_THROW(vplSetFromJson("{\"vpls\": [{\"position\": [1, 2]}]}"), VplJsonError);
-  EXPECT_THROW(loadVplSet(std::string(VPLAB_TEST_TMP) + "/does-not-exist.json"), VplJsonError);
+  EXPECT_THROW(loadVplSet(vplab::test::tmpDir() + "/does-not-exist.json"), VplJsonError);
 }
 
 // --- unbiasedness -----------------------------------------------------------------------------------------
