@@ -2,7 +2,6 @@
 
 #include <glad/gl.h>
 
-#include <chrono>
 #include <sstream>
 
 #include "renderer/core/parallel.h"
@@ -12,10 +11,6 @@
 namespace vplab {
 
 namespace {
-
-double msSince(std::chrono::steady_clock::time_point start) {
-  return std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
-}
 
 int glInteger(GLenum name) {
   GLint value = 0;
@@ -133,19 +128,15 @@ bool IsmVisibility::stale(const std::vector<IsmCaster>& casters, const Settings&
 bool IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector<IsmCaster>& casters,
                            const Settings& settings, float far, const std::function<bool()>& outOfTime) {
   const int n = static_cast<int>(casters.size());
-  auto start = std::chrono::steady_clock::now();
   const bool resume = nextCaster_ >= 0 && updateCasters_ == casters && updateTileSize_ == settings.ismTileSize &&
                       updateFar_ == far && pointBudget_ == settings.ismPointBudget && scene_ == &scene;
   if (!resume) {
-    sampleMs = splatMs = uploadMs = 0.0;
     // The point set depends on the geometry and the budget only: the same points every frame, for any VPL count.
     if (scene_ != &scene || pointBudget_ != settings.ismPointBudget || points_.size() == 0) {
       points_ = sampleIsmPoints(scene, settings.ismPointBudget);
       scene_ = &scene;
       pointBudget_ = settings.ismPointBudget;
     }
-    sampleMs = msSince(start);
-    start = std::chrono::steady_clock::now();
     layout_ = ismLayout(n, settings.ismTileSize, glInteger(GL_MAX_TEXTURE_SIZE));
     updateTiles_.assign(static_cast<std::size_t>(layout_.atlasSize()) * layout_.atlasSize() * layout_.layers, 65535);
     updateCasters_ = casters;
@@ -162,16 +153,13 @@ bool IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector
                       nextCaster_, end, updateTiles_);
     nextCaster_ = end;
   } while (nextCaster_ < n && !(outOfTime && outOfTime()));
-  splatMs += msSince(start);
   if (nextCaster_ < n) return false;
 
-  start = std::chrono::steady_clock::now();
   if (!atlas_ || atlas_.width() != layout_.atlasSize() || atlas_.layers() != layout_.layers) {
     atlas_ = GlTexture(layout_.atlasSize(), layout_.atlasSize(), TextureFormat::Depth16, 1, layout_.layers, true);
     atlas_.setDepthCompare(true);
   }
   atlas_.uploadDepth16(updateTiles_);
-  uploadMs = msSince(start);
 
   casters_ = casters;
   tileSize_ = settings.ismTileSize;

@@ -105,10 +105,6 @@ class IsmVisibility final : public VplVisibility {
   int chunkEnd(int) const override { return count_; }
   void bindChunk(int chunk, ShaderProgram& program) const override;
 
-  /// CPU time of the last update's parts, milliseconds (the point set is sampled once per scene and budget, whatever
-  /// the VPL count).
-  double sampleMs = 0, splatMs = 0, uploadMs = 0;
-
  private:
   const Scene* scene_ = nullptr;
   IsmPoints points_;

@@ -24,9 +24,14 @@ float vplVisibility(int caster, vec3 casterPos, vec3 casterNormal, vec3 x, float
   // Behind the caster's plane it sends no light; the gather's cosines already give 0 there.
   vec2 uv = local.xy / max(r + local.z, 1e-20);
   vec2 texel = clamp((uv + 1.0) * (0.5 * tileSize), vec2(0.5), vec2(tileSize - 0.5));
-  int inLayer = caster % uIsmTilesPerLayer;
-  vec2 origin = vec2(float(inLayer % uIsmTilesPerRow), float(inLayer / uIsmTilesPerRow)) * tileSize;
-  float atlasSize = tileSize * float(uIsmTilesPerRow);
-    float reference = (r - uShadowBias - texelAngle * r) / uShadowFar;
-  return texture(uVisibilityMaps, vec4((origin + texel) / atlasSize, float(caster / uIsmTilesPerLayer), reference));
+  // The tile's layer, row and column in float arithmetic (exact below 2^24 tiles): llvmpipe has no vector integer
+  // division and would divide lane by lane for every fragment and VPL.
+  float perLayer = float(uIsmTilesPerLayer), perRow = float(uIsmTilesPerRow);
+  float layer = floor((float(caster) + 0.5) / perLayer);
+  float inLayer = float(caster) - layer * perLayer;
+  float row = floor((inLayer + 0.5) / perRow);
+  vec2 origin = vec2(inLayer - row * perRow, row) * tileSize;
+  float atlasSize = tileSize * perRow;
+  float reference = (r - uShadowBias - texelAngle * r) / uShadowFar;
+  return texture(uVisibilityMaps, vec4((origin + texel) / atlasSize, layer, reference));
 }
