@@ -29,9 +29,6 @@ namespace {
 
 namespace fs = std::filesystem;
 
-std::string tmp(const std::string& name) {
-  return vplab::test::tmpDir() + "/cli_test_" + name;
-}
 const std::string kScene = std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf";
 
 struct CliRun {
@@ -73,7 +70,7 @@ std::size_t temporariesIn(const std::string& folder) {
 // --- compare for CI --------------------------------------------------------------------------------------------
 
 TEST(CliCompare, ThresholdsPassOrFailWithOneLineNamingWhatFailed) {
-  std::string image = tmp("cmp_image.exr"), ref = tmp("cmp_ref.exr");
+  std::string image = test::tmpPath("cmp_image.exr"), ref = test::tmpPath("cmp_ref.exr");
   writeImage(ref, Image(8, 8, glm::vec3(0.5f)));
   writeImage(image, Image(8, 8, glm::vec3(0.55f)));  // energy ratio 1.1, relmse 0.0025 / 0.26
 
@@ -98,7 +95,7 @@ TEST(CliCompare, ThresholdsPassOrFailWithOneLineNamingWhatFailed) {
 }
 
 TEST(CliCompare, NonFinitePixelsFailTheBadPixelThreshold) {
-  std::string image = tmp("cmp_nan.exr"), ref = tmp("cmp_nan_ref.exr");
+  std::string image = test::tmpPath("cmp_nan.exr"), ref = test::tmpPath("cmp_nan_ref.exr");
   Image bad(4, 4, glm::vec3(0.5f));
   bad.at(1, 2) = glm::vec3(std::nanf(""));
   writeImage(image, bad);
@@ -109,7 +106,7 @@ TEST(CliCompare, NonFinitePixelsFailTheBadPixelThreshold) {
 }
 
 TEST(CliCompare, RefusesTonemappedAgainstLinearUnlessAsked) {
-  std::string png = tmp("cmp_tm.png"), ref = tmp("cmp_tm_ref.exr");
+  std::string png = test::tmpPath("cmp_tm.png"), ref = test::tmpPath("cmp_tm_ref.exr");
   writeImage(png, Image(8, 8, glm::vec3(0.5f)));
   writeImage(ref, Image(8, 8, glm::vec3(0.5f)));
   CliRun refused = vplab("compare " + png + " " + ref);
@@ -119,7 +116,7 @@ TEST(CliCompare, RefusesTonemappedAgainstLinearUnlessAsked) {
 }
 
 TEST(CliCompare, WarnsWhenTheRecordedComponentsDiffer) {
-  std::string image = tmp("cmp_all.exr"), ref = tmp("cmp_indirect.pfm");
+  std::string image = test::tmpPath("cmp_all.exr"), ref = test::tmpPath("cmp_indirect.pfm");
   writeImage(image, Image(8, 8, glm::vec3(0.5f)), 0.0f, {{"components", "all"}});
   writeImage(ref, Image(8, 8, glm::vec3(0.5f)), 0.0f, {{"components", "indirect"}});
   CliRun r = vplab("compare " + image + " " + ref);
@@ -132,20 +129,20 @@ TEST(CliCompare, WarnsWhenTheRecordedComponentsDiffer) {
 TEST(ImageInfo, RoundTripsThroughExrAttributesAndThePfmSidecar) {
   ImageInfo info = {{"components", "indirect"}, {"method", "vpl"}, {"spp", "4"}, {"settings", "{\"a\": 1}"}};
   for (const char* name : {"info.exr", "info.pfm"}) {
-    std::string path = tmp(name);
+    std::string path = test::tmpPath(name);
     writeImage(path, Image(5, 3, glm::vec3(1.0f)), 0.0f, info);
     EXPECT_EQ(readImageInfo(path), info) << name;
     EXPECT_EQ(readImage(path).width, 5);
   }
-  EXPECT_TRUE(fs::exists(pfmSidecarPath(tmp("info.pfm"))));
+  EXPECT_TRUE(fs::exists(pfmSidecarPath(test::tmpPath("info.pfm"))));
   // A PFM written again without information loses the old sidecar: it must not describe the new image.
-  writeImage(tmp("info.pfm"), Image(5, 3));
-  EXPECT_TRUE(readImageInfo(tmp("info.pfm")).empty());
-  EXPECT_TRUE(readImageInfo(tmp("info.png")).empty());
+  writeImage(test::tmpPath("info.pfm"), Image(5, 3));
+  EXPECT_TRUE(readImageInfo(test::tmpPath("info.pfm")).empty());
+  EXPECT_TRUE(readImageInfo(test::tmpPath("info.png")).empty());
 }
 
 TEST(CliRender, LinearOutputsRecordWhatTheyHold) {
-  std::string out = tmp("render_info.exr");
+  std::string out = test::tmpPath("render_info.exr");
   CliRun r = vplab("reference " + kScene + " --size 8x8 --samples-per-pixel 2 --components indirect -o " + out);
   ASSERT_EQ(r.status, 0) << r.out;
   ImageInfo info = readImageInfo(out);
@@ -164,7 +161,7 @@ TEST(CliRender, LinearOutputsRecordWhatTheyHold) {
 
 TEST(AtomicWrite, AFullDiskLeavesTheOldFileAndNoTemporary) {
   // RLIMIT_FSIZE makes write() fail with EFBIG past the limit, as a full disk makes it fail with ENOSPC.
-  std::string folder = tmp("full");
+  std::string folder = test::tmpPath("full");
   fs::create_directories(folder);
   std::string path = folder + "/image.pfm";
   writeImage(path, Image(4, 4, glm::vec3(0.25f)));
@@ -191,7 +188,7 @@ TEST(AtomicWrite, AFullDiskLeavesTheOldFileAndNoTemporary) {
 }
 
 TEST(CliRender, AFullDiskIsAnErrorNotAWroteAndTheOldFileSurvives) {
-  std::string out = tmp("full_render.png");
+  std::string out = test::tmpPath("full_render.png");
   writeImage(out, Image(2, 2, glm::vec3(0.5f)));
   std::string before = readFile(out);
   // ulimit -f counts 1024-byte blocks in dash and bash: a 64x64 noisy PNG does not fit in 1 KiB.
@@ -208,21 +205,21 @@ TEST(CliRender, AnUnwritableFolderFailsBeforeAnyWork) {
   EXPECT_EQ(r.status, 2) << r.out;
   EXPECT_TRUE(contains(r.out, "option --out")) << r.out;
   EXPECT_FALSE(contains(r.out, "%")) << "no progress: the check comes before the render\n" << r.out;
-  CliRun missing = vplab("render " + kScene + " --size 8x8 -o " + tmp("no-such-folder/x.exr"));
+  CliRun missing = vplab("render " + kScene + " --size 8x8 -o " + test::tmpPath("no-such-folder/x.exr"));
   EXPECT_EQ(missing.status, 2);
   EXPECT_TRUE(contains(missing.out, "does not exist")) << missing.out;
 }
 
 TEST(CliRender, NoCommandWritesOverItsOwnInputs) {
-  std::string scene = tmp("input_scene.gltf");
+  std::string scene = test::tmpPath("input_scene.gltf");
   fs::copy_file(kScene, scene, fs::copy_options::overwrite_existing);
   std::string sceneBefore = readFile(scene);
-  CliRun r = vplab("render " + scene + " --size 8x8 -o " + tmp("x.exr") + " --save-vpls " + scene);
+  CliRun r = vplab("render " + scene + " --size 8x8 -o " + test::tmpPath("x.exr") + " --save-vpls " + scene);
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.out, "is an input")) << r.out;
   EXPECT_EQ(readFile(scene), sceneBefore);
 
-  std::string a = tmp("in_a.png"), b = tmp("in_b.png");
+  std::string a = test::tmpPath("in_a.png"), b = test::tmpPath("in_b.png");
   writeImage(a, Image(4, 4, glm::vec3(0.2f)));
   writeImage(b, Image(4, 4, glm::vec3(0.4f)));
   std::string refBefore = readFile(b);
@@ -230,7 +227,8 @@ TEST(CliRender, NoCommandWritesOverItsOwnInputs) {
   EXPECT_EQ(heat.status, 2);
   EXPECT_EQ(readFile(b), refBefore);
 
-  CliRun same = vplab("render " + kScene + " --size 8x8 -o " + tmp("twice.png") + " --png " + tmp("twice.png"));
+  CliRun same = vplab("render " + kScene + " --size 8x8 -o " + test::tmpPath("twice.png") + " --png " +
+                      test::tmpPath("twice.png"));
   EXPECT_EQ(same.status, 2);
   EXPECT_TRUE(contains(same.out, "also the file of --out")) << same.out;
 }
@@ -278,23 +276,25 @@ TEST(SettingsTable, ValidationNamesTheSpellingTheUserTyped) {
 }
 
 TEST(CliFlags, ErrorsNameTheFlagTyped) {
-  CliRun r = vplab("render " + kScene + " --size 8x8 -o " + tmp("f.exr") + " --vpl-count -3");
+  CliRun r = vplab("render " + kScene + " --size 8x8 -o " + test::tmpPath("f.exr") + " --vpl-count -3");
   EXPECT_EQ(r.status, 2);
   EXPECT_TRUE(contains(r.out, "--vpl-count = -3 is outside")) << r.out;
-  CliRun rule = vplab("render " + kScene + " --size 8x8 -o " + tmp("f.exr") + " --generation metropolis --rejection");
+  CliRun rule =
+      vplab("render " + kScene + " --size 8x8 -o " + test::tmpPath("f.exr") + " --generation metropolis --rejection");
   EXPECT_EQ(rule.status, 2);
   EXPECT_TRUE(contains(rule.out, "--rejection = true needs --generation = light")) << rule.out;
-  CliRun choice = vplab("preview " + kScene + " --size 8x8 -o " + tmp("f.png") + " --visibility rays");
+  CliRun choice = vplab("preview " + kScene + " --size 8x8 -o " + test::tmpPath("f.png") + " --visibility rays");
   EXPECT_EQ(choice.status, 2);
   EXPECT_TRUE(contains(choice.out, "option --visibility: 'rays': expected one of cube, ism")) << choice.out;
-  CliRun old = vplab("render " + kScene + " -o " + tmp("f.exr") + " --clamp 3");
+  CliRun old = vplab("render " + kScene + " -o " + test::tmpPath("f.exr") + " --clamp 3");
   EXPECT_EQ(old.status, 2);
   EXPECT_TRUE(contains(old.out, "did you mean --clamp-bound?")) << old.out;
-  CliRun bool7 = vplab("preview " + kScene + " -o " + tmp("f.png") + " --ssbc-coarse-rings=7");
+  CliRun bool7 = vplab("preview " + kScene + " -o " + test::tmpPath("f.png") + " --ssbc-coarse-rings=7");
   EXPECT_EQ(bool7.status, 2);
   EXPECT_TRUE(contains(bool7.out, "--ssbc-coarse-rings")) << bool7.out;
   // The whole unsigned range the JSON accepts.
-  CliRun seed = vplab("render " + kScene + " --size 4x4 --vpl-count 4 --seed 4000000000 -o " + tmp("seed.exr"));
+  CliRun seed =
+      vplab("render " + kScene + " --size 4x4 --vpl-count 4 --seed 4000000000 -o " + test::tmpPath("seed.exr"));
   EXPECT_EQ(seed.status, 0) << seed.out;
   EXPECT_TRUE(contains(seed.out, "seed 4000000000")) << seed.out;
 }
@@ -323,13 +323,13 @@ TEST(CliFlags, HelpListsOnlyWhatActsOnTheCommandWithItsOwnDefaults) {
 
 TEST(CliFlags, OutDecidesTheFormatByItsExtensionEverywhere) {
   for (const char* ext : {"exr", "pfm", "png"}) {
-    std::string out = tmp(std::string("ext.") + ext);
+    std::string out = test::tmpPath(std::string("ext.") + ext);
     fs::remove(out);
     CliRun r = vplab("render " + kScene + " --size 4x4 --vpl-count 4 -o " + out);
     EXPECT_EQ(r.status, 0) << r.out;
     EXPECT_EQ(readImage(out).width, 4) << out;
   }
-  CliRun bad = vplab("reference " + kScene + " --size 4x4 -o " + tmp("ext.tiff"));
+  CliRun bad = vplab("reference " + kScene + " --size 4x4 -o " + test::tmpPath("ext.tiff"));
   EXPECT_EQ(bad.status, 2);
   EXPECT_TRUE(contains(bad.out, "unknown image extension")) << bad.out;
 }
@@ -385,7 +385,7 @@ std::map<std::string, std::string> benchRows(const std::string& csv) {
 TEST(BenchShards, FourShardsThroughGnuParallelMergeToTheUnshardedSweep) {
   ASSERT_EQ(std::system("parallel --version > /dev/null 2>&1"), 0)
       << "GNU parallel is missing (Debian package 'parallel', installed by scripts/install-deps.sh)";
-  const std::string dir = tmp("shards");
+  const std::string dir = test::tmpPath("shards");
   fs::remove_all(dir);
   fs::create_directories(dir);
   const std::string sweep = kScene + " --quick --size 12x12 --ref-spp 8 --exact-samples-per-pixel 1 --methods vpl,clamp,vsl,reject"
@@ -429,7 +429,7 @@ TEST(CachedReference, AFileThatDoesNotReadBackIsRenderedAgainNotTrusted) {
   Settings s;
   s.width = s.height = 8;
   s.samplesPerPixel = 2;
-  std::string dir = tmp("refcache");
+  std::string dir = test::tmpPath("refcache");
   fs::remove_all(dir);
   bool cached = true;
   MeasuredImage first = cachedReference(offline, "cornell-box", s, dir, &cached);

@@ -15,6 +15,7 @@
 #include <sstream>
 #include <string>
 #include <vector>
+
 #include "tests/test_tmp.h"
 
 namespace vplab {

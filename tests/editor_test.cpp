@@ -15,6 +15,7 @@
 #include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "tests/test_scenes.h"
+#include "tests/test_tmp.h"
 
 #ifdef VPLAB_HAVE_EDITOR
 #include "ui/camera_controller.h"
@@ -24,7 +25,6 @@
 #include "ui/panels.h"
 #include "ui/presets.h"
 #include "ui/script.h"
-#include "tests/test_tmp.h"
 #endif
 
 #include <gtest/gtest.h>
@@ -375,19 +375,16 @@ TEST(EditorOffline, ExactRendersTakeTheirOwnSampleCountAndEstimateTheTimeLeft) {
 
 // --- the window, under Xvfb -----------------------------------------------------------------------------------------
 
-std::string tmp(const std::string& name) { return vplab::test::tmpDir() + "/editor_" + name; }
-
 struct RunResult {
   int status = -1;
   std::string output;
 };
 
 RunResult runEditor(const std::string& script, const std::string& extraArgs) {
-  // Per-test file names: CTest runs tests in parallel, and a shared script file let one test run the other's script.
-  const std::string test = ::testing::UnitTest::GetInstance()->current_test_info()->name();
-  const std::string scriptPath = tmp(test + "_script.txt");
+  // In the test's own directory: CTest runs tests in parallel, and a shared script file let one test run the other's.
+  const std::string scriptPath = test::tmpPath("script.txt");
   std::ofstream(scriptPath) << script;
-  const std::string log = tmp(test + "_run.log");
+  const std::string log = test::tmpPath("run.log");
   std::string cmd = "xvfb-run -a -s \"-screen 0 1280x720x24\" " + std::string(VPLAB_BINARY) + " edit " +
                     std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf --script " + scriptPath + " " +
                     extraArgs + " > " + log + " 2>&1";
@@ -425,7 +422,8 @@ double meanLuminance(const Image& image) {
 
 TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) {
   ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
-  const std::string shotA = tmp("a.png"), shotB = tmp("b.png"), viewA = tmp("a.exr"), viewB = tmp("b.exr");
+  const std::string shotA = test::tmpPath("a.png"), shotB = test::tmpPath("b.png"), viewA = test::tmpPath("a.exr"),
+                    viewB = test::tmpPath("b.exr");
   std::string script =
       "set width 96\nset height 96\nset vplCount 48\nset directLightSamples 16\nframes 2\n"
       "mark\norbit 15 5\nframes 2\nexpect-no-vpl-regeneration\nexpect-no-shadow-map-render\n"
@@ -541,7 +539,7 @@ TEST(EditorWindow, EveryPresetIsTheSameAfterEveryOtherPreset) {
 // animation and new seeds must not carry over; and the explanation is printed with the preset.
 TEST(EditorWindow, PresetImageDoesNotDependOnThePresetBefore) {
   ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
-  const std::string first = tmp("first.exr"), after = tmp("after.exr");
+  const std::string first = test::tmpPath("first.exr"), after = test::tmpPath("after.exr");
   const ui::TeachingPreset* leaks = ui::findPreset("Shadow-map leaks");
   ASSERT_NE(leaks, nullptr);
   std::string size = "set width 64\nset height 64\n";
@@ -562,7 +560,7 @@ TEST(EditorWindow, PresetImageDoesNotDependOnThePresetBefore) {
 // change-cost reports what the change of scale cost, end to end.
 TEST(EditorWindow, FittedPreviewFillsTheViewAtTheResolutionScale) {
   ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
-  const std::string view = tmp("fitted.exr"), shot = tmp("fitted.png");
+  const std::string view = test::tmpPath("fitted.exr"), shot = test::tmpPath("fitted.png");
   RunResult run = runEditor("set vplCount 16\npreview-scale 0.2\nframes 3\nsave-view " + view + "\nchange-cost\n" +
                                 "screenshot " + shot + "\n",
                             "");
@@ -605,7 +603,8 @@ TEST(EditorWindow, PanelsDrawEveryGenerationMethodAndVisibility) {
 
 TEST(EditorWindow, BadSceneFileIsAnErrorBeforeAnyWindow) {
   // No display needed: the scene is loaded before the window is opened.
-  std::string cmd = std::string(VPLAB_BINARY) + " edit " + tmp("missing.gltf") + " > " + tmp("bad.log") + " 2>&1";
+  std::string cmd =
+      std::string(VPLAB_BINARY) + " edit " + test::tmpPath("missing.gltf") + " > " + test::tmpPath("bad.log") + " 2>&1";
   int raw = std::system(cmd.c_str());
   EXPECT_EQ(WIFEXITED(raw) ? WEXITSTATUS(raw) : -1, 1);
 }

@@ -22,10 +22,6 @@ namespace vplab {
 
 namespace {
 
-std::string tmpPath(const std::string& name) {
-  return vplab::test::tmpDir() + "/image_test_" + name;
-}
-
 // Values that exercise sign, magnitude and position: a swapped row or channel shows up as a mismatch.
 Image gradientImage(int w, int h) {
   Image img(w, h);
@@ -59,14 +55,14 @@ std::string floatBytes(float v, bool bigEndian) {
 
 TEST(ImageIo, ExrRoundTripIsExact) {
   Image img = gradientImage(7, 5);
-  std::string path = tmpPath("round.exr");
+  std::string path = test::tmpPath("round.exr");
   writeImage(path, img);
   expectSameImage(readImage(path), img, 0.0f);
 }
 
 TEST(ImageIo, PfmRoundTripIsExact) {
   Image img = gradientImage(6, 4);
-  std::string path = tmpPath("round.pfm");
+  std::string path = test::tmpPath("round.pfm");
   writeImage(path, img);
   expectSameImage(readImage(path), img, 0.0f);
 }
@@ -78,7 +74,7 @@ TEST(ImageIo, PfmStoresRowsBottomUpAndReadsBothByteOrders) {
     const float bottom[6] = {1, 2, 3, 4, 5, 6}, top[6] = {7, 8, 9, 10, 11, 12};
     for (float v : bottom) data += floatBytes(v, bigEndian);
     for (float v : top) data += floatBytes(v, bigEndian);
-    std::string path = tmpPath(bigEndian ? "be.pfm" : "le.pfm");
+    std::string path = test::tmpPath(bigEndian ? "be.pfm" : "le.pfm");
     writeBytes(path, data);
     Image img = readImage(path);
     ASSERT_EQ(img.width, 2);
@@ -92,7 +88,7 @@ TEST(ImageIo, PfmStoresRowsBottomUpAndReadsBothByteOrders) {
 
 TEST(ImageIo, GreyPfmIsReplicated) {
   std::string data = "Pf\n1 1\n-1.0\n" + floatBytes(0.75f, false);
-  std::string path = tmpPath("grey.pfm");
+  std::string path = test::tmpPath("grey.pfm");
   writeBytes(path, data);
   EXPECT_EQ(readImage(path).at(0, 0), glm::vec3(0.75f));
 }
@@ -101,7 +97,7 @@ TEST(ImageIo, PngRoundTripWithinQuantisation) {
   Image img(16, 8);
   for (int y = 0; y < 8; ++y)
     for (int x = 0; x < 16; ++x) img.at(x, y) = glm::vec3(x / 15.0f, y / 7.0f, 0.5f * (x + y) / 22.0f);
-  std::string path = tmpPath("round.png");
+  std::string path = test::tmpPath("round.png");
   writeImage(path, img);
   Image back = readImage(path);
   ASSERT_EQ(back.width, 16);
@@ -122,7 +118,7 @@ TEST(ImageIo, PngAppliesExposureClampAndMarksNonFinite) {
   img.at(1, 0) = glm::vec3(-1.0f, 7.0f, 0.0f);
   img.at(2, 0) = glm::vec3(std::numeric_limits<float>::quiet_NaN(), 0.1f, 0.1f);
   img.at(3, 0) = glm::vec3(0.1f, std::numeric_limits<float>::infinity(), 0.1f);
-  std::string path = tmpPath("exposure.png");
+  std::string path = test::tmpPath("exposure.png");
   writeImage(path, img, 1.0f);
   Image back = readImage(path);
   EXPECT_NEAR(back.at(0, 0).x, 0.5f, 0.005f);
@@ -133,7 +129,7 @@ TEST(ImageIo, PngAppliesExposureClampAndMarksNonFinite) {
 
 TEST(ImageIo, MissingFileThrowsWithItsName) {
   for (const char* ext : {".exr", ".pfm", ".png"}) {
-    std::string path = tmpPath(std::string("does_not_exist") + ext);
+    std::string path = test::tmpPath(std::string("does_not_exist") + ext);
     try {
       readImage(path);
       FAIL() << "no exception for " << path;
@@ -145,7 +141,7 @@ TEST(ImageIo, MissingFileThrowsWithItsName) {
 
 TEST(ImageIo, GarbageFileThrowsWithItsName) {
   for (const char* ext : {".exr", ".pfm", ".png"}) {
-    std::string path = tmpPath(std::string("garbage") + ext);
+    std::string path = test::tmpPath(std::string("garbage") + ext);
     writeBytes(path, "this is not an image at all, just some text\n");
     try {
       readImage(path);
@@ -157,11 +153,11 @@ TEST(ImageIo, GarbageFileThrowsWithItsName) {
 }
 
 TEST(ImageIo, TruncatedPfmAndUnknownExtensionThrow) {
-  std::string path = tmpPath("short.pfm");
+  std::string path = test::tmpPath("short.pfm");
   writeBytes(path, "PF\n4 4\n-1.0\n" + floatBytes(1.0f, false));
   EXPECT_THROW(readImage(path), ImageIoError);
-  EXPECT_THROW(readImage(tmpPath("picture.bmp")), ImageIoError);
-  EXPECT_THROW(writeImage(tmpPath("picture.jpg"), Image(1, 1)), ImageIoError);
+  EXPECT_THROW(readImage(test::tmpPath("picture.bmp")), ImageIoError);
+  EXPECT_THROW(writeImage(test::tmpPath("picture.jpg"), Image(1, 1)), ImageIoError);
 }
 
 TEST(ImageTonemap, SrgbRoundTripAndKnownValues) {
@@ -269,7 +265,7 @@ TEST(ImageHeatmap, WritesPngWithLegendStrip) {
   img.at(3, 3) = glm::vec3(std::numeric_limits<float>::quiet_NaN());
   HeatmapOptions options;
   options.title = "relMSE";
-  std::string path = tmpPath("heatmap.png");
+  std::string path = test::tmpPath("heatmap.png");
   Heatmap h = writeHeatmap(path, relativeErrorImage(img, ref), options);
   EXPECT_EQ(h.nonFinitePixels, 1u);
   EXPECT_EQ(h.minValue, 0.0f);
@@ -351,8 +347,8 @@ TEST(ImageCompareCli, PrintsMetricsAndFailsOnMismatch) {
   ASSERT_TRUE(std::filesystem::exists(VPLAB_BINARY)) << "the test suite builds vplab: " << VPLAB_BINARY;
   Image ref(8, 8, glm::vec3(0.1f, 0.2f, 0.3f));
   Image img(8, 8, glm::vec3(0.2f, 0.3f, 0.4f));
-  std::string a = tmpPath("cli_a.exr"), b = tmpPath("cli_b.pfm"), small = tmpPath("cli_small.exr");
-  std::string heatmap = tmpPath("cli_heatmap.png");
+  std::string a = test::tmpPath("cli_a.exr"), b = test::tmpPath("cli_b.pfm"), small = test::tmpPath("cli_small.exr");
+  std::string heatmap = test::tmpPath("cli_heatmap.png");
   writeImage(a, img);
   writeImage(b, ref);
   writeImage(small, Image(4, 8));
@@ -375,7 +371,7 @@ TEST(ImageCompareCli, PrintsMetricsAndFailsOnMismatch) {
 
   std::string ignored;
   EXPECT_EQ(runVplab("compare " + small + " " + b, ignored), 1);
-  EXPECT_EQ(runVplab("compare " + tmpPath("missing.exr") + " " + b, ignored), 1);
+  EXPECT_EQ(runVplab("compare " + test::tmpPath("missing.exr") + " " + b, ignored), 1);
   EXPECT_EQ(runVplab("compare " + a, ignored), 2);
 }
 

@@ -1,21 +1,18 @@
 #pragma once
-// Builds small glTF files at test time (well-formed or deliberately broken) under the test's own directory (tests/test_tmp.h).
-
-#include <glm/glm.hpp>
-#include <nlohmann/json.hpp>
+// Builds small glTF files at test time (well-formed or deliberately broken) in the test's own directory
+// (tests/test_tmp.h).
 
 #include <cstdint>
 #include <cstring>
 #include <fstream>
+#include <glm/glm.hpp>
+#include <nlohmann/json.hpp>
 #include <string>
 #include <vector>
+
 #include "tests/test_tmp.h"
 
 namespace vplab::test {
-
-inline std::string tmpPath(const std::string& name) {
-  return vplab::test::tmpDir() + "/" + name;
-}
 
 inline std::string base64(const std::vector<unsigned char>& data) {
   static const char* table = "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";

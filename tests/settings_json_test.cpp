@@ -153,7 +153,7 @@ TEST(SettingsJson, SetFromTextParsesScriptValues) {
 }
 
 TEST(SettingsJson, FilesRoundTripAndMissingFilesNameThePath) {
-  const std::string path = vplab::test::tmpDir() + "/settings_json_test.json";
+  const std::string path = vplab::test::tmpPath("settings_json_test.json");
   Settings s;
   s.vplCount = 321;
   s.clampBound = 2.0f;
@@ -163,7 +163,7 @@ TEST(SettingsJson, FilesRoundTripAndMissingFilesNameThePath) {
   EXPECT_EQ(back.vplCount, 321);
   EXPECT_FLOAT_EQ(back.clampBound, 2.0f);
 
-  const std::string missing = vplab::test::tmpDir() + "/no_such_settings.json";
+  const std::string missing = vplab::test::tmpPath("no_such_settings.json");
   try {
     loadSettingsFile(missing, back);
     FAIL();

@@ -70,7 +70,8 @@ struct TexturedPanel {
   static constexpr float kPanelHeight = 0.5f;
   static constexpr float kPanelHalf = 0.5f;
   static inline const glm::vec3 kPanelRadiance{4.0f, 2.0f, 1.0f};
-  /// Writes the scene to the test's own directory (tests/test_tmp.h) as <name> (.gltf, or .glb with everything embedded) and returns the path.
+  /// Writes the scene as <name> (.gltf, or .glb with everything embedded) in the test's own directory
+  /// (tests/test_tmp.h) and returns the path.
   static std::string write(const std::string& name);
   /// Emitted radiance at panel point x (the texture's bilinear ramp included).
   static glm::vec3 panelRadiance(float x);

@@ -20,4 +20,9 @@ inline std::string tmpDir() {
   return dir.string();
 }
 
+/// A file of that name in the test's own directory.
+inline std::string tmpPath(const std::string& name) {
+  return tmpDir() + "/" + name;
+}
+
 }  // namespace vplab::test

@@ -166,7 +166,7 @@ TEST(VplGeneration, JsonRoundTripIsExact) {
   s.importancePoints = 16;
   s.rejectionPilotVpls = 16;
   VplSet set = generate(*l, s);
-  std::string path = vplab::test::tmpDir() + "/vpl_roundtrip.json";
+  std::string path = vplab::test::tmpPath("vpl_roundtrip.json");
   saveVplSet(path, set);
   VplSet back = loadVplSet(path);
   ASSERT_EQ(back.vpls.size(), set.vpls.size());
@@ -175,7 +175,7 @@ TEST(VplGeneration, JsonRoundTripIsExact) {
   EXPECT_EQ(back.stats.pathsTraced, set.stats.pathsTraced);
   EXPECT_EQ(back.stats.candidates, set.stats.candidates);
   EXPECT_THROW(vplSetFromJson("{\"vpls\": [{\"position\": [1, 2]}]}"), VplJsonError);
-  EXPECT_THROW(loadVplSet(vplab::test::tmpDir() + "/does-not-exist.json"), VplJsonError);
+  EXPECT_THROW(loadVplSet(vplab::test::tmpPath("does-not-exist.json")), VplJsonError);
 }
 
 // --- unbiasedness -----------------------------------------------------------------------------------------
