@@ -18,11 +18,12 @@
 // that a third-party model measures the light move too.
 //
 // --ism-point-budget P and --ism-tile-size T set the ISM parameters (defaults: the Settings defaults), for the sweep of
-// scripts/ism_sweep.sh.
+// scripts/ism_sweep.sh. --indirect-downscale 1,2 (the default) measures each technique with the indirect light and its
+// compensation per pixel and on the half-resolution grid (Settings::indirectDownscale), a row each.
 //
-// usage: vplab_bench_scale_bench [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv out.csv]
-//                                [--size WxH] [--stage auto|none|studio] [--point-light] [--ism-point-budget P]
-//                                [--ism-tile-size T] scene.gltf...
+// usage: vplab_bench_scale_bench [--gl auto|egl|osmesa] [--visibility cube,ism] [--indirect-downscale 1,2]
+//                                [--repeats R] [--csv out.csv] [--size WxH] [--stage auto|none|studio] [--point-light]
+//                                [--ism-point-budget P] [--ism-tile-size T] scene.gltf...
 
 #include <algorithm>
 #include <chrono>
@@ -82,6 +83,7 @@ double median(std::vector<double> v) {
 
 struct Row {
   std::string scene, visibility;
+  int indirectDownscale = 1;
   std::size_t triangles = 0;
   double loadMs = 0, firstMs = 0, vplChangeMs = 0, lightMoveMs = -1, referenceMs = 0, vplMapsMs = 0, lightMapsMs = -1;
   // The VPL change's parts (wall ms) and its process CPU time.
@@ -93,6 +95,7 @@ struct Row {
 int main(int argc, char** argv) {
   GlBackend backend = GlBackend::Auto;
   std::vector<VisibilityMethod> methods = {VisibilityMethod::Cube, VisibilityMethod::Ism};
+  std::vector<int> downscales = {1, 2};
   std::vector<std::string> scenes;
   std::string csvPath;
   int repeats = 3, width = 640, height = 480;
@@ -112,6 +115,10 @@ int main(int argc, char** argv) {
         if (!parseVisibilityMethod(item, m)) return std::fprintf(stderr, "bad --visibility '%s'\n", item.c_str()), 2;
         methods.push_back(m);
       }
+    } else if (a == "--indirect-downscale") {
+      downscales.clear();
+      std::stringstream list(benchOptionValue(argc, argv, i));
+      for (std::string item; std::getline(list, item, ',');) downscales.push_back(std::atoi(item.c_str()));
     } else if (a == "--repeats") {
       repeats = std::max(1, std::atoi(benchOptionValue(argc, argv, i).c_str()));
     } else if (a == "--csv") {
@@ -130,7 +137,8 @@ int main(int argc, char** argv) {
     } else if (a == "--help" || (!a.empty() && a[0] == '-')) {
       std::fprintf(
           stderr,
-          "usage: %s [--gl auto|egl|osmesa] [--visibility cube,ism] [--repeats R] [--csv F] [--size WxH] "
+          "usage: %s [--gl auto|egl|osmesa] [--visibility cube,ism] [--indirect-downscale 1,2] [--repeats R] [--csv F] "
+          "[--size WxH] "
           "[--stage auto|none|studio] [--point-light] [--ism-point-budget P] [--ism-tile-size T] scene.gltf...\n",
           argv[0]);
       return a == "--help" ? 0 : 2;
@@ -143,114 +151,119 @@ int main(int argc, char** argv) {
   HeadlessGlContext context(backend);
   std::vector<Row> rows;
   for (const std::string& path : scenes) {
-    for (VisibilityMethod method : methods) {
-      Row row;
-      row.scene = path.substr(path.find_last_of('/') + 1);
-      row.visibility = toString(method);
-      auto t = Clock::now();
-      Scene scene = loadScene(path);
-      stageScene(scene, stage);
-      applyLightsSidecar(scene);
-      if (pointLight) addPointLightAbove(scene);
-      OfflineScene offline(scene);
-      row.loadMs = msSince(t);
-      row.triangles = scene.triangles.size();
-      Settings s;
-      s.width = width;
-      s.height = height;
-      s.vplCount = 256;
-      s.interleave = 4;
-      s.ssbcSteps = 2;
-      s.clampBound = 20.0f;
-      s.visibility = method;
-      s.ismPointBudget = ismPointBudget;
-      s.ismTileSize = ismTileSize;
-      if (const std::vector<std::string> problems = validateSettings(s, SettingSpelling::Flag); !problems.empty())
-        return std::fprintf(stderr, "%s\n", problems.front().c_str()), 2;
-      PreviewRenderer renderer;
-      t = Clock::now();
-      VplSet vpls = generateVpls(offline, s);
-      renderer.render(scene, vpls, s, scene.camera);
-      row.firstMs = msSince(t);
-
-      std::vector<double> change, maps, generation, gather, ssbc, other, cpu;
-      for (int r = 0; r <= repeats; ++r) {
-        // A new VPL set whose positions differ (the maximum bounce alternates) while the direct light stays: the seed
-        // would also redraw the direct-light samples and their maps.
-        s.vplMaxBounces = r % 2 ? 2 : 31;
-        double cpu0 = processCpuMs();
+    for (VisibilityMethod method : methods)
+      for (int downscale : downscales) {
+        Row row;
+        row.scene = path.substr(path.find_last_of('/') + 1);
+        row.visibility = toString(method);
+        row.indirectDownscale = downscale;
+        auto t = Clock::now();
+        Scene scene = loadScene(path);
+        stageScene(scene, stage);
+        applyLightsSidecar(scene);
+        if (pointLight) addPointLightAbove(scene);
+        OfflineScene offline(scene);
+        row.loadMs = msSince(t);
+        row.triangles = scene.triangles.size();
+        Settings s;
+        s.width = width;
+        s.height = height;
+        s.vplCount = 256;
+        s.interleave = 4;
+        s.ssbcSteps = 2;
+        s.clampBound = 20.0f;
+        s.visibility = method;
+        s.ismPointBudget = ismPointBudget;
+        s.ismTileSize = ismTileSize;
+        s.indirectDownscale = downscale;
+        if (const std::vector<std::string> problems = validateSettings(s, SettingSpelling::Flag); !problems.empty())
+          return std::fprintf(stderr, "%s\n", problems.front().c_str()), 2;
+        PreviewRenderer renderer;
         t = Clock::now();
-        VplSet next = generateVpls(offline, s);
-        double generated = msSince(t);
-        PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
-        double ms = msSince(t);
-        if (r == 0) continue;  // warm-up
-        change.push_back(ms);
-        cpu.push_back(processCpuMs() - cpu0);
-        generation.push_back(generated);
-        maps.push_back(timings.vplShadowWallMs);
-        gather.push_back(timings.gatherWallMs);
-        ssbc.push_back(timings.ssbcWallMs);
-        other.push_back(timings.frameWallMs - timings.vplShadowWallMs - timings.gatherWallMs - timings.ssbcWallMs);
-      }
-      row.vplChangeMs = median(change);
-      row.vplMapsMs = median(maps);
-      row.generationMs = median(generation);
-      row.gatherMs = median(gather);
-      row.ssbcMs = median(ssbc);
-      row.otherPassesMs = median(other);
-      row.vplChangeCpuMs = median(cpu);
+        VplSet vpls = generateVpls(offline, s);
+        renderer.render(scene, vpls, s, scene.camera);
+        row.firstMs = msSince(t);
 
-      if (!scene.punctualLights.empty()) {
-        std::vector<double> move, lightMaps, cpu;
+        std::vector<double> change, maps, generation, gather, ssbc, other, cpu;
         for (int r = 0; r <= repeats; ++r) {
+          // A new VPL set whose positions differ (the maximum bounce alternates) while the direct light stays: the seed
+          // would also redraw the direct-light samples and their maps.
+          s.vplMaxBounces = r % 2 ? 2 : 31;
           double cpu0 = processCpuMs();
           t = Clock::now();
-          for (PunctualLight& l : scene.punctualLights)
-            if (!l.isDirectional()) l.position += glm::vec3(0.02f, 0.0f, 0.0f) * (r % 2 ? -1.0f : 1.0f);
-          offline.punctualLightsChanged();
-          renderer.invalidateLights();
           VplSet next = generateVpls(offline, s);
+          double generated = msSince(t);
           PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
           double ms = msSince(t);
-          if (r == 0) continue;
-          move.push_back(ms);
+          if (r == 0) continue;  // warm-up
+          change.push_back(ms);
           cpu.push_back(processCpuMs() - cpu0);
-          lightMaps.push_back(timings.directShadowWallMs);
+          generation.push_back(generated);
+          maps.push_back(timings.vplShadowWallMs);
+          gather.push_back(timings.gatherWallMs);
+          ssbc.push_back(timings.ssbcWallMs);
+          other.push_back(timings.frameWallMs - timings.vplShadowWallMs - timings.gatherWallMs - timings.ssbcWallMs);
         }
-        row.lightMoveMs = median(move);
-        row.lightMoveCpuMs = median(cpu);
-        row.lightMapsMs = median(lightMaps);
-      }
+        row.vplChangeMs = median(change);
+        row.vplMapsMs = median(maps);
+        row.generationMs = median(generation);
+        row.gatherMs = median(gather);
+        row.ssbcMs = median(ssbc);
+        row.otherPassesMs = median(other);
+        row.vplChangeCpuMs = median(cpu);
 
-      Settings ref;
-      ref.width = ref.height = 256;
-      ref.samplesPerPixel = 16;
-      t = Clock::now();
-      {
-        OfflineScene fresh(scene);
-        renderReference(fresh, ref);
+        if (!scene.punctualLights.empty()) {
+          std::vector<double> move, lightMaps, cpu;
+          for (int r = 0; r <= repeats; ++r) {
+            double cpu0 = processCpuMs();
+            t = Clock::now();
+            for (PunctualLight& l : scene.punctualLights)
+              if (!l.isDirectional()) l.position += glm::vec3(0.02f, 0.0f, 0.0f) * (r % 2 ? -1.0f : 1.0f);
+            offline.punctualLightsChanged();
+            renderer.invalidateLights();
+            VplSet next = generateVpls(offline, s);
+            PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
+            double ms = msSince(t);
+            if (r == 0) continue;
+            move.push_back(ms);
+            cpu.push_back(processCpuMs() - cpu0);
+            lightMaps.push_back(timings.directShadowWallMs);
+          }
+          row.lightMoveMs = median(move);
+          row.lightMoveCpuMs = median(cpu);
+          row.lightMapsMs = median(lightMaps);
+        }
+
+        Settings ref;
+        ref.width = ref.height = 256;
+        ref.samplesPerPixel = 16;
+        t = Clock::now();
+        {
+          OfflineScene fresh(scene);
+          renderReference(fresh, ref);
+        }
+        row.referenceMs = msSince(t);
+        rows.push_back(row);
+        std::printf(
+            "%-28s %-4s s=%d %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (cpu %6.0f; generation %5.0f, maps "
+            "%6.0f, "
+            "gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f)  reference %6.0f ms\n",
+            row.scene.c_str(), row.visibility.c_str(), row.indirectDownscale, row.triangles, row.loadMs, row.firstMs,
+            row.vplChangeMs, row.vplChangeCpuMs, row.generationMs, row.vplMapsMs, row.gatherMs, row.ssbcMs,
+            row.otherPassesMs, row.lightMoveMs, row.lightMoveCpuMs, row.lightMapsMs, row.referenceMs);
+        std::fflush(stdout);
       }
-      row.referenceMs = msSince(t);
-      rows.push_back(row);
-      std::printf(
-          "%-28s %-4s %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (cpu %6.0f; generation %5.0f, maps %6.0f, "
-          "gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f)  reference %6.0f ms\n",
-          row.scene.c_str(), row.visibility.c_str(), row.triangles, row.loadMs, row.firstMs, row.vplChangeMs,
-          row.vplChangeCpuMs, row.generationMs, row.vplMapsMs, row.gatherMs, row.ssbcMs, row.otherPassesMs,
-          row.lightMoveMs, row.lightMoveCpuMs, row.lightMapsMs, row.referenceMs);
-      std::fflush(stdout);
-    }
   }
   if (!csvPath.empty()) {
     std::ofstream csv(csvPath);
-    csv << "scene,visibility,triangles,load_ms,first_ms,vpl_change_ms,vpl_change_cpu_ms,generation_ms,vpl_maps_ms,"
+    csv << "scene,visibility,indirect_downscale,triangles,load_ms,first_ms,vpl_change_ms,vpl_change_cpu_ms,generation_"
+           "ms,vpl_maps_ms,"
            "gather_ms,ssbc_ms,other_passes_ms,light_move_ms,light_move_cpu_ms,light_maps_ms,reference_256_16spp_ms\n";
     for (const Row& r : rows)
-      csv << r.scene << ',' << r.visibility << ',' << r.triangles << ',' << r.loadMs << ',' << r.firstMs << ','
-          << r.vplChangeMs << ',' << r.vplChangeCpuMs << ',' << r.generationMs << ',' << r.vplMapsMs << ','
-          << r.gatherMs << ',' << r.ssbcMs << ',' << r.otherPassesMs << ',' << r.lightMoveMs << ',' << r.lightMoveCpuMs
-          << ',' << r.lightMapsMs << ',' << r.referenceMs << '\n';
+      csv << r.scene << ',' << r.visibility << ',' << r.indirectDownscale << ',' << r.triangles << ',' << r.loadMs
+          << ',' << r.firstMs << ',' << r.vplChangeMs << ',' << r.vplChangeCpuMs << ',' << r.generationMs << ','
+          << r.vplMapsMs << ',' << r.gatherMs << ',' << r.ssbcMs << ',' << r.otherPassesMs << ',' << r.lightMoveMs
+          << ',' << r.lightMoveCpuMs << ',' << r.lightMapsMs << ',' << r.referenceMs << '\n';
     if (!csv) return std::fprintf(stderr, "cannot write %s\n", csvPath.c_str()), 1;
   }
   return 0;

@@ -115,6 +115,8 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   // receiver by a texel instead).
   if (a.interleave != b.interleave) s.direct = s.gather = true;
   if (a.shadowBias != b.shadowBias) s.gather = true;
+  // The indirect light's own G-buffer is made with the G-buffer.
+  if (a.indirectDownscale != b.indirectDownscale) s.gbuffer = true;
   if (a.shadowMapSize != b.shadowMapSize || a.visibility != b.visibility || a.ismTileSize != b.ismTileSize ||
       a.ismPointBudget != b.ismPointBudget)
     s.vplShadowMaps = true;

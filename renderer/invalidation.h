@@ -11,7 +11,7 @@
 //   VPL shadow maps   <- the VPLs, the visibility technique and its sizes (shadowMapSize; ismTileSize,
 //                        ismPointBudget)
 //   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points); not shadowMapSize
-//   G-buffer          <- scene, the camera, image size
+//   G-buffer          <- scene, the camera, image size, indirectDownscale (the indirect light's G-buffer)
 //   direct light      <- the G-buffer, the light shadow maps, interleave
 //   gather            <- the G-buffer, the VPLs and their shadow maps, clampBound, the VSL radius, interleave,
 //                        shadowBias, components

@@ -173,6 +173,10 @@ struct Settings {
   int directLightSamples = 64;
   /// Interleaved sampling: VPLs split into k x k subsets, k = 1 is off [1, 8]. Default 1.
   int interleave = 1;
+  /// The indirect light (the VPL gather) and its compensation are computed at 1/s of the image's width and height
+  /// and upsampled along surfaces (preview/upsample.frag.glsl); the G-buffer, the direct light and emission stay per
+  /// pixel [1, 4]. Both passes' work scales with their pixels, so s = 2 does about a quarter of it. Default 1.
+  int indirectDownscale = 1;
   /// Resolution of each VPL's shadow map, in texels per side [16, 2048]. Default 256.
   int shadowMapSize = 256;
   /// Depth bias of VPL shadow lookups, as a fraction of the scene diagonal [0, 0.1]. Default 0.002.

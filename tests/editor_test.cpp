@@ -414,7 +414,7 @@ ViewRect viewRectOf(const std::string& output, const std::string& screenshot) {
   return r;
 }
 
-double meanLuminance(const Image& image) {
+double meanChannelValue(const Image& image) {
   double sum = 0.0;
   for (const glm::vec3& p : image.pixels) sum += (p.r + p.g + p.b) / 3.0;
   return sum / static_cast<double>(image.size());
@@ -445,7 +445,7 @@ TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) 
   Image shown(96, 96);
   for (int y = 0; y < 96; ++y)
     for (int x = 0; x < 96; ++x) shown.at(x, y) = screen.at(rect.x + x * scale + scale / 2, rect.y + y * scale + scale / 2);
-  double shownMean = meanLuminance(shown);
+  double shownMean = meanChannelValue(shown);
   EXPECT_GT(shownMean, 0.01);
   double variance = 0.0;
   for (const glm::vec3& p : shown.pixels) variance += std::pow((p.r + p.g + p.b) / 3.0 - shownMean, 2.0);
@@ -481,7 +481,7 @@ TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) 
 
   // Changing b changes the image, and the result again matches a fresh headless render with the new bound.
   Image editorB = readImage(viewB);
-  EXPECT_LT(meanLuminance(editorB), 0.99 * meanLuminance(editorA)) << "b = 2 should remove energy";
+  EXPECT_LT(meanChannelValue(editorB), 0.99 * meanChannelValue(editorA)) << "b = 2 should remove energy";
   settings.clampBound = 2.0f;
   PreviewRenderer fresh;
   fresh.render(scene, vpls, settings, controller.camera());

@@ -36,24 +36,6 @@ std::unique_ptr<Loaded> load(const std::string& name) {
   return test::loadAssetScene(name);
 }
 
-Settings baseSettings(int size, int vpls) {
-  Settings s;
-  s.width = size;
-  s.height = size;
-  s.vplCount = vpls;
-  s.threads = 2;
-  s.components = Components::Indirect;
-  s.shadowMapSize = 256;
-  s.directLightSamples = 16;
-  return s;
-}
-
-double meanLuminance(const Image& image) {
-  double sum = 0.0;
-  for (const glm::vec3& p : image.pixels) sum += luminance(p);
-  return image.empty() ? 0.0 : sum / static_cast<double>(image.size());
-}
-
 Image add(const Image& a, const Image& b) {
   Image out = a;
   for (std::size_t i = 0; i < out.pixels.size(); ++i) out.pixels[i] += b.pixels[i];
@@ -80,7 +62,7 @@ class GlAccuracy : public test::GlBackendTest {};
 // separates the preview from the exact VPL render.
 TEST_P(GlAccuracy, PointVplsMatchCpuExactRender) {
   auto l = load("cornell-box");
-  Settings s = baseSettings(128, 64);
+  Settings s = test::indirectSettings(128, 64);
   s.clampBound = 20.0f;
   VplSet vpls = generateVpls(*l, s);
   ASSERT_GT(vpls.vpls.size(), 32u);
@@ -101,7 +83,7 @@ TEST_P(GlAccuracy, PointVplsMatchCpuExactRender) {
 // cornell-glossy, 1e-5 on the box), shadow-map visibility (0.0007-0.0015) and the CPU render's noise with its
 // jittered pixel footprint against the preview's pixel centres (0.001-0.003); their sum is 0.002-0.003 here.
 void expectVslsMatchCpu(const OfflineScene& l, const std::string& name, float radius) {
-  Settings s = baseSettings(128, 64);
+  Settings s = test::indirectSettings(128, 64);
   s.vslRadius = radius;
   s.vslSamples = 4;  // the CPU render's noise stays well under the tolerance
   VplSet vpls = generateVpls(l, s);
@@ -135,7 +117,7 @@ TEST_P(GlAccuracy, VslsMatchCpuVslRenderSharperGlossy) {
 // renders of the same VSLs are bit-identical (no per-pixel random samples).
 TEST_P(GlAccuracy, VslsTendToPointVplsAndAreDeterministic) {
   auto l = load("cornell-glossy");
-  Settings s = baseSettings(96, 64);
+  Settings s = test::indirectSettings(96, 64);
   VplSet vpls = generateVpls(*l, s);
   Image point = preview(l->scene(), vpls, s, PreviewOutput::Indirect);
   VplSet tiny = vpls;
@@ -158,7 +140,7 @@ TEST_P(GlAccuracy, VslsTendToPointVplsAndAreDeterministic) {
 TEST_P(GlAccuracy, VslsKeepThePointVplEnergyOverSeeds) {
   for (const char* name : {"cornell-box", "cornell-glossy"}) {
     auto l = load(name);
-    Settings s = baseSettings(64, 128);
+    Settings s = test::indirectSettings(64, 128);
     double point = 0.0, vsl = 0.0;
     for (uint32_t seed = 1; seed <= 4; ++seed) {
       s.seed = seed;
@@ -176,7 +158,7 @@ TEST_P(GlAccuracy, VslsKeepThePointVplEnergyOverSeeds) {
 // full gather.
 TEST_P(GlAccuracy, InterleavedMatchesFullGather) {
   auto l = load("cornell-box");
-  Settings s = baseSettings(128, 256);
+  Settings s = test::indirectSettings(128, 256);
   s.clampBound = 20.0f;
   VplSet vpls = generateVpls(*l, s);
   PreviewRenderer renderer;
@@ -219,12 +201,12 @@ SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int
   Image truth;
   if (truthKind == Truth::Furnace) truth = Image(size, size, glm::vec3(0.5f));
   if (truthKind == Truth::Reference) {
-    Settings r = baseSettings(size, vplCount);
+    Settings r = test::indirectSettings(size, vplCount);
     r.samplesPerPixel = 64;
     truth = renderReference(*l, r).image;
   }
   for (int seed = 1; seed <= kSsbcSeeds; ++seed) {
-    Settings s = baseSettings(size, vplCount);
+    Settings s = test::indirectSettings(size, vplCount);
     s.seed = static_cast<uint32_t>(seed);
     s.ssbcCoarseRings = coarseRings;
     VplSet vpls = generateVpls(*l, s);
@@ -347,7 +329,7 @@ TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
        }},
   };
   for (const Case& c : cases) {
-    Settings s = baseSettings(48, 32);
+    Settings s = test::indirectSettings(48, 32);
     s.vslSamples = 4;
     c.apply(s);
     VplSet vpls = generateVpls(*l, s);
@@ -364,7 +346,7 @@ TEST_P(GlAccuracy, ExtremesAreFiniteAndDeterministic) {
 // --- invalidation: VSL radius, flux and b do not touch the VPL shadow maps ----------------------------------------
 TEST_P(GlAccuracy, VplShadowMapsDependOnlyOnPositions) {
   auto l = load("cornell-box");
-  Settings s = baseSettings(48, 32);
+  Settings s = test::indirectSettings(48, 32);
   VplSet vpls = generateVpls(*l, s);
   PreviewRenderer renderer;
   renderer.render(l->scene(), vpls, s, l->scene().camera);
@@ -443,7 +425,7 @@ TEST_P(GlAccuracy, ThinWallDoesNotLeakVplLight) {
   scene.finalize();
   VplSet vpls;
   vpls.vpls.push_back(makeVpl({-0.05f, 0.0f, 0.3f}, {1, 0, -1}, mat));
-  Settings s = baseSettings(128, 1);
+  Settings s = test::indirectSettings(128, 1);
   s.shadowMapSize = 128;
   Image withWall = preview(scene, vpls, s, PreviewOutput::Indirect);
   uint32_t m2 = 0;
@@ -482,7 +464,7 @@ TEST_P(GlAccuracy, GrazingVplShowsNoAcne) {
   const glm::vec3 x2(-2.5f, 0.0f, 0.02f);
   VplSet vpls;
   vpls.vpls.push_back(makeVpl(x2, {1, 0, -0.3f}, mat));
-  Settings s = baseSettings(128, 1);
+  Settings s = test::indirectSettings(128, 1);
   s.shadowMapSize = 256;
   Image gl = preview(scene, vpls, s, PreviewOutput::Indirect);
   int lit = 0, speckled = 0;

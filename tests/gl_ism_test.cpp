@@ -24,13 +24,7 @@ namespace {
 class GlIsm : public test::GlBackendTest {};
 
 Settings ismSettings(int size, int vpls) {
-  Settings s;
-  s.width = size;
-  s.height = size;
-  s.vplCount = vpls;
-  s.threads = 2;
-  s.components = Components::Indirect;
-  s.directLightSamples = 16;
+  Settings s = test::indirectSettings(size, vpls);
   s.clampBound = 20.0f;
   s.visibility = VisibilityMethod::Ism;
   return s;

@@ -368,6 +368,15 @@ TEST(GlPreview, KeptPassesGiveTheImageOfAFreshRenderer) {
   vpls.vpls[0].position.y -= 0.1f;
   kept.invalidateVpls();
   expectFreshImage("coarse rings back and a VPL change");
+  settings.indirectDownscale = 2;
+  expectFreshImage("the indirect light on a half-resolution grid");
+  vpls.vpls[0].position.y += 0.05f;
+  kept.invalidateVpls();
+  expectFreshImage("a VPL change on the half-resolution grid");
+  settings.clampBound = 1.5f;
+  expectFreshImage("a clamp change on the half-resolution grid");
+  settings.indirectDownscale = 1;
+  expectFreshImage("back to per pixel");
 }
 
 // The passes a change re-runs are the stages renderer/invalidation.h names for it: the preview follows the same model
@@ -401,6 +410,8 @@ TEST(GlPreview, PassesThatRunAreTheStagesInvalidationNames) {
       {"SSBC steps", [](Settings& x) { x.ssbcSteps = 2; }},
       {"SSBC coarse rings", [](Settings& x) { x.ssbcCoarseRings = !x.ssbcCoarseRings; }},
       {"interleave", [](Settings& x) { x.interleave = 2; }},
+      {"indirect downscale", [](Settings& x) { x.indirectDownscale = 2; }},
+      {"clamp bound on the half-resolution grid", [](Settings& x) { x.clampBound = 6.0f; }},
       {"shadow bias", [](Settings& x) { x.shadowBias *= 2.0f; }},
       {"direct-light samples", [](Settings& x) { x.directLightSamples = 2; }},
       {"VPL map size", [](Settings& x) { x.shadowMapSize = 32; }},

@@ -11,6 +11,7 @@
 
 #include "renderer/gl/context.h"
 #include "renderer/image/image.h"
+#include "renderer/settings.h"
 
 namespace vplab::test {
 
@@ -23,6 +24,19 @@ class GlBackendTest : public ::testing::TestWithParam<GlBackend> {
 
 inline std::string glBackendName(const ::testing::TestParamInfo<GlBackend>& info) {
   return info.param == GlBackend::Egl ? "Egl" : "OsMesa";
+}
+
+/// Settings of the tests that compare the preview's indirect light with the CPU's VPL render: size x size pixels, the
+/// VPL count, two CPU threads, the indirect component, 16 shadow-mapped light samples (the direct light is not compared).
+inline Settings indirectSettings(int size, int vpls) {
+  Settings s;
+  s.width = size;
+  s.height = size;
+  s.vplCount = vpls;
+  s.threads = 2;
+  s.components = Components::Indirect;
+  s.directLightSamples = 16;
+  return s;
 }
 
 /// Pixels whose values differ between two images (every pixel when the sizes differ): determinism tests expect 0.

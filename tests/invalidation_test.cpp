@@ -71,6 +71,9 @@ TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
   for (auto edit : {+[](Settings& x) { x.visibility = VisibilityMethod::Ism; },
                     +[](Settings& x) { x.ismTileSize = 128; }, +[](Settings& x) { x.ismPointBudget = 4096; }})
     EXPECT_EQ(toString(change(edit)), "vplShadowMaps gather ssbc tonemap");
+  // The indirect light's grid takes its G-buffer from the G-buffer's pass.
+  Staleness downscale = change([](Settings& x) { x.indirectDownscale = 2; });
+  EXPECT_EQ(toString(downscale), "gbuffer direct gather ssbc tonemap");
   Staleness bias = change([](Settings& x) { x.shadowBias = 0.01f; });
   EXPECT_EQ(toString(bias), "gather ssbc tonemap");
   Staleness direct = change([](Settings& x) { x.directLightSamples = 16; });

@@ -59,6 +59,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.vslSamples = 12;
   s.directLightSamples = 31;
   s.interleave = 4;
+  s.indirectDownscale = 3;
   s.shadowMapSize = 128;
   s.shadowBias = 0.01f;
   s.visibility = VisibilityMethod::Ism;
@@ -86,7 +87,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_THROW(applySettingsJson("{\"generation\": \"bidirectional\", \"rejection\": true}", back),
                SettingsJsonError);
   // Every key the writer emits must be one the reader knows, and none may be missing.
-  EXPECT_EQ(settingsJsonKeys().size(), 39u);
+  EXPECT_EQ(settingsJsonKeys().size(), 40u);
 }
 
 TEST(SettingsJson, InfiniteClampIsWrittenAsStringAndReadBack) {

@@ -78,12 +78,6 @@ std::size_t nonFinite(const Image& image) {
       std::count_if(image.pixels.begin(), image.pixels.end(), [](const glm::vec3& p) { return !isFinite(p); }));
 }
 
-double meanLuminance(const Image& image) {
-  double sum = 0.0;
-  for (const glm::vec3& p : image.pixels) sum += luminance(p);
-  return image.empty() ? 0.0 : sum / static_cast<double>(image.size());
-}
-
 TEST(ThirdPartyScenes, EveryFileFailsCleanlyOrGivesAFiniteStagedReference) {
   std::vector<std::string> files = modelFiles();
   ASSERT_GE(files.size(), 40u) << "the glTF 2.0 files of assimp-testmodels are missing under " << kModels

@@ -39,12 +39,6 @@ Image render(const Loaded& l, const VplSet& v, const Settings& s) {
   return renderVpl(l, v, Method::Vpl, s).image;
 }
 
-double meanLuminance(const Image& image) {
-  double sum = 0.0;
-  for (const glm::vec3& p : image.pixels) sum += luminance(p);
-  return sum / static_cast<double>(image.size());
-}
-
 /// The variants under test: every row of generationVariants().
 std::vector<const GenerationVariant*> variants() {
   std::vector<const GenerationVariant*> out;

@@ -34,12 +34,6 @@ VplRenderResult render(const Loaded& l, const VplSet& v, Method m, const Setting
   return renderVpl(l, v, m, s);
 }
 
-double meanLuminance(const Image& image) {
-  double sum = 0.0;
-  for (const glm::vec3& p : image.pixels) sum += luminance(p);
-  return sum / static_cast<double>(image.size());
-}
-
 std::size_t nonFinite(const Image& image) {
   std::size_t n = 0;
   for (const glm::vec3& p : image.pixels) n += isFinite(p) ? 0 : 1;

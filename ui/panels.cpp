@@ -157,6 +157,7 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   ImGui::Separator();
   ImGui::TextDisabled("GL preview");
   changed |= settingSliderInt(s, "interleave", 1, 8);
+  changed |= settingSliderInt(s, "indirectDownscale", 1, 4);
   changed |= settingCombo(s, "visibility",
                           "cube: one rasterised map per VPL, sharp, costs VPLs x triangles; ism: a point-splatted "
                           "tile per VPL, cost independent of the triangle count, leaks through thin walls");

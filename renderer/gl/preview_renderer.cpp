@@ -44,67 +44,123 @@ double timed(GlTimerQuery& timer, double& wallMs, F&& body) {
 
 }  // namespace
 
-struct PreviewRenderer::Targets {
+/// The G-buffer's colour textures (common/fullscreen.glsl, gbuffer.frag.glsl) at one resolution, attached to one
+/// framebuffer. Position and normal have mips: the compensation's hierarchy.
+struct GbufferTextures {
+  GlTexture position, normal, baseColor, emission, geoNormal, mergeKey;
+  GlFramebuffer framebuffer;
+
+  GbufferTextures(int w, int h)
+      : position(w, h, TextureFormat::Rgba32F, 0),
+        normal(w, h, TextureFormat::Rgba32F, 0),
+        baseColor(w, h, TextureFormat::Rgba32F),
+        emission(w, h, TextureFormat::Rgba32F),
+        geoNormal(w, h, TextureFormat::Rgba32F),
+        mergeKey(w, h, TextureFormat::Rgba32F) {
+    framebuffer.attachColor(0, position);
+    framebuffer.attachColor(1, normal);
+    framebuffer.attachColor(2, baseColor);
+    framebuffer.attachColor(3, emission);
+    framebuffer.attachColor(4, geoNormal);
+    framebuffer.attachColor(5, mergeKey);
+  }
+
+  void bind() const {
+    position.bind(unit(TextureUnit::GPosition));
+    normal.bind(unit(TextureUnit::GNormal));
+    baseColor.bind(unit(TextureUnit::GBaseColor));
+    emission.bind(unit(TextureUnit::GEmission));
+    geoNormal.bind(unit(TextureUnit::GGeoNormal));
+    mergeKey.bind(unit(TextureUnit::GMergeKey));
+  }
+};
+
+/// The pixels the interleaved passes, their de-interleave and the compensation run on: the image's own, or the
+/// indirect light's grid at 1/s of its width and height (Settings::indirectDownscale, common/downscale.glsl).
+struct ScreenGrid {
   int width, height;
-  GlTexture gPosition, gNormal, gBaseColor, gEmission, gGeoNormal, gMergeKey, gDepth;
-  GlFramebuffer gbuffer;
-  // Whether what the compensation derives from the G-buffer alone (mips of gPosition and gNormal, tap factors, flat
+  GbufferTextures g;
+  // Whether what the compensation derives from the G-buffer alone (mips of position and normal, tap factors, flat
   // blocks) was made from the current G-buffer: a VPL change does not redo it.
   bool gbufferDerivedCurrent = false;
-  Target direct, indirect, i0, r1, r2, linear, display;
+  // The de-interleaved gather; I0 = direct + indirect, the compensation's input; its steps' results R1 and R2.
+  Target indirect, i0, r1, r2;
   // Row sums of the separable de-interleave (deinterleave.frag.glsl), accepted count in w.
   Target rows;
-  // Interleaved direct light and gather in the deinterleaved block layout (gather.frag.glsl): k x k blocks of
-  // blockWidth x blockHeight texels, reallocated when k changes.
+  // The light arriving per unit of reflectance that an upsample interpolates, and the planes of flat 2x2 blocks
+  // (upsample.frag.glsl; a grid of its own).
+  Target light;
+  GlTexture blockPlane;
+  // Interleaved direct light (on the image's own grid only) and gather in the deinterleaved block layout
+  // (gather.frag.glsl): k x k blocks of blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
   int rawInterleave = 0, blockWidth = 0, blockHeight = 0;
 
-  void ensureRaw(int k) {
-    if (rawInterleave == k) return;
-    rawInterleave = k;
-    blockWidth = (width + k - 1) / k;
-    blockHeight = (height + k - 1) / k;
-    directRaw = std::make_unique<Target>(blockWidth * k, blockHeight * k);
-    indirectRaw = std::make_unique<Target>(blockWidth * k, blockHeight * k);
-  }
-  InterleavedLayout interleaved() const { return {width, height, rawInterleave, blockWidth, blockHeight}; }
-
-  Targets(int w, int h)
+  ScreenGrid(int w, int h)
       : width(w),
         height(h),
-        gPosition(w, h, TextureFormat::Rgba32F, 0),
-        gNormal(w, h, TextureFormat::Rgba32F, 0),
-        gBaseColor(w, h, TextureFormat::Rgba32F),
-        gEmission(w, h, TextureFormat::Rgba32F),
-        gGeoNormal(w, h, TextureFormat::Rgba32F),
-        gMergeKey(w, h, TextureFormat::Rgba32F),
-        gDepth(w, h, TextureFormat::Depth32F),
-        direct(w, h),
+        g(w, h),
         indirect(w, h),
         i0(w, h, 0),
         r1(w, h, 0),
         r2(w, h),
-        linear(w, h),
-        display(w, h),
-        rows(w, h) {
-    gbuffer.attachColor(0, gPosition);
-    gbuffer.attachColor(1, gNormal);
-    gbuffer.attachColor(2, gBaseColor);
-    gbuffer.attachColor(3, gEmission);
-    gbuffer.attachColor(4, gGeoNormal);
-    gbuffer.attachColor(5, gMergeKey);
-    gbuffer.attachDepth(gDepth);
-    gbuffer.finalize(6);
+        rows(w, h),
+        light(w, h),
+        blockPlane(w, h, TextureFormat::Rgba32F) {
+    light.texture.setLinearFiltering(true);
+    light.texture.setRepeat(false);
+    light.framebuffer.attachColor(1, blockPlane);
+    light.framebuffer.finalize(2);
   }
 
-  void bindGbuffer() const {
-    gPosition.bind(unit(TextureUnit::GPosition));
-    gNormal.bind(unit(TextureUnit::GNormal));
-    gBaseColor.bind(unit(TextureUnit::GBaseColor));
-    gEmission.bind(unit(TextureUnit::GEmission));
-    gGeoNormal.bind(unit(TextureUnit::GGeoNormal));
-    gMergeKey.bind(unit(TextureUnit::GMergeKey));
+  void ensureRaw(int k, bool withDirect) {
+    if (rawInterleave == k && static_cast<bool>(directRaw) == withDirect) return;
+    rawInterleave = k;
+    blockWidth = (width + k - 1) / k;
+    blockHeight = (height + k - 1) / k;
+    directRaw = withDirect ? std::make_unique<Target>(blockWidth * k, blockHeight * k) : nullptr;
+    indirectRaw = std::make_unique<Target>(blockWidth * k, blockHeight * k);
   }
+  InterleavedLayout interleaved() const { return {width, height, rawInterleave, blockWidth, blockHeight}; }
+};
+
+struct PreviewRenderer::Targets {
+  int width, height;
+  ScreenGrid full;
+  GlTexture gDepth;
+  // The de-interleaved direct light (a frame merges it into I0 with the gather when the grid is the image's own), the
+  // final linear image and its tonemapped display.
+  Target direct, linear, display;
+  // The indirect light's grid when Settings::indirectDownscale > 1, and its s.
+  std::unique_ptr<ScreenGrid> downscaled;
+  int downscale = 1;
+  // Whether the direct light was drawn since `direct` was last merged from it (only then does a grid of its own need
+  // the merge again).
+  bool directMergeStale = true;
+
+  Targets(int w, int h)
+      : width(w),
+        height(h),
+        full(w, h),
+        gDepth(w, h, TextureFormat::Depth32F),
+        direct(w, h),
+        linear(w, h),
+        display(w, h) {
+    full.g.framebuffer.attachDepth(gDepth);
+    full.g.framebuffer.finalize(6);
+  }
+
+  void ensureDownscale(int s) {
+    if (s == downscale) return;
+    downscale = s;
+    downscaled.reset();
+    if (s > 1) {
+      downscaled = std::make_unique<ScreenGrid>((width + s - 1) / s, (height + s - 1) / s);
+      downscaled->g.framebuffer.finalize(6);
+    }
+  }
+  /// Where the gather and the compensation run.
+  ScreenGrid& indirectGrid() { return downscaled ? *downscaled : full; }
 };
 
 PreviewRenderer::PreviewRenderer()
@@ -112,7 +168,11 @@ PreviewRenderer::PreviewRenderer()
       deinterleaveRows_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}, {"DEINTERLEAVE_COLUMNS 0"}),
       deinterleaveColumns_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"},
                            {"DEINTERLEAVE_COLUMNS 1"}),
+      gridGbuffer_({"preview/fullscreen.vert.glsl", "preview/indirect_grid.frag.glsl"}, {"INDIRECT_GRID_GBUFFER 1"}),
+      gridInput_({"preview/fullscreen.vert.glsl", "preview/indirect_grid.frag.glsl"}, {"INDIRECT_GRID_GBUFFER 0"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
+      gridLight_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 1"}),
+      upsample_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 0"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}) {
   useVisibility(VisibilityMethod::Cube);
 }
@@ -157,8 +217,12 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   VisibilityFootprint vplMaps = visibilityFootprint(settings.visibility, static_cast<int>(vplCount), settings, limits);
   if (!vplMaps.problem.empty()) return vplMaps.problem;
   // The screen targets (Targets: G-buffer, interleaved and merged results, compensation mips and rings), counted as 40
-  // RGBA32F-sized texels per pixel, an upper bound.
-  const double targetBytes = 40.0 * 16.0 * settings.width * settings.height;
+  // RGBA32F-sized texels per pixel, an upper bound, and as many again per texel of the indirect light's own grid.
+  const double gridTexels = std::ceil(static_cast<double>(settings.width) / settings.indirectDownscale) *
+                            std::ceil(static_cast<double>(settings.height) / settings.indirectDownscale);
+  const double targetBytes =
+      40.0 * 16.0 *
+      (settings.width * static_cast<double>(settings.height) + (settings.indirectDownscale > 1 ? gridTexels : 0.0));
   // The lights' maps: an R32F cube per area-light group and per point or spot light, an R32F square per directional.
   int cubes = scene.emissiveTriangles.empty() ? 0 : kMaxAreaGroups, squares = 0;
   for (const PunctualLight& l : scene.punctualLights) (l.isDirectional() ? squares : cubes) += 1;
@@ -198,6 +262,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   vplSet_ = &vpls;
   ensureTargets(settings.width, settings.height);
   Targets& tg = *targets_;
+  tg.ensureDownscale(settings.indirectDownscale);
+  ScreenGrid& grid = tg.indirectGrid();
+  const bool ownGrid = &grid != &tg.full;
 
   // Which passes are stale: what renderer/invalidation.h says the settings and camera changes since the last frame
   // affect (the offline result aside), and what depends on the scene, lights and VPLs this renderer was handed.
@@ -276,11 +343,12 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // Pass 1: G-buffer.
   if (pending_.gbuffer) {
     t.gbufferMs = timed(timer_, t.gbufferWallMs, [&] {
-      tg.gbuffer.bind(tg.width, tg.height);
+      GlFramebuffer& gbuffer = tg.full.g.framebuffer;
+      gbuffer.bind(tg.width, tg.height);
       // Background texels are marked by w = 0 in position and merge key; the normal's mips must average zeros there
       // (a short averaged normal flags an edge). The other targets are only read where position.w > 0.
-      for (int i : {0, 1, 5}) tg.gbuffer.clearColor(i, glm::vec4(0.0f));
-      tg.gbuffer.clearDepth(1.0f);
+      for (int i : {0, 1, 5}) gbuffer.clearColor(i, glm::vec4(0.0f));
+      gbuffer.clearDepth(1.0f);
       glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_LESS);
       glDisable(GL_CULL_FACE);
@@ -291,7 +359,15 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       vao_.bind();
       drawProceduralTriangles(3 * glScene_->triangleCount());
       glDisable(GL_DEPTH_TEST);
-      tg.gbufferDerivedCurrent = false;
+      tg.full.gbufferDerivedCurrent = false;
+      if (ownGrid) {
+        // The indirect light's grid takes the G-buffer's texels at its representatives.
+        tg.full.g.bind();
+        grid.g.framebuffer.bind(grid.width, grid.height);
+        gridGbuffer_.set("uDownscale", tg.downscale);
+        drawFullscreen(gridGbuffer_, vao_);
+        grid.gbufferDerivedCurrent = false;
+      }
     });
     ++counters_.gbuffer;
     finished(pending_.gbuffer);
@@ -328,15 +404,17 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   }
   shadowsValid_ = true;
 
-  tg.bindGbuffer();
-  tg.ensureRaw(settings.interleave);
-  const InterleavedLayout interleaved = tg.interleaved();
+  tg.full.ensureRaw(settings.interleave, true);
+  if (ownGrid) grid.ensureRaw(settings.interleave, false);
 
   // Pass 2: direct light, interleaved over the light samples.
   if (pending_.direct && !outOfBudget) {
     t.directMs = timed(timer_, t.directWallMs, [&] {
-      direct_.draw(lambertOnly_, camera, scene.bounds.center(), sceneRadius, *tg.directRaw, interleaved, vao_);
+      tg.full.g.bind();
+      direct_.draw(lambertOnly_, camera, scene.bounds.center(), sceneRadius, *tg.full.directRaw, tg.full.interleaved(),
+                   vao_);
     });
+    tg.directMergeStale = true;
     ++counters_.direct;
     finished(pending_.direct);
   }
@@ -346,8 +424,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (pending_.gather && !outOfBudget) {
     bool gathered = false;
     t.gatherMs = timed(timer_, t.gatherWallMs, [&] {
-      gathered = gather_.draw(lambertOnly_, camera, settings, far, bias, *vplVisibility_, *tg.indirectRaw, interleaved,
-                              vao_, outOfTime);
+      grid.g.bind();
+      gathered = gather_.draw(lambertOnly_, camera, settings, far, bias, *vplVisibility_, *grid.indirectRaw,
+                              grid.interleaved(), vao_, outOfTime);
     });
     if (gathered) {
       ++counters_.gather;
@@ -358,11 +437,26 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   }
 
   // Geometry-aware de-interleave of the direct light and the gather together into I0 (deinterleave.frag.glsl): the
-  // merge is linear and its weights depend on the G-buffer only, so one merge serves both. Its time is counted in the
-  // gather pass (in the direct pass when only that one ran).
+  // merge is linear and its weights depend on the G-buffer only, so one merge serves both. On a grid of its own the
+  // gather is merged there and I0 takes the merged direct light at the grid's representatives. Its time is counted in
+  // the gather pass (in the direct pass when only that one ran).
   if (pending_.merge && !pending_.direct && !pending_.gather && !outOfBudget) {
     double wallMs = 0.0;
-    double gpuMs = timed(timer_, wallMs, [&] { mergeInterleaved(glm::vec2(1.0f), tg.i0.framebuffer); });
+    double gpuMs = timed(timer_, wallMs, [&] {
+      if (!ownGrid) {
+        mergeInterleaved(tg.full, glm::vec2(1.0f), tg.full.i0.framebuffer);
+        return;
+      }
+      if (tg.directMergeStale) mergeInterleaved(tg.full, glm::vec2(1.0f, 0.0f), tg.direct.framebuffer);
+      tg.directMergeStale = false;
+      mergeInterleaved(grid, glm::vec2(0.0f, 1.0f), grid.indirect.framebuffer);
+      tg.full.g.bind();
+      tg.direct.texture.bind(unit(TextureUnit::PassInput0));
+      grid.indirect.texture.bind(unit(TextureUnit::PassInput1));
+      grid.i0.framebuffer.bind(grid.width, grid.height);
+      gridInput_.set("uDownscale", tg.downscale);
+      drawFullscreen(gridInput_, vao_);
+    });
     t.deinterleaveMs = gpuMs;
     (gatherPending ? t.gatherMs : t.directMs) += gpuMs;
     (gatherPending ? t.gatherWallMs : t.directWallMs) += wallMs;
@@ -373,13 +467,20 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // + R2 (the final composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
   if (pending_.ssbc && !pending_.merge && !outOfBudget) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
-      residualSteps_ = ssbc_.run(lambertOnly_, camera, settings,
-                                 {tg.gPosition, tg.gNormal, tg.gbufferDerivedCurrent, tg.i0, tg.r1, tg.r2}, vao_);
-      tg.bindGbuffer();
-      tg.i0.texture.bind(unit(TextureUnit::PassInput0));
-      tg.r1.texture.bind(unit(TextureUnit::PassInput2));
-      tg.r2.texture.bind(unit(TextureUnit::PassInput3));
+      grid.g.bind();
+      residualSteps_ =
+          ssbc_.run(lambertOnly_, camera, settings,
+                    {grid.g.position, grid.g.normal, grid.gbufferDerivedCurrent, grid.i0, grid.r1, grid.r2}, vao_);
+      if (ownGrid) {
+        upsample(glm::vec4(1.0f, 1.0f, residualSteps_ >= 1, residualSteps_ >= 2), camera.position,
+                 tg.linear.framebuffer);
+        return;
+      }
       tg.linear.framebuffer.bind(tg.width, tg.height);
+      tg.full.g.bind();
+      tg.full.i0.texture.bind(unit(TextureUnit::PassInput0));
+      tg.full.r1.texture.bind(unit(TextureUnit::PassInput2));
+      tg.full.r2.texture.bind(unit(TextureUnit::PassInput3));
       compose_.set("uResidualSteps", residualSteps_);
       compose_.set("uCameraPosition", camera.position);
       drawFullscreen(compose_, vao_);
@@ -412,42 +513,74 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   return t;
 }
 
-void PreviewRenderer::mergeInterleaved(glm::vec2 weights, GlFramebuffer& out) {
-  Targets& tg = *targets_;
-  const int k = tg.rawInterleave;
+void PreviewRenderer::mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFramebuffer& out) {
+  const int k = grid.rawInterleave;
   // Rows, then columns (separable: 2k neighbours per pixel instead of k^2).
-  tg.rows.framebuffer.bind(tg.width, tg.height);
-  tg.gMergeKey.bind(unit(TextureUnit::GMergeKey));
-  tg.directRaw->texture.bind(unit(TextureUnit::PassInput0));
-  tg.indirectRaw->texture.bind(unit(TextureUnit::PassInput1));
+  grid.rows.framebuffer.bind(grid.width, grid.height);
+  grid.g.bind();
+  // A grid without a direct light of its own merges the gather alone (weights.x = 0): its input stands in, so that
+  // nothing undefined is read.
+  (grid.directRaw ? *grid.directRaw : *grid.indirectRaw).texture.bind(unit(TextureUnit::PassInput0));
+  grid.indirectRaw->texture.bind(unit(TextureUnit::PassInput1));
   deinterleaveRows_.set("uInterleave", k);
-  deinterleaveRows_.set("uBlockSize", glm::ivec2(tg.blockWidth, tg.blockHeight));
+  deinterleaveRows_.set("uBlockSize", glm::ivec2(grid.blockWidth, grid.blockHeight));
   deinterleaveRows_.set("uWeights", weights);
   drawFullscreen(deinterleaveRows_, vao_);
-  out.bind(tg.width, tg.height);
-  tg.rows.texture.bind(unit(TextureUnit::PassInput0));
+  out.bind(grid.width, grid.height);
+  grid.rows.texture.bind(unit(TextureUnit::PassInput0));
   deinterleaveColumns_.set("uInterleave", k);
   drawFullscreen(deinterleaveColumns_, vao_);
+}
+
+void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFramebuffer& out) {
+  Targets& tg = *targets_;
+  ScreenGrid& grid = *tg.downscaled;
+  grid.g.bind();
+  grid.indirect.texture.bind(unit(TextureUnit::PassInput1));
+  grid.r1.texture.bind(unit(TextureUnit::PassInput2));
+  grid.r2.texture.bind(unit(TextureUnit::PassInput3));
+  grid.light.framebuffer.bind(grid.width, grid.height);
+  gridLight_.set("uTerms", terms);
+  drawFullscreen(gridLight_, vao_);
+  tg.full.g.bind();
+  tg.direct.texture.bind(unit(TextureUnit::PassInput0));
+  grid.light.texture.bind(unit(TextureUnit::PassInput1));
+  grid.blockPlane.bind(unit(TextureUnit::PassInput2));
+  grid.g.position.bind(unit(TextureUnit::PassInput4));
+  grid.g.mergeKey.bind(unit(TextureUnit::PassInput5));
+  out.bind(tg.width, tg.height);
+  upsample_.set("uDownscale", tg.downscale);
+  upsample_.set("uTerms", terms);
+  upsample_.set("uCameraPosition", cameraPosition);
+  drawFullscreen(upsample_, vao_);
 }
 
 Image PreviewRenderer::readLinear(PreviewOutput which) {
   if (!targets_) return {};
   Targets& tg = *targets_;
+  if (tg.downscaled && (which == PreviewOutput::Residual || which == PreviewOutput::Indirect)) {
+    // Upsampled from the indirect light's grid on demand.
+    const bool residual = which == PreviewOutput::Residual;
+    upsample(glm::vec4(0.0f, !residual, residual && residualSteps_ >= 1, residual && residualSteps_ >= 2),
+             lastCamera_.position, tg.full.indirect.framebuffer);
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return readFramebuffer(tg.full.indirect.framebuffer, 0, tg.width, tg.height);
+  }
   if (which == PreviewOutput::Residual) {
     // R1 + R2: the final composition adds them itself, so the sum is formed only when asked for.
     Image residual(tg.width, tg.height);
     for (int step = 0; step < residualSteps_; ++step) {
-      Image r = readFramebuffer((step == 0 ? tg.r1 : tg.r2).framebuffer, 0, tg.width, tg.height);
+      Image r = readFramebuffer((step == 0 ? tg.full.r1 : tg.full.r2).framebuffer, 0, tg.width, tg.height);
       for (std::size_t i = 0; i < residual.size(); ++i) residual.pixels[i] += r.pixels[i];
     }
     return residual;
   }
   if (which == PreviewOutput::Direct || which == PreviewOutput::Indirect) {
     // A frame merges only their sum I0; one component is merged from the interleaved passes' results on demand.
-    if (!tg.directRaw) return {};
+    if (!tg.full.directRaw) return {};
     const bool direct = which == PreviewOutput::Direct;
-    Target& out = direct ? tg.direct : tg.indirect;
-    mergeInterleaved(direct ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f, 1.0f), out.framebuffer);
+    Target& out = direct ? tg.direct : tg.full.indirect;
+    mergeInterleaved(tg.full, direct ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f, 1.0f), out.framebuffer);
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(out.framebuffer, 0, tg.width, tg.height);
   }

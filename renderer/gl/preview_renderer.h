@@ -74,6 +74,9 @@ enum class PreviewOutput {
 std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Settings& settings,
                               const GlLimits& limits);
 
+/// The pixels one set of the preview's screen passes runs on (preview_renderer.cpp).
+struct ScreenGrid;
+
 class PreviewRenderer {
  public:
   PreviewRenderer();
@@ -112,8 +115,11 @@ class PreviewRenderer {
  private:
   struct Targets;
   void ensureTargets(int width, int height);
-  /// The geometry-aware de-interleave of weights.x x direct + weights.y x indirect into `out`.
-  void mergeInterleaved(glm::vec2 weights, GlFramebuffer& out);
+  /// The geometry-aware de-interleave of weights.x x direct + weights.y x indirect on `grid` into `out`.
+  void mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFramebuffer& out);
+  /// Draws into `out` the full-resolution image of the indirect light's grid (preview/upsample.frag.glsl) with the
+  /// terms `terms` selects: x emission and direct light, y the gather, z R1, w R2.
+  void upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFramebuffer& out);
   /// Creates the visibility technique and compiles the gather for it when Settings::visibility changed.
   void useVisibility(VisibilityMethod method);
 
@@ -137,7 +143,10 @@ class PreviewRenderer {
   VplGatherPass gather_;
   ShaderProgram deinterleaveRows_, deinterleaveColumns_;
   SsbcPass ssbc_;
-  ShaderProgram compose_, tonemap_;
+  /// The indirect light's grid at 1/s resolution: its G-buffer and its I0 (preview/indirect_grid.frag.glsl).
+  ShaderProgram gridGbuffer_, gridInput_;
+  /// The two passes of the upsample from the grid (preview/upsample.frag.glsl).
+  ShaderProgram compose_, gridLight_, upsample_, tonemap_;
   // Compensation steps of the last frame whose results R1, R2 are current (0: none, the residual is 0).
   int residualSteps_ = 0;
   GlVertexArray vao_;

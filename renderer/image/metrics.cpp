@@ -6,6 +6,8 @@
 #include <stdexcept>
 #include <string>
 
+#include "renderer/core/sampling.h"
+
 namespace vplab {
 
 namespace {
@@ -30,6 +32,12 @@ double ratio(double numerator, double denominator) {
 
 bool isFinite(glm::vec3 v) {
   return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z);
+}
+
+double meanLuminance(const Image& image) {
+  double sum = 0.0;
+  for (const glm::vec3& p : image.pixels) sum += luminance(p);
+  return image.empty() ? 0.0 : sum / static_cast<double>(image.size());
 }
 
 ImageMetrics compareImages(const Image& image, const Image& reference) {

@@ -33,6 +33,9 @@ struct ImageMetrics {
 /// Compares image against reference; throws std::invalid_argument when the sizes differ.
 ImageMetrics compareImages(const Image& image, const Image& reference);
 
+/// Mean Rec. 709 luminance over the pixels (0 for an empty image).
+double meanLuminance(const Image& image);
+
 /// Per pixel and channel (I-R)^2 / (R^2 + 0.01): its mean over finite pixels is relMSE. NaN where either is not
 /// finite, so heatmaps can mark those pixels. Throws std::invalid_argument on a size mismatch.
 Image relativeErrorImage(const Image& image, const Image& reference);

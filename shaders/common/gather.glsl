@@ -125,5 +125,5 @@ void main() {
     sum += evaluateBrdf(p1, n1, wo, w) * g * v * evaluateBrdf(p2, n2, vpl.incoming.xyz, -w) * vpl.flux.rgb;
   }
 #endif
-  outColor = vec4(sum * float(k2), 1.0);
+  outColor = interleavedOutput(surface, sum * float(k2));
 }

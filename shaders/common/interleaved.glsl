@@ -1,7 +1,9 @@
 // The pixel and the surface one fragment of an interleaved pass shades (Keller & Heidrich 2001; deinterleaved block
 // layout, Segovia et al. 2006 — see common/gather.glsl). The direct-light and the VPL gather passes share it, so both
 // split the lights into the same k x k subsets and the de-interleave pass can merge them with one set of weights.
-// Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included first.
+// Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included first. Both passes write their
+// result per unit of the receiver's reflectance (common/reflectance.glsl, interleavedOutput).
+#include "common/reflectance.glsl"
 
 uniform vec3 uCameraPosition;
 uniform int uInterleave;     // k
@@ -27,6 +29,12 @@ struct InterleavedSurface {
   vec3 wo;          // unit direction toward the camera
   BrdfParams brdf;
 };
+
+// What an interleaved pass writes for the light `reflected` (the sum over its subset, already scaled by k^2) of
+// surface s.
+vec4 interleavedOutput(InterleavedSurface s, vec3 reflected) {
+  return vec4(reflected / mergeReflectance(s.brdf.baseColor), 1.0);
+}
 
 // The surface seen by this fragment's pixel; false outside the image or where the pixel sees no surface.
 bool interleavedSurface(out InterleavedSurface s) {

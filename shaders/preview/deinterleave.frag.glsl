@@ -8,8 +8,11 @@
 // pixel. The row pass writes each row segment's sum with its accepted count in w, so on a surface the column pass
 // divides the sum of all k^2 values by their count, exactly the k x k mean; at a discontinuity a diagonal neighbour
 // counts only when the row's centre is on the pixel's surface too.
+// The interleaved passes write light per unit of reflectance (common/reflectance.glsl): the column pass multiplies the
+// pixel's own reflectance back in, so the average does not blur textures.
 #include "common/units.glsl"
 #include "common/fullscreen.glsl"
+#include "common/reflectance.glsl"
 
 #if DEINTERLEAVE_COLUMNS
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uRows;        // row sums, accepted count in w
@@ -67,7 +70,9 @@ void main() {
   }
 #if DEINTERLEAVE_COLUMNS
   // p itself always passes its own test and its row sum counts p, so w >= 1 (background: the count of 1 passed on).
-  outColor = vec4(sum.rgb / sum.w, 1.0);
+  vec3 light = sum.rgb / sum.w;
+  // Background texels hold no light, and their base colour is whatever an earlier frame left.
+  outColor = vec4(key.w > 0.0 ? light * mergeReflectance(texelFetch(gBaseColor, px, 0).rgb) : light, 1.0);
 #else
   outColor = sum;
 #endif

@@ -82,5 +82,5 @@ void main() {
     if (v <= 0.0) continue;
     sum += evaluateBrdf(p, n1, wo, w) * cos1 / dist2 * radiantTerm * v;
   }
-  outColor = vec4(sum * float(k2), 1.0);
+  outColor = interleavedOutput(s, sum * float(k2));
 }

@@ -11,14 +11,7 @@ flat in vec3 vGeoNormal;
 flat in uint vMaterial;
 uniform vec3 uCameraPosition;
 
-layout(location = 0) out vec4 outPosition;
-layout(location = 1) out vec4 outNormal;
-layout(location = 2) out vec4 outBaseColor;
-layout(location = 3) out vec4 outEmission;
-layout(location = 4) out vec4 outGeoNormal;
-// Shading normal and distance to the camera in one texel: the geometry-aware merges (deinterleave.frag.glsl,
-// the coarse-ring interpolation of common/ssbc.glsl) test every neighbour with one fetch instead of two and no length().
-layout(location = 5) out vec4 outMergeKey;
+#include "common/gbuffer_outputs.glsl"
 
 void main() {
   GlMaterial m = sceneMaterials[vMaterial];
