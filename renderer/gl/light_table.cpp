@@ -61,7 +61,9 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
   const int perSubset = static_cast<int>(ranges.size()), total = k * k * perSubset;
   const int first = cursor ? *cursor : 0;
   raw.framebuffer.bind(layout.blockWidth * k, layout.blockHeight * k);
-  if (perSubset != 1 && first == 0) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
+  // Draws add up (several ranges per subset) or are left out (a subset without lights in a range: a scene with fewer
+  // punctual lights than k^2 subsets draws only the subsets that have one), so the blocks start from zero.
+  if (first == 0) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
   for (const LightChunk& c : table.chunks) {
     programOf(c).set("uInterleave", k);
     programOf(c).set("uImageSize", glm::ivec2(layout.width, layout.height));
@@ -77,6 +79,8 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
     const Range& r = ranges[static_cast<std::size_t>(draw % perSubset)];
     const LightChunk& chunk = table.chunks[static_cast<std::size_t>(r.chunk)];
     ShaderProgram& p = programOf(chunk);
+    const int offset = subsetOffset(r.begin, subset, k);
+    if (r.begin + offset >= r.end) continue;
     const int sx = subset % k, sy = subset / k;
     glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
     glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
@@ -91,7 +95,7 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
                                    static_cast<std::size_t>(r.end - r.base) * table.layout.elementBytes);
     p.set("uUboBase", r.base);
     p.set("uLightBegin", r.begin);
-    p.set("uSubsetOffset", subsetOffset(r.begin, subset, k));
+    p.set("uSubsetOffset", offset);
     p.set("uLightEnd", r.end);
     drawFullscreen(p, vao);
     if (cursor && outOfTime && draw + 1 < total && outOfTime()) {
