@@ -6,8 +6,8 @@
 //   vpl change a new VPL set (the maximum VPL bounce changed, so positions move and the direct light stays):
 //              generation + VPL maps + gather + SSBC + tonemap, wall time and process CPU time, with its parts
 //   light move every punctual light moved 2 cm: light sampler, VPL generation, the lights' maps and the VPL maps,
-//              direct light, gather, SSBC, tonemap, wall time (scenes whose only lights are emissive triangles move
-//              geometry, which rebuilds the scene: not measured here)
+//              direct light, gather, SSBC, tonemap, wall time and process CPU time, with its parts (scenes whose only
+//              lights are emissive triangles move geometry, which rebuilds the scene: not measured here)
 //   reference  the Embree reference at 256x256, 16 spp, BVH included (the yardstick: a preview slower than this is
 //              not interactive)
 // Changes are timed as the median of --repeats after a warm-up. Prints a table, writes a CSV.
@@ -88,6 +88,8 @@ struct Row {
   double loadMs = 0, firstMs = 0, vplChangeMs = 0, lightMoveMs = -1, referenceMs = 0, vplMapsMs = 0, lightMapsMs = -1;
   // The VPL change's parts (wall ms) and its process CPU time.
   double generationMs = 0, gatherMs = 0, ssbcMs = 0, otherPassesMs = 0, vplChangeCpuMs = 0, lightMoveCpuMs = -1;
+  // The light move's other parts (wall ms): the VPL maps, the direct light, the gather with the merges, the SSBC.
+  double moveVplMapsMs = -1, moveDirectMs = -1, moveGatherMs = -1, moveSsbcMs = -1;
 };
 
 }  // namespace
@@ -213,7 +215,7 @@ int main(int argc, char** argv) {
         row.vplChangeCpuMs = median(cpu);
 
         if (!scene.punctualLights.empty()) {
-          std::vector<double> move, lightMaps, cpu;
+          std::vector<double> move, lightMaps, cpu, vplMaps, direct, gather, ssbc;
           for (int r = 0; r <= repeats; ++r) {
             double cpu0 = processCpuMs();
             t = Clock::now();
@@ -222,16 +224,27 @@ int main(int argc, char** argv) {
             offline.punctualLightsChanged();
             renderer.invalidateLights();
             VplSet next = generateVpls(offline, s);
+            // `next` may occupy the same address every repeat: the renderer is told that the set is new, as the editor
+            // tells it after generating VPLs.
+            renderer.invalidateVpls();
             PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
             double ms = msSince(t);
             if (r == 0) continue;
             move.push_back(ms);
             cpu.push_back(processCpuMs() - cpu0);
             lightMaps.push_back(timings.directShadowWallMs);
+            vplMaps.push_back(timings.vplShadowWallMs);
+            direct.push_back(timings.directWallMs);
+            gather.push_back(timings.gatherWallMs);
+            ssbc.push_back(timings.ssbcWallMs);
           }
           row.lightMoveMs = median(move);
           row.lightMoveCpuMs = median(cpu);
           row.lightMapsMs = median(lightMaps);
+          row.moveVplMapsMs = median(vplMaps);
+          row.moveDirectMs = median(direct);
+          row.moveGatherMs = median(gather);
+          row.moveSsbcMs = median(ssbc);
         }
 
         Settings ref;
@@ -247,10 +260,12 @@ int main(int argc, char** argv) {
         std::printf(
             "%-28s %-4s s=%d %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (cpu %6.0f; generation %5.0f, maps "
             "%6.0f, "
-            "gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f)  reference %6.0f ms\n",
+            "gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f, vpl maps %5.0f, direct "
+            "%5.0f, gather %5.0f, ssbc %5.0f)  reference %6.0f ms\n",
             row.scene.c_str(), row.visibility.c_str(), row.indirectDownscale, row.triangles, row.loadMs, row.firstMs,
             row.vplChangeMs, row.vplChangeCpuMs, row.generationMs, row.vplMapsMs, row.gatherMs, row.ssbcMs,
-            row.otherPassesMs, row.lightMoveMs, row.lightMoveCpuMs, row.lightMapsMs, row.referenceMs);
+            row.otherPassesMs, row.lightMoveMs, row.lightMoveCpuMs, row.lightMapsMs, row.moveVplMapsMs,
+            row.moveDirectMs, row.moveGatherMs, row.moveSsbcMs, row.referenceMs);
         std::fflush(stdout);
       }
   }
@@ -258,12 +273,14 @@ int main(int argc, char** argv) {
     std::ofstream csv(csvPath);
     csv << "scene,visibility,indirect_downscale,triangles,load_ms,first_ms,vpl_change_ms,vpl_change_cpu_ms,generation_"
            "ms,vpl_maps_ms,"
-           "gather_ms,ssbc_ms,other_passes_ms,light_move_ms,light_move_cpu_ms,light_maps_ms,reference_256_16spp_ms\n";
+           "gather_ms,ssbc_ms,other_passes_ms,light_move_ms,light_move_cpu_ms,light_maps_ms,light_move_vpl_maps_ms,"
+           "light_move_direct_ms,light_move_gather_ms,light_move_ssbc_ms,reference_256_16spp_ms\n";
     for (const Row& r : rows)
       csv << r.scene << ',' << r.visibility << ',' << r.indirectDownscale << ',' << r.triangles << ',' << r.loadMs
           << ',' << r.firstMs << ',' << r.vplChangeMs << ',' << r.vplChangeCpuMs << ',' << r.generationMs << ','
           << r.vplMapsMs << ',' << r.gatherMs << ',' << r.ssbcMs << ',' << r.otherPassesMs << ',' << r.lightMoveMs
-          << ',' << r.lightMoveCpuMs << ',' << r.lightMapsMs << ',' << r.referenceMs << '\n';
+          << ',' << r.lightMoveCpuMs << ',' << r.lightMapsMs << ',' << r.moveVplMapsMs << ',' << r.moveDirectMs << ','
+          << r.moveGatherMs << ',' << r.moveSsbcMs << ',' << r.referenceMs << '\n';
     if (!csv) return std::fprintf(stderr, "cannot write %s\n", csvPath.c_str()), 1;
   }
   return 0;
