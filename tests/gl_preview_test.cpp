@@ -379,6 +379,25 @@ TEST(GlPreview, KeptPassesGiveTheImageOfAFreshRenderer) {
   expectFreshImage("back to per pixel");
 }
 
+// A new set assigned to the variable the renderer was handed (the same address, as in a loop that regenerates VPLs) is
+// uploaded and gathered again without invalidateVpls(): VplSet::id tells the two apart.
+TEST(GlPreview, ANewSetAtTheSameAddressIsGatheredAgain) {
+  HeadlessGlContext context;
+  Scene scene = floorScene();
+  Settings settings = smallSettings();
+  settings.components = Components::Indirect;
+  VplSet vpls = oneVpl(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(1.0f));
+  PreviewRenderer kept;
+  kept.render(scene, vpls, settings, scene.camera);
+  const Image before = kept.readLinear();
+  vpls = oneVpl(glm::vec3(0.5f, 0.0f, 1.0f), glm::vec3(1.0f));
+  kept.render(scene, vpls, settings, scene.camera);
+  PreviewRenderer fresh;
+  fresh.render(scene, vpls, settings, scene.camera);
+  EXPECT_GT(test::differingPixels(before, kept.readLinear()), 0u) << "the old set's image was kept";
+  EXPECT_EQ(test::differingPixels(kept.readLinear(), fresh.readLinear()), 0u);
+}
+
 // The passes a change re-runs are the stages renderer/invalidation.h names for it: the preview follows the same model
 // as the editor instead of rules of its own. (Changes of VPL generation are left out: the renderer takes the VPLs it
 // is handed, and keeps their maps when the casters did not move.)

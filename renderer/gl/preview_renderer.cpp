@@ -258,8 +258,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     shadowsValid_ = false;
     vplsDirty_ = true;
   }
-  if (&vpls != vplSet_) vplsDirty_ = true;
+  if (&vpls != vplSet_ || vpls.id != vplSetId_) vplsDirty_ = true;
   vplSet_ = &vpls;
+  vplSetId_ = vpls.id;
   ensureTargets(settings.width, settings.height);
   Targets& tg = *targets_;
   tg.ensureDownscale(settings.indirectDownscale);

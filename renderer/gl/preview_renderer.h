@@ -84,13 +84,14 @@ class PreviewRenderer {
   PreviewRenderer(const PreviewRenderer&) = delete;
   PreviewRenderer& operator=(const PreviewRenderer&) = delete;
 
-  /// Renders settings.width x settings.height. The scene and VPL set are compared by address and content version:
+  /// Renders settings.width x settings.height. The scene is compared by address, the VPL set by address and VplSet::id:
   /// call invalidateScene() / invalidateVpls() after editing them in place.
   /// budgetMs splits long work across calls (the editor's frames): passes run in order until one finishes after the
   /// budget is spent; the next call resumes with the remaining ones (and redoes any that a new change made stale).
-  /// The lights' maps (a cube face at a time), the VPL maps (for a technique that slices them, ISM) and the gather (draws
-  /// of at most 64 VPLs per pixel) are split too, so that a call overruns the budget by at most one slice, not one pass.
-  /// The image is final when the result's `complete` is set; it is then the same as one unbudgeted call gives.
+  /// The lights' maps (a cube face at a time), the VPL maps (for a technique that slices them, ISM) and the gather
+  /// (draws of at most 64 VPLs per pixel) are split too, so that a call overruns the budget by at most one slice, not
+  /// one pass. The image is final when the result's `complete` is set; it is then the same as one unbudgeted call
+  /// gives.
   PreviewTimings render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera,
                         double budgetMs = std::numeric_limits<double>::infinity());
 
@@ -127,6 +128,7 @@ class PreviewRenderer {
   std::unique_ptr<GlScene> glScene_;
   const Scene* scene_ = nullptr;
   const VplSet* vplSet_ = nullptr;
+  std::uint64_t vplSetId_ = 0;
   bool vplsDirty_ = true;
   bool sceneDirty_ = true;
   bool lightsDirty_ = false;

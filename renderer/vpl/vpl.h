@@ -46,10 +46,17 @@ struct VplStats {
   std::vector<std::string> warnings;  ///< e.g. a fallback to light tracing, with the reason
 };
 
+/// A number that no other VplSet made in this process has.
+std::uint64_t newVplSetId();
+
 struct VplSet {
   std::vector<Vpl> vpls;
   std::vector<Vpl> rejected;  ///< rejected candidates (kept for display and teaching only)
   VplStats stats;
+  /// Every set made has its own (copies keep it): with its address, how a renderer tells another set from the one it
+  /// uploaded, also when a new set is assigned to the same variable. Edits in place keep it (the renderers' invalidate
+  /// calls say so).
+  std::uint64_t id = newVplSetId();
 };
 
 }  // namespace vplab

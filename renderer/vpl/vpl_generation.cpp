@@ -1,16 +1,22 @@
 #include "renderer/vpl/vpl_generation.h"
 
-#include "renderer/scene/brdf_params.h"
-#include "renderer/vpl/generation_detail.h"
-#include "renderer/vpl/vpl_importance.h"
-
 #include <algorithm>
 #include <array>
+#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <optional>
 
+#include "renderer/scene/brdf_params.h"
+#include "renderer/vpl/generation_detail.h"
+#include "renderer/vpl/vpl_importance.h"
+
 namespace vplab {
+
+std::uint64_t newVplSetId() {
+  static std::atomic<std::uint64_t> next{1};
+  return next.fetch_add(1, std::memory_order_relaxed);
+}
 
 namespace {
 
