@@ -4,7 +4,6 @@
 #include <unordered_map>
 
 #include "renderer/core/sampling.h"
-#include "renderer/gl/gl_scene.h"
 
 namespace vplab {
 
@@ -19,21 +18,21 @@ DirectLightPass::DirectLightPass()
     : tableLayout_(uniformTableLayout(sizeof(DirectLightGpu))),
       program_("preview/direct.frag.glsl", {uniformTableDefine("DIRECT_UBO_LIGHTS", tableLayout_)}) {}
 
-bool DirectLightPass::renderMaps(const GlScene& glScene, const Scene& scene, const Settings& settings, float far,
-                                 float sceneRadius, const std::function<bool()>& outOfTime) {
+bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, float sceneRadius,
+                                 const std::function<bool()>& outOfTime) {
   if (!mapsStarted_) {
     uploadLights(scene, settings);
     mapsStarted_ = true;
     nextFace_ = nextDirectional_ = 0;
   }
   if (nextFace_ >= 0) {
-    nextFace_ = shadows_.render(glScene, casters_, kLightShadowFaceSize, far, nextFace_, outOfTime);
+    nextFace_ = shadows_.render(scene, casters_, kLightShadowFaceSize, settings.threads, nextFace_, outOfTime);
     if (nextFace_ >= 0) return false;
     // The last face was a slice of its own too.
     if (!casters_.empty() && !directionalDirections_.empty() && outOfTime && outOfTime()) return false;
   }
-  nextDirectional_ = shadows_.renderDirectional(glScene, directionalDirections_, scene.bounds.center(), sceneRadius,
-                                                kDirectionalShadowSize, nextDirectional_, outOfTime);
+  nextDirectional_ = shadows_.renderDirectional(scene, directionalDirections_, scene.bounds.center(), sceneRadius,
+                                                kDirectionalShadowSize, settings.threads, nextDirectional_, outOfTime);
   if (nextDirectional_ >= 0) return false;
   mapsStarted_ = false;
   return true;

@@ -14,8 +14,6 @@
 
 namespace vplab {
 
-class GlScene;
-
 // Texels per side of a light's cube-map face: a few lights, not one map per sample, so they can be sharp (a texel spans
 // 0.1 degrees: no stair-steps at contact shadows).
 inline constexpr int kLightShadowFaceSize = 1024;
@@ -27,10 +25,10 @@ class DirectLightPass {
   DirectLightPass();
 
   /// Chooses the area-light samples (Settings::directLightSamples and seed), uploads the light table and renders the
-  /// lights' shadow maps; far: the largest distance a cube map stores; sceneRadius: what a directional map covers.
-  /// With outOfTime, stops after a map face once it says so and returns false; the next call goes on (one face of a
-  /// 1024^2 cube is what a frame waits for at most). True when every map is rendered.
-  bool renderMaps(const GlScene& glScene, const Scene& scene, const Settings& settings, float far, float sceneRadius,
+  /// lights' shadow maps; sceneRadius: what a directional map covers. With outOfTime, stops after a map face once it
+  /// says so and returns false; the next call goes on (one face of a 1024^2 cube is what a frame waits for at most).
+  /// True when every map is rendered.
+  bool renderMaps(const Scene& scene, const Settings& settings, float sceneRadius,
                   const std::function<bool()>& outOfTime = {});
   /// The next renderMaps() starts over (the lights or their samples changed while it was under way).
   void restartMaps() { mapsStarted_ = false; }

@@ -45,8 +45,6 @@ GlScene::GlScene(const Scene& scene)
   uvs_.assign(scene.uvs.data(), scene.uvs.size() * sizeof(glm::vec2));
   triangles_.assign(t.data(), t.size() * sizeof(glm::uvec4));
   materials_.assign(m.data(), m.size() * sizeof(MaterialGpu));
-  indices_.assign(scene.triangles.data(), scene.triangles.size() * sizeof(glm::uvec3));
-  indexedVertices_.setPositionsAndIndices(positions_, indices_);
 
   int layers = std::max<int>(1, static_cast<int>(scene.textures.size()));
   textures_ = GlTexture(size, size, TextureFormat::Rgba32F, 1, layers, true);
@@ -62,15 +60,6 @@ GlScene::GlScene(const Scene& scene)
                       1.0f);
     textures_.uploadLayerRgba(static_cast<int>(layer), texels);
   }
-}
-
-void GlScene::drawIndexed() const {
-  indexedVertices_.bind();
-  glDrawElements(GL_TRIANGLES, 3 * triangleCount_, GL_UNSIGNED_INT, nullptr);
-}
-
-void GlScene::attachPositions(GlVertexArray& vertices, const GlBuffer& indices) const {
-  vertices.setPositionsAndIndices(positions_, indices);
 }
 
 void GlScene::bind() const {

@@ -17,11 +17,6 @@ class GlScene {
   /// Binds the buffers and the texture array at their named bindings (renderer/gl/texture_units.h).
   void bind() const;
   int triangleCount() const { return triangleCount_; }
-  /// Draws every triangle as an indexed draw with positions in attribute 0 (depth-only passes: shadow maps).
-  void drawIndexed() const;
-  /// Makes `vertices` read this scene's positions in attribute 0 and element indices from `indices` (some of the
-  /// triangles, as vertex-index triples), for indexed draws of a subset.
-  void attachPositions(GlVertexArray& vertices, const GlBuffer& indices) const;
   const Scene* source() const { return source_; }
   /// Different for every GlScene made in this process: what was derived from one upload's geometry is current while
   /// this matches (an address can be reused by the next scene).
@@ -31,8 +26,7 @@ class GlScene {
   const Scene* source_;
   uint64_t serial_;
   int triangleCount_ = 0;
-  GlBuffer positions_, normals_, uvs_, triangles_, materials_, indices_;
-  GlVertexArray indexedVertices_;
+  GlBuffer positions_, normals_, uvs_, triangles_, materials_;
   GlTexture textures_;
 };
 

@@ -1,15 +1,10 @@
 #include "renderer/gl/light_shadows.h"
 
-#include <glad/gl.h>
-
 #include <algorithm>
 #include <cmath>
-#include <glm/gtc/matrix_transform.hpp>
 #include <numeric>
 
-#include "renderer/core/parallel.h"
 #include "renderer/core/sampling.h"
-#include "renderer/gl/gl_scene.h"
 #include "renderer/gl/texture_units.h"
 
 namespace vplab {
@@ -93,167 +88,62 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
   return groups;
 }
 
-CubeFaceTriangles cubeFaceTriangles(const Scene& scene, glm::vec3 origin) {
-  // Per vertex, 4 bits per face: which side planes of the face's frustum it lies outside. Face f looks along axis
-  // a = f / 2 with sign s; its planes are s d_a >= +-d_b and s d_a >= +-d_c for the other two axes (d = vertex -
-  // origin). The planes are widened by a millionth of the distance, so that rounding never drops a triangle on a face's
-  // edge.
-  constexpr int64_t kBlock = 1 << 16;
-  std::vector<uint32_t> outside(scene.positions.size());
-  const int64_t vertexBlocks = (static_cast<int64_t>(outside.size()) + kBlock - 1) / kBlock;
-  parallelFor(vertexBlocks, 0, [&](int64_t block, int) {
-    const std::size_t end = std::min(outside.size(), static_cast<std::size_t>((block + 1) * kBlock));
-    for (std::size_t v = static_cast<std::size_t>(block * kBlock); v < end; ++v) {
-      const glm::vec3 d = scene.positions[v] - origin;
-      const float slack = 1e-6f * (std::abs(d.x) + std::abs(d.y) + std::abs(d.z));
-      uint32_t bits = 0;
-      for (int f = 0; f < 6; ++f) {
-        const int a = f / 2, b = (a + 1) % 3, c = (a + 2) % 3;
-        const float u = (f % 2 ? -d[a] : d[a]) + slack;
-        bits |= ((u < d[b] ? 1u : 0u) | (u < -d[b] ? 2u : 0u) | (u < d[c] ? 4u : 0u) | (u < -d[c] ? 8u : 0u))
-                << (4 * f);
-      }
-      outside[v] = bits;
-    }
-  });
-  // Blocks of triangles in parallel, each block's lists in the scene's order, joined block by block.
-  const int64_t triangleBlocks = (static_cast<int64_t>(scene.triangles.size()) + kBlock - 1) / kBlock;
-  std::vector<std::array<std::vector<uint32_t>, 6>> blockLists(static_cast<std::size_t>(triangleBlocks));
-  parallelFor(triangleBlocks, 0, [&](int64_t block, int) {
-    std::array<std::vector<uint32_t>, 6>& lists = blockLists[static_cast<std::size_t>(block)];
-    const std::size_t end = std::min(scene.triangles.size(), static_cast<std::size_t>((block + 1) * kBlock));
-    for (std::size_t i = static_cast<std::size_t>(block * kBlock); i < end; ++i) {
-      const glm::uvec3& t = scene.triangles[i];
-      const uint32_t common = outside[t.x] & outside[t.y] & outside[t.z];
-      for (std::size_t f = 0; f < 6; ++f)
-        if (((common >> (4 * f)) & 15u) == 0) {
-          lists[f].push_back(t.x);
-          lists[f].push_back(t.y);
-          lists[f].push_back(t.z);
-        }
-    }
-  });
-  CubeFaceTriangles out;
-  for (std::size_t f = 0; f < 6; ++f) {
-    out.begin[f] = out.indices.size();
-    for (const auto& lists : blockLists) out.indices.insert(out.indices.end(), lists[f].begin(), lists[f].end());
-  }
-  out.begin[6] = out.indices.size();
-  return out;
-}
-
-int LightShadowMaps::render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize,
-                            float far, int first, const std::function<bool()>& outOfTime) {
-  if (!program_.valid()) program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
+int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCaster>& casters, int faceSize,
+                            int threads, int first, const std::function<bool()>& outOfTime) {
   count_ = static_cast<int>(casters.size());
   // One cube at least, so that the direct pass's sampler is complete in a scene without such lights.
   const int cubes = std::max(count_, 1);
   if (!cubes_ || cubes_.layers() != 6 * cubes || faceSize_ != faceSize) {
     cubes_ = GlTexture::cubeArray(faceSize, cubes, TextureFormat::R32F);
     cubes_.setLinearFiltering(false);
-    depth_ = GlTexture(faceSize, faceSize, TextureFormat::Depth32F);
     faceSize_ = faceSize;
   }
-  // Cube face orientations of the GL specification (table 8.19), so that a samplerCubeArray lookup with the offset
-  // from the light finds the texel rendered for it.
-  static const glm::vec3 kTargets[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-  const glm::mat4 projection = glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far);
-  // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
   if (count_ == 0) return -1;
-  program_.set("uMaxSlopeBias", 4.0f * 2.0f / static_cast<float>(faceSize));
-  program_.use();
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
+  // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
+  const float maxSlopeBias = 4.0f * 2.0f / static_cast<float>(faceSize);
+  texels_.resize(static_cast<std::size_t>(faceSize) * faceSize);
   const int faces = 6 * count_;
-  int next = -1;
   for (int face = first; face < faces; ++face) {
-    const int c = face / 6, f = face % 6;
-    framebuffer_.attachColor(0, cubes_, 0, face);
-    framebuffer_.attachDepth(depth_);
-    framebuffer_.finalize(1);
-    framebuffer_.bind(faceSize, faceSize);
-    framebuffer_.clearColor(0, glm::vec4(3.0e38f));
-    framebuffer_.clearDepth(1.0f);
-    const glm::vec3& origin = casters[static_cast<std::size_t>(c)].position;
-    program_.set("uViewProjection", projection * glm::lookAt(origin, origin + kTargets[f], kUps[f]));
-    program_.set("uLightPosition", origin);
-    if (faceScene_ != scene.serial() || faceOrigin_ != origin) {
-      const CubeFaceTriangles lists = cubeFaceTriangles(*scene.source(), origin);
-      faceIndices_.assign(lists.indices.data(), std::max<std::size_t>(lists.indices.size(), 1) * sizeof(uint32_t));
-      scene.attachPositions(faceVertices_, faceIndices_);
-      faceBegin_ = lists.begin;
-      faceScene_ = scene.serial();
-      faceOrigin_ = origin;
+    const glm::vec3& origin = casters[static_cast<std::size_t>(face / 6)].position;
+    // A cube's six faces share one binning; a render resumed inside a cube goes on with it (a change of the scene or
+    // the lights starts the maps over from face 0).
+    if (face % 6 == 0 || binnedScene_ != &scene || binnedOrigin_ != origin || rasterizer_.views() != 6 ||
+        rasterizer_.size() != faceSize) {
+      rasterizer_.binCube(scene, origin, faceSize, threads);
+      binnedScene_ = &scene;
+      binnedOrigin_ = origin;
     }
-    faceVertices_.bind();
-    const std::size_t begin = faceBegin_[static_cast<std::size_t>(f)],
-                      end = faceBegin_[static_cast<std::size_t>(f) + 1];
-    if (end > begin)
-      glDrawElements(GL_TRIANGLES, static_cast<GLsizei>(end - begin), GL_UNSIGNED_INT,
-                     reinterpret_cast<const void*>(begin * sizeof(uint32_t)));
-    if (outOfTime && face + 1 < faces && outOfTime()) {
-      next = face + 1;
-      break;
-    }
+    rasterizer_.draw(face % 6, maxSlopeBias, threads, texels_.data());
+    cubes_.uploadLayerFloat(face, texels_);
+    if (outOfTime && face + 1 < faces && outOfTime()) return face + 1;
   }
-  glDisable(GL_DEPTH_TEST);
-  return next;
+  return -1;
 }
 
-int LightShadowMaps::renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions, glm::vec3 centre,
-                                       float radius, int size, int first, const std::function<bool()>& outOfTime) {
-  if (!program_.valid()) program_ = ShaderProgram({"preview/light_shadow.vert.glsl", "preview/light_shadow.frag.glsl"});
+int LightShadowMaps::renderDirectional(const Scene& scene, const std::vector<glm::vec3>& directions, glm::vec3 centre,
+                                       float radius, int size, int threads, int first,
+                                       const std::function<bool()>& outOfTime) {
   directionalCount_ = static_cast<int>(directions.size());
   // A 1-layer placeholder keeps the sampler complete when there is no directional light.
   const int layers = std::max(1, directionalCount_);
   if (!planes_ || planes_.layers() != layers || planes_.width() != size) {
     planes_ = GlTexture(size, size, TextureFormat::R32F, 1, layers);
     planes_.setLinearFiltering(false);
-    planeDepth_ = GlTexture(size, size, TextureFormat::Depth32F);
   }
-  program_.set("uAlongDirection", 1);
-  program_.set("uMaxSlopeBias", 4.0f * 2.0f * radius / static_cast<float>(size));
-  program_.use();
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  int next = -1;
+  texels_.resize(static_cast<std::size_t>(size) * size);
   for (int i = first; i < layers; ++i) {
-    framebuffer_.attachColor(0, planes_, 0, i);
-    framebuffer_.attachDepth(planeDepth_);
-    framebuffer_.finalize(1);
-    framebuffer_.bind(size, size);
-    framebuffer_.clearColor(0, glm::vec4(3.0e38f));
-    framebuffer_.clearDepth(1.0f);
-    if (i >= directionalCount_) continue;
-    // The frame of shaders/common/math.glsl orthonormalFrame around the direction: map u along s, v along t.
-    const glm::vec3 dir = directions[static_cast<std::size_t>(i)];
-    const Frame frame(dir);
-    const glm::vec3 origin = centre - dir * radius;
-    glm::mat4 view(1.0f);
-    view[0] = glm::vec4(frame.s.x, frame.t.x, frame.n.x, 0.0f);
-    view[1] = glm::vec4(frame.s.y, frame.t.y, frame.n.y, 0.0f);
-    view[2] = glm::vec4(frame.s.z, frame.t.z, frame.n.z, 0.0f);
-    view[3] = glm::vec4(-glm::dot(frame.s, centre), -glm::dot(frame.t, centre), -glm::dot(frame.n, origin), 1.0f);
-    // View space: x, y in [-radius, radius], z = distance along the direction in [0, 2 radius]; GL looks down -z.
-    const glm::mat4 flip = glm::scale(glm::mat4(1.0f), glm::vec3(1.0f, 1.0f, -1.0f));
-    const glm::mat4 projection = glm::ortho(-radius, radius, -radius, radius, -1e-3f * radius, 2.001f * radius);
-    program_.set("uViewProjection", projection * flip * view);
-    program_.set("uLightPosition", origin);
-    program_.set("uDirection", dir);
-    scene.drawIndexed();
-    if (outOfTime && i + 1 < layers && outOfTime()) {
-      next = i + 1;
-      break;
+    if (i >= directionalCount_) {
+      std::fill(texels_.begin(), texels_.end(), kNoOccluder);
+    } else {
+      const glm::vec3 direction = directions[static_cast<std::size_t>(i)];
+      rasterizer_.binPlane(scene, direction, centre, radius, size, threads);
+      binnedScene_ = nullptr;
+      rasterizer_.draw(0, 4.0f * 2.0f * radius / static_cast<float>(size), threads, texels_.data());
     }
+    planes_.uploadLayerFloat(i, texels_);
+    if (outOfTime && i + 1 < layers && outOfTime()) return i + 1;
   }
-  program_.set("uAlongDirection", 0);
-  glDisable(GL_DEPTH_TEST);
-  return next;
+  return -1;
 }
 
 void LightShadowMaps::bind() const {

@@ -8,24 +8,21 @@
 //    R (d - z_b) / (z_b d) for an emitter of radius R and a receiver at distance d, and a filter of that size gives the
 //    fraction of the emitter that is visible. The K area samples still give the unshadowed light (unbiased); only the
 //    visibility is the filtered approximation.
-// Maps store the radial distance to the light in a colour cube map, rendered with an ordinary depth test (so early
-// depth rejection works) by indexed draws without a geometry shader, each face drawing only the triangles that can
-// reach its frustum (cubeFaceTriangles: each triangle about once, instead of every triangle six times); the triangles
-// are drawn with a slope-scaled polygon offset and the receiver is offset along its normal by a texel's footprint,
-// which together remove acne on grazing surfaces without a large constant bias.
+// Maps store the radial distance to the light in a colour cube map (one value serves every face and the filter taps,
+// which cross faces), drawn on the CPU (distance_raster.h) and uploaded; each texel's distance is pushed away from the
+// light by a slope-scaled bias and the receiver is offset along its normal by a texel's footprint, which together
+// remove acne on grazing surfaces without a large constant bias.
 //  - A directional light: an orthographic map over the scene's bounding sphere, filtered over about a texel.
 
 #include <array>
 #include <functional>
 #include <vector>
 
+#include "renderer/gl/distance_raster.h"
 #include "renderer/gl/resources.h"
-#include "renderer/gl/shader.h"
 #include "renderer/scene/scene.h"
 
 namespace vplab {
-
-class GlScene;
 
 /// A point the light's cube map is rendered from, and the radius of the emitter around it (0: a punctual light).
 struct LightShadowCaster {
@@ -46,43 +43,31 @@ struct AreaLightGroup {
 inline constexpr int kMaxAreaGroups = 8;
 std::vector<AreaLightGroup> groupAreaLights(const Scene& scene);
 
-/// The triangles that can cover each face of a cube map at `origin`, face f's as vertex-index triples at
-/// [begin[f], begin[f + 1]) of `indices` (faces in GL's order +x, -x, +y, -y, +z, -z), in the scene's triangle order.
-/// A triangle is left out of a face only when its three vertices lie outside one side plane of the face's 90-degree
-/// frustum, so it could not have produced a fragment there: the map is the one every triangle gives.
-struct CubeFaceTriangles {
-  std::vector<uint32_t> indices;
-  std::array<std::size_t, 7> begin{};
-};
-CubeFaceTriangles cubeFaceTriangles(const Scene& scene, glm::vec3 origin);
-
 class LightShadowMaps {
  public:
-  /// Renders one cube of faceSize^2 texels per caster (radial distance, up to `far`), face 6 c + f of caster c, from
-  /// face `first` on. With outOfTime, stops after a face once it says so and returns the first face not rendered (the
-  /// next call's `first`); -1 when every face is rendered. The maps do not depend on where it stopped.
-  int render(const GlScene& scene, const std::vector<LightShadowCaster>& casters, int faceSize, float far,
+  /// Renders one cube of faceSize^2 texels per caster (radial distance), face 6 c + f of caster c, from face `first`
+  /// on, on `threads` threads (Settings::threads). With outOfTime, stops after a face once it says so and returns the
+  /// first face not rendered (the next call's `first`); -1 when every face is rendered. The maps do not depend on where
+  /// it stopped.
+  int render(const Scene& scene, const std::vector<LightShadowCaster>& casters, int faceSize, int threads,
              int first = 0, const std::function<bool()>& outOfTime = {});
   /// Renders one orthographic map of size^2 texels per directional light (unit direction of travel), over the disc of
   /// `radius` around `centre` perpendicular to it (the scene's bounding sphere), from map `first` on; stops and
   /// returns as render() does.
-  int renderDirectional(const GlScene& scene, const std::vector<glm::vec3>& directions, glm::vec3 centre, float radius,
-                        int size, int first = 0, const std::function<bool()>& outOfTime = {});
+  int renderDirectional(const Scene& scene, const std::vector<glm::vec3>& directions, glm::vec3 centre, float radius,
+                        int size, int threads, int first = 0, const std::function<bool()>& outOfTime = {});
   /// Binds the cube-map array and the directional maps (TextureUnit::LightShadows, DirectionalShadows).
   void bind() const;
   int count() const { return count_; }
   int faceSize() const { return faceSize_; }
 
  private:
-  GlTexture cubes_, depth_, planes_, planeDepth_;
-  GlFramebuffer framebuffer_;
-  // The per-face triangle lists of the caster whose faces are being drawn (kept across calls of a sliced render).
-  uint64_t faceScene_ = 0;  // GlScene::serial()
-  glm::vec3 faceOrigin_{0.0f};
-  std::array<std::size_t, 7> faceBegin_{};
-  GlBuffer faceIndices_;
-  GlVertexArray faceVertices_;
-  ShaderProgram program_;
+  GlTexture cubes_, planes_;
+  DistanceRasterizer rasterizer_;
+  // The cube rasterizer_ last binned (null: none, or a directional map).
+  const Scene* binnedScene_ = nullptr;
+  glm::vec3 binnedOrigin_{0.0f};
+  std::vector<float> texels_;
   int count_ = 0, faceSize_ = 0, directionalCount_ = 0;
 };
 

@@ -377,9 +377,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // The lights' shadow maps, a cube face at a time when a budget is given.
   if (pending_.directMaps && !outOfBudget) {
     bool built = false;
-    t.directShadowMs = timed(timer_, t.directShadowWallMs, [&] {
-      built = direct_.renderMaps(*glScene_, scene, settings, far, sceneRadius, outOfTime);
-    });
+    t.directShadowMs = timed(timer_, t.directShadowWallMs,
+                             [&] { built = direct_.renderMaps(scene, settings, sceneRadius, outOfTime); });
     if (built) {
       ++counters_.directShadowMaps;
       finished(pending_.directMaps);

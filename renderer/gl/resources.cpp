@@ -102,6 +102,11 @@ void GlTexture::uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels)
   glTextureSubImage3D(id(), 0, 0, 0, layer, width_, height_, 1, GL_RGBA, GL_FLOAT, texels.data());
 }
 
+void GlTexture::uploadLayerFloat(int layer, const std::vector<float>& texels) {
+  assert(layers_ > 0 && layer < layers_ && texels.size() == static_cast<std::size_t>(width_) * height_);
+  glTextureSubImage3D(id(), 0, 0, 0, layer, width_, height_, 1, GL_RED, GL_FLOAT, texels.data());
+}
+
 void GlTexture::uploadDepth16(const std::vector<uint16_t>& texels) {
   assert(format_ == TextureFormat::Depth16 && texels.size() == static_cast<std::size_t>(width_) * height_ * std::max(layers_, 1));
   glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
@@ -223,13 +228,6 @@ void GlBuffer::bindUniformRange(int binding, std::size_t offset, std::size_t byt
 GlVertexArray::GlVertexArray() : object_(GlObject::Kind::VertexArray, createName(GlObject::Kind::VertexArray)) {}
 void GlVertexArray::bind() const {
   glBindVertexArray(object_.id());
-}
-void GlVertexArray::setPositionsAndIndices(const GlBuffer& positions, const GlBuffer& indices) {
-  glVertexArrayVertexBuffer(object_.id(), 0, positions.id(), 0, 4 * sizeof(float));
-  glEnableVertexArrayAttrib(object_.id(), 0);
-  glVertexArrayAttribFormat(object_.id(), 0, 4, GL_FLOAT, GL_FALSE, 0);
-  glVertexArrayAttribBinding(object_.id(), 0, 0);
-  glVertexArrayElementBuffer(object_.id(), indices.id());
 }
 
 GlTimerQuery::GlTimerQuery() : object_(GlObject::Kind::Query, createName(GlObject::Kind::Query, GL_TIME_ELAPSED)) {}

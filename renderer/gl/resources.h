@@ -65,6 +65,8 @@ class GlTexture {
   void uploadRgb(const std::vector<glm::vec3>& texels);
   /// Uploads RGBA float texels (row 0 first) into one layer of level 0 of a texture array.
   void uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels);
+  /// Uploads single-channel float texels (row 0 first) into one layer (a layer-face of a cube-map array) of level 0.
+  void uploadLayerFloat(int layer, const std::vector<float>& texels);
   /// Uploads 16-bit depth texels (0..65535 = 0..1, layer by layer, row 0 first) into level 0 of every layer of a
   /// Depth16 texture array.
   void uploadDepth16(const std::vector<uint16_t>& texels);
@@ -126,9 +128,6 @@ class GlVertexArray {
  public:
   GlVertexArray();
   void bind() const;
-  /// Attribute 0 = vec4 positions from `positions`, element indices (uint32) from `indices`: for indexed draws, which
-  /// let the driver reuse a shared vertex instead of shading it once per triangle.
-  void setPositionsAndIndices(const GlBuffer& positions, const GlBuffer& indices);
 
  private:
   GlObject object_;
