@@ -3,7 +3,7 @@
 // of radial distances around a light, or one orthographic map of distances along a directional light. Each texel holds
 // the distance to the nearest triangle along its centre's ray, plus a slope-scaled bias.
 //
-// Why on the CPU: measured on llvmpipe (docs/benchmarks.md "The lights' shadow maps"), GL spends about 150 ns per
+// Why on the CPU: measured on llvmpipe (docs/benchmarks.md "Preview at scale"), GL spends about 150 ns per
 // triangle on one thread setting up triangles that mostly cover no texel centre, so a million triangles took ~220 ms
 // per light move; binned by rows and rasterized here on every core it is several times less, and every GL driver gets
 // the same maps. On a GPU the upload of a 1024^2 face costs about a millisecond.

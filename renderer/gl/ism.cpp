@@ -153,6 +153,33 @@ void pullPush(std::vector<float>& tile, int size, int levels) {
   tile = std::move(pyramid[0]);
 }
 
+// One point's disc in a tile: centre (fx, fy) and squared radius in texels; the texel the point falls in is always
+// covered. Each covered texel stores the distance along its direction to the point's tangent plane (normal, offset
+// from the caster), kept within [r / 2, 2 r] of the point's own distance r, over far.
+struct SplatDisc {
+  float fx, fy, radius2;
+  int pointX, pointY;
+  glm::vec3 normal;
+  float planeOffset, r, invFar;
+};
+
+// Texels [x0, x1] of row y (per-row arrays of the texel directions, the disc mask and the tile's depths): branch-free,
+// so that it runs on SIMD lanes (the file is built without floating-point traps).
+void splatRow(const SplatDisc& d, int y, int x0, int x1, const float* dirX, const float* dirY, const float* dirZ,
+              const float* inDisc, float* depths) {
+  const float cy = static_cast<float>(y) + 0.5f - d.fy, cy2 = cy * cy;
+  const bool pointRow = y == d.pointY;
+  for (int x = x0; x <= x1; ++x) {
+    const float cx = static_cast<float>(x) + 0.5f - d.fx;
+    const bool covered = ((cx * cx + cy2 <= d.radius2) | (pointRow & (x == d.pointX))) & (inDisc[x] != 0.0f);
+    const float along = dirX[x] * d.normal.x + dirY[x] * d.normal.y + dirZ[x] * d.normal.z;
+    float dist = std::abs(along) > 1e-6f ? d.planeOffset / along : d.r;
+    dist = dist < 0.5f * d.r ? 0.5f * d.r : (2.0f * d.r < dist ? 2.0f * d.r : dist);
+    const float depth = dist * d.invFar;
+    depths[x] = covered && depth < depths[x] ? depth : depths[x];
+  }
+}
+
 }  // namespace
 
 std::vector<uint16_t> splatIsmTiles(const IsmPoints& points, const std::vector<IsmCaster>& casters,
@@ -175,16 +202,20 @@ void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& ca
   // Splats larger than this radius (texels) are cut: they come from points almost touching the caster.
   const float maxRadius = 0.125f * static_cast<float>(tileSize);
   // The unit direction of every texel centre in the caster's frame (the paraboloid's inverse map), shared by all
-  // tiles; w = 0 outside the unit disc, where no direction maps.
-  std::vector<glm::vec3> texelDirections(static_cast<std::size_t>(tileSize) * tileSize, glm::vec3(0.0f));
+  // tiles, one array per component (the splat's rows run on SIMD lanes); inDisc = 0 outside the unit disc, where no
+  // direction maps.
+  const std::size_t texels = static_cast<std::size_t>(tileSize) * tileSize;
+  std::vector<float> directionX(texels, 0.0f), directionY(texels, 0.0f), directionZ(texels, 0.0f), inDisc(texels, 0.0f);
   for (int y = 0; y < tileSize; ++y)
     for (int x = 0; x < tileSize; ++x) {
       const float tu = (static_cast<float>(x) + 0.5f) / halfSize - 1.0f,
                   tv = (static_cast<float>(y) + 0.5f) / halfSize - 1.0f;
       const float q = tu * tu + tv * tv;
-      if (q <= 1.0f)
-        texelDirections[static_cast<std::size_t>(y) * tileSize + x] =
-            glm::vec3(2.0f * tu, 2.0f * tv, 1.0f - q) / (1.0f + q);
+      if (q > 1.0f) continue;
+      const glm::vec3 w = glm::vec3(2.0f * tu, 2.0f * tv, 1.0f - q) / (1.0f + q);
+      const std::size_t i = static_cast<std::size_t>(y) * tileSize + x;
+      directionX[i] = w.x, directionY[i] = w.y, directionZ[i] = w.z;
+      inDisc[i] = w.x != 0.0f || w.y != 0.0f || w.z != 0.0f ? 1.0f : 0.0f;
     }
   parallelFor(endCaster - firstCaster, threads, [&](int64_t index, int) {
     const int i = firstCaster + static_cast<int>(index);
@@ -223,22 +254,18 @@ void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& ca
       const float rad = std::clamp(radius, 0.5f, maxRadius);
       const glm::vec3 localNormal = frame.toLocal(np);
       const float planeOffset = glm::dot(local, localNormal);
-      const int x0 = std::max(0, static_cast<int>(std::floor(fx - rad))),
+      // floor by truncating a positive number (fx, fy >= 0, rad <= tileSize / 8): SSE2 has no rounding instruction.
+      const int x0 = std::max(0, static_cast<int>(fx - rad + halfSize) - tileSize / 2),
                 x1 = std::min(tileSize - 1, static_cast<int>(fx + rad));
-      const int y0 = std::max(0, static_cast<int>(std::floor(fy - rad))),
+      const int y0 = std::max(0, static_cast<int>(fy - rad + halfSize) - tileSize / 2),
                 y1 = std::min(tileSize - 1, static_cast<int>(fy + rad));
-      for (int y = y0; y <= y1; ++y)
-        for (int x = x0; x <= x1; ++x) {
-          const float cx = static_cast<float>(x) + 0.5f - fx, cy = static_cast<float>(y) + 0.5f - fy;
-          if (cx * cx + cy * cy > rad * rad && !(x == static_cast<int>(fx) && y == static_cast<int>(fy))) continue;
-          const glm::vec3& w = texelDirections[static_cast<std::size_t>(y) * tileSize + x];
-          if (w.z == 0.0f && w.x == 0.0f && w.y == 0.0f) continue;
-          const float along = glm::dot(w, localNormal);
-          float dist = std::abs(along) > 1e-6f ? planeOffset / along : r;
-          dist = std::clamp(dist, 0.5f * r, 2.0f * r);
-          float& t = tile[static_cast<std::size_t>(y) * tileSize + x];
-          t = std::min(t, dist * invFar);
-        }
+      const SplatDisc disc{fx,          fy, rad * rad, static_cast<int>(fx), static_cast<int>(fy), localNormal,
+                           planeOffset, r,  invFar};
+      for (int y = y0; y <= y1; ++y) {
+        const std::size_t row = static_cast<std::size_t>(y) * tileSize;
+        splatRow(disc, y, x0, x1, directionX.data() + row, directionY.data() + row, directionZ.data() + row,
+                 inDisc.data() + row, tile.data() + row);
+      }
     }
     pullPush(tile, tileSize, fillLevels);
     uint16_t* out = atlas.data() + layout.tileOrigin(i);
