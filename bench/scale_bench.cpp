@@ -81,15 +81,48 @@ double median(std::vector<double> v) {
   return v.empty() ? 0.0 : v[v.size() / 2];
 }
 
+// One kind of change (a new VPL set, or a light move) timed over the repeats: wall and process CPU time, and its parts
+// (wall ms): VPL generation, the lights' maps, the VPL maps, the direct light, the gather with the merges, the SSBC,
+// and what the other passes took. median() gives each part's median.
+struct ChangeTimes {
+  std::vector<double> wall, cpu, generation, lightMaps, vplMaps, direct, gather, ssbc, other;
+  void add(double wallMs, double cpuMs, double generationMs, const PreviewTimings& t) {
+    wall.push_back(wallMs);
+    cpu.push_back(cpuMs);
+    generation.push_back(generationMs);
+    lightMaps.push_back(t.directShadowWallMs);
+    vplMaps.push_back(t.vplShadowWallMs);
+    direct.push_back(t.directWallMs);
+    gather.push_back(t.gatherWallMs);
+    ssbc.push_back(t.ssbcWallMs);
+    other.push_back(t.frameWallMs - t.directShadowWallMs - t.vplShadowWallMs - t.directWallMs - t.gatherWallMs -
+                    t.ssbcWallMs);
+  }
+  ChangeTimes median() const {
+    ChangeTimes m;
+    for (auto [in, out] : {std::pair{&wall, &m.wall},
+                           {&cpu, &m.cpu},
+                           {&generation, &m.generation},
+                           {&lightMaps, &m.lightMaps},
+                           {&vplMaps, &m.vplMaps},
+                           {&direct, &m.direct},
+                           {&gather, &m.gather},
+                           {&ssbc, &m.ssbc},
+                           {&other, &m.other}})
+      out->push_back(::median(*in));
+    return m;
+  }
+  // The medians' value (after median()), -1 when the change was not measured.
+  static double at(const std::vector<double>& v) { return v.empty() ? -1.0 : v.front(); }
+};
+
 struct Row {
   std::string scene, visibility;
   int indirectDownscale = 1;
   std::size_t triangles = 0;
-  double loadMs = 0, firstMs = 0, vplChangeMs = 0, lightMoveMs = -1, referenceMs = 0, vplMapsMs = 0, lightMapsMs = -1;
-  // The VPL change's parts (wall ms) and its process CPU time.
-  double generationMs = 0, gatherMs = 0, ssbcMs = 0, otherPassesMs = 0, vplChangeCpuMs = 0, lightMoveCpuMs = -1;
-  // The light move's other parts (wall ms): the VPL maps, the direct light, the gather with the merges, the SSBC.
-  double moveVplMapsMs = -1, moveDirectMs = -1, moveGatherMs = -1, moveSsbcMs = -1;
+  double loadMs = 0, firstMs = 0, referenceMs = 0;
+  // Medians of a new VPL set and of a light move.
+  ChangeTimes vplChange, lightMove;
 };
 
 }  // namespace
@@ -186,7 +219,7 @@ int main(int argc, char** argv) {
         renderer.render(scene, vpls, s, scene.camera);
         row.firstMs = msSince(t);
 
-        std::vector<double> change, maps, generation, gather, ssbc, other, cpu;
+        ChangeTimes change;
         for (int r = 0; r <= repeats; ++r) {
           // A new VPL set whose positions differ (the maximum bounce alternates) while the direct light stays: the seed
           // would also redraw the direct-light samples and their maps.
@@ -197,25 +230,12 @@ int main(int argc, char** argv) {
           double generated = msSince(t);
           PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
           double ms = msSince(t);
-          if (r == 0) continue;  // warm-up
-          change.push_back(ms);
-          cpu.push_back(processCpuMs() - cpu0);
-          generation.push_back(generated);
-          maps.push_back(timings.vplShadowWallMs);
-          gather.push_back(timings.gatherWallMs);
-          ssbc.push_back(timings.ssbcWallMs);
-          other.push_back(timings.frameWallMs - timings.vplShadowWallMs - timings.gatherWallMs - timings.ssbcWallMs);
+          if (r > 0) change.add(ms, processCpuMs() - cpu0, generated, timings);  // r = 0: warm-up
         }
-        row.vplChangeMs = median(change);
-        row.vplMapsMs = median(maps);
-        row.generationMs = median(generation);
-        row.gatherMs = median(gather);
-        row.ssbcMs = median(ssbc);
-        row.otherPassesMs = median(other);
-        row.vplChangeCpuMs = median(cpu);
+        row.vplChange = change.median();
 
         if (!scene.punctualLights.empty()) {
-          std::vector<double> move, lightMaps, cpu, vplMaps, direct, gather, ssbc;
+          ChangeTimes move;
           for (int r = 0; r <= repeats; ++r) {
             double cpu0 = processCpuMs();
             t = Clock::now();
@@ -223,25 +243,14 @@ int main(int argc, char** argv) {
               if (!l.isDirectional()) l.position += glm::vec3(0.02f, 0.0f, 0.0f) * (r % 2 ? -1.0f : 1.0f);
             offline.punctualLightsChanged();
             renderer.invalidateLights();
+            const Clock::time_point generation = Clock::now();
             VplSet next = generateVpls(offline, s);
+            double generated = msSince(generation);
             PreviewTimings timings = renderer.render(scene, next, s, scene.camera);
             double ms = msSince(t);
-            if (r == 0) continue;
-            move.push_back(ms);
-            cpu.push_back(processCpuMs() - cpu0);
-            lightMaps.push_back(timings.directShadowWallMs);
-            vplMaps.push_back(timings.vplShadowWallMs);
-            direct.push_back(timings.directWallMs);
-            gather.push_back(timings.gatherWallMs);
-            ssbc.push_back(timings.ssbcWallMs);
+            if (r > 0) move.add(ms, processCpuMs() - cpu0, generated, timings);
           }
-          row.lightMoveMs = median(move);
-          row.lightMoveCpuMs = median(cpu);
-          row.lightMapsMs = median(lightMaps);
-          row.moveVplMapsMs = median(vplMaps);
-          row.moveDirectMs = median(direct);
-          row.moveGatherMs = median(gather);
-          row.moveSsbcMs = median(ssbc);
+          row.lightMove = move.median();
         }
 
         Settings ref;
@@ -254,15 +263,16 @@ int main(int argc, char** argv) {
         }
         row.referenceMs = msSince(t);
         rows.push_back(row);
+        const ChangeTimes &c = row.vplChange, &m = row.lightMove;
+        auto at = ChangeTimes::at;
         std::printf(
             "%-28s %-4s s=%d %9zu tris  load %7.0f  first %8.0f  vpl change %7.0f (cpu %6.0f; generation %5.0f, maps "
-            "%6.0f, "
-            "gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f, vpl maps %5.0f, direct "
-            "%5.0f, gather %5.0f, ssbc %5.0f)  reference %6.0f ms\n",
+            "%6.0f, gather %5.0f, ssbc %5.0f, other %5.0f)  light move %7.0f (cpu %6.0f; maps %6.0f, vpl maps %5.0f, "
+            "direct %5.0f, gather %5.0f, ssbc %5.0f)  reference %6.0f ms\n",
             row.scene.c_str(), row.visibility.c_str(), row.indirectDownscale, row.triangles, row.loadMs, row.firstMs,
-            row.vplChangeMs, row.vplChangeCpuMs, row.generationMs, row.vplMapsMs, row.gatherMs, row.ssbcMs,
-            row.otherPassesMs, row.lightMoveMs, row.lightMoveCpuMs, row.lightMapsMs, row.moveVplMapsMs,
-            row.moveDirectMs, row.moveGatherMs, row.moveSsbcMs, row.referenceMs);
+            at(c.wall), at(c.cpu), at(c.generation), at(c.vplMaps), at(c.gather), at(c.ssbc),
+            at(c.other) + at(c.direct) + at(c.lightMaps), at(m.wall), at(m.cpu), at(m.lightMaps), at(m.vplMaps),
+            at(m.direct), at(m.gather), at(m.ssbc), row.referenceMs);
         std::fflush(stdout);
       }
   }
@@ -272,12 +282,16 @@ int main(int argc, char** argv) {
            "ms,vpl_maps_ms,"
            "gather_ms,ssbc_ms,other_passes_ms,light_move_ms,light_move_cpu_ms,light_maps_ms,light_move_vpl_maps_ms,"
            "light_move_direct_ms,light_move_gather_ms,light_move_ssbc_ms,reference_256_16spp_ms\n";
-    for (const Row& r : rows)
+    for (const Row& r : rows) {
+      const ChangeTimes &c = r.vplChange, &m = r.lightMove;
+      auto at = ChangeTimes::at;
       csv << r.scene << ',' << r.visibility << ',' << r.indirectDownscale << ',' << r.triangles << ',' << r.loadMs
-          << ',' << r.firstMs << ',' << r.vplChangeMs << ',' << r.vplChangeCpuMs << ',' << r.generationMs << ','
-          << r.vplMapsMs << ',' << r.gatherMs << ',' << r.ssbcMs << ',' << r.otherPassesMs << ',' << r.lightMoveMs
-          << ',' << r.lightMoveCpuMs << ',' << r.lightMapsMs << ',' << r.moveVplMapsMs << ',' << r.moveDirectMs << ','
-          << r.moveGatherMs << ',' << r.moveSsbcMs << ',' << r.referenceMs << '\n';
+          << ',' << r.firstMs << ',' << at(c.wall) << ',' << at(c.cpu) << ',' << at(c.generation) << ','
+          << at(c.vplMaps) << ',' << at(c.gather) << ',' << at(c.ssbc) << ','
+          << at(c.other) + at(c.direct) + at(c.lightMaps) << ',' << at(m.wall) << ',' << at(m.cpu) << ','
+          << at(m.lightMaps) << ',' << at(m.vplMaps) << ',' << at(m.direct) << ',' << at(m.gather) << ',' << at(m.ssbc)
+          << ',' << r.referenceMs << '\n';
+    }
     if (!csv) return std::fprintf(stderr, "cannot write %s\n", csvPath.c_str()), 1;
   }
   return 0;
