@@ -176,12 +176,6 @@ void DistanceRasterizer::bin(const Scene& scene, int threads) {
     for (std::size_t tri = begin; tri < end; ++tri) {
       const glm::uvec3& v = scene.triangles[tri];
       const uint32_t common = outside_[v.x] & outside_[v.y] & outside_[v.z];
-      if (((common & 0x00ffffffu) == 0x00ffffffu && perspective_) || (!perspective_ && common)) {
-        // Every view has a plane with all three corners beyond it (the common case is skipping fast).
-        bool anyView = false;
-        for (std::size_t f = 0; f < views_.size(); ++f) anyView |= ((common >> (4 * f)) & 15u) == 0;
-        if (!anyView) continue;
-      }
       const glm::vec3 d[3] = {scene.positions[v.x] - origin_, scene.positions[v.y] - origin_,
                               scene.positions[v.z] - origin_};
       for (std::size_t f = 0; f < views_.size(); ++f) {
@@ -238,7 +232,8 @@ void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* 
                                 local(v, scene.positions[tri.z] - origin_)};
         Edges edges;
         float dmax = 0.0f, absDet = 0.0f, zmin = 0.0f, zmax = 0.0f, z0 = 0.0f;
-        glm::vec2 gradient(0.0f), edgeSlope(0.0f);
+        glm::vec2 gradient(0.0f);
+        glm::vec3 edgeSum(0.0f);  // of the three edge functions' coefficients
         if (perspective_) {
           // Edge k's plane through the light and corners k, k + 1 (local coordinates: the ray through texel (x, y) is
           // r = (x, y, 1)); r passes through the triangle where r = sum l_k c_k with every l_k >= 0, l_{k+2} =
@@ -251,8 +246,7 @@ void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* 
             edges.edge[static_cast<std::size_t>(k)] = sign * glm::vec3(n[k].z, n[k].x, n[k].y);
           absDet = std::abs(det);
           dmax = std::sqrt(std::max({glm::dot(l[0], l[0]), glm::dot(l[1], l[1]), glm::dot(l[2], l[2])}));
-          edgeSlope = glm::vec2(edges.edge[0].y + edges.edge[1].y + edges.edge[2].y,
-                                edges.edge[0].z + edges.edge[1].z + edges.edge[2].z);
+          edgeSum = edges.edge[0] + edges.edge[1] + edges.edge[2];
         } else {
           const float area = (l[1].x - l[0].x) * (l[2].y - l[0].y) - (l[2].x - l[0].x) * (l[1].y - l[0].y);
           if (!(std::abs(area) > 0.0f) || !std::isfinite(area)) continue;  // seen edge-on
@@ -275,8 +269,8 @@ void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* 
           float* row = out + static_cast<std::size_t>(j) * size;
           auto span = [&](int first, int last) {
             if (perspective_)
-              faceSpan(row, first, last, step, y, edges.edge[0].x + edges.edge[1].x + edges.edge[2].x + edgeSlope.y * y,
-                       edgeSlope, absDet, dmax, maxSlopeBias);
+              faceSpan(row, first, last, step, y, edgeSum.x + edgeSum.z * y, glm::vec2(edgeSum.y, edgeSum.z), absDet,
+                       dmax, maxSlopeBias);
             else
               planeSpan(row, first, last, step, z0 + gradient.y * y, gradient.x, zmin, zmax, planeBias);
           };

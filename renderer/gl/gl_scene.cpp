@@ -3,19 +3,13 @@
 #include <glad/gl.h>
 
 #include <algorithm>
-#include <atomic>
 #include <cassert>
 
 #include "renderer/gl/texture_units.h"
 
 namespace vplab {
 
-namespace {
-std::atomic<uint64_t> nextSerial{1};
-}  // namespace
-
-GlScene::GlScene(const Scene& scene)
-    : source_(&scene), serial_(nextSerial++), triangleCount_(static_cast<int>(scene.triangles.size())) {
+GlScene::GlScene(const Scene& scene) : triangleCount_(static_cast<int>(scene.triangles.size())) {
   assert(scene.normals.size() == scene.positions.size() && scene.uvs.size() == scene.positions.size());
   std::vector<glm::vec4> p(scene.positions.size()), n(scene.normals.size());
   for (std::size_t i = 0; i < p.size(); ++i) {

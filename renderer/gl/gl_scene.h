@@ -17,14 +17,8 @@ class GlScene {
   /// Binds the buffers and the texture array at their named bindings (renderer/gl/texture_units.h).
   void bind() const;
   int triangleCount() const { return triangleCount_; }
-  const Scene* source() const { return source_; }
-  /// Different for every GlScene made in this process: what was derived from one upload's geometry is current while
-  /// this matches (an address can be reused by the next scene).
-  uint64_t serial() const { return serial_; }
 
  private:
-  const Scene* source_;
-  uint64_t serial_;
   int triangleCount_ = 0;
   GlBuffer positions_, normals_, uvs_, triangles_, materials_;
   GlTexture textures_;

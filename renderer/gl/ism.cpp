@@ -215,7 +215,7 @@ void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& ca
       const glm::vec3 w = glm::vec3(2.0f * tu, 2.0f * tv, 1.0f - q) / (1.0f + q);
       const std::size_t i = static_cast<std::size_t>(y) * tileSize + x;
       directionX[i] = w.x, directionY[i] = w.y, directionZ[i] = w.z;
-      inDisc[i] = w.x != 0.0f || w.y != 0.0f || w.z != 0.0f ? 1.0f : 0.0f;
+      inDisc[i] = 1.0f;
     }
   parallelFor(endCaster - firstCaster, threads, [&](int64_t index, int) {
     const int i = firstCaster + static_cast<int>(index);

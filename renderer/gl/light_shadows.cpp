@@ -107,8 +107,7 @@ int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCas
     const glm::vec3& origin = casters[static_cast<std::size_t>(face / 6)].position;
     // A cube's six faces share one binning; a render resumed inside a cube goes on with it (a change of the scene or
     // the lights starts the maps over from face 0).
-    if (face % 6 == 0 || binnedScene_ != &scene || binnedOrigin_ != origin || rasterizer_.views() != 6 ||
-        rasterizer_.size() != faceSize) {
+    if (face % 6 == 0 || binnedScene_ != &scene || binnedOrigin_ != origin || rasterizer_.size() != faceSize) {
       rasterizer_.binCube(scene, origin, faceSize, threads);
       binnedScene_ = &scene;
       binnedOrigin_ = origin;

@@ -14,7 +14,6 @@
 // remove acne on grazing surfaces without a large constant bias.
 //  - A directional light: an orthographic map over the scene's bounding sphere, filtered over about a texel.
 
-#include <array>
 #include <functional>
 #include <vector>
 
