@@ -47,6 +47,25 @@ ImageMetrics directAgainstReference(const OfflineScene& l, int size, int referen
   return m;
 }
 
+// The Cornell box without its ceiling, so that a directional light reaches the floor; with or without the emitter
+// just below the ceiling.
+Scene openCornellBox(bool keepEmitter) {
+  Scene scene = test::loadAssetScene("cornell-box")->scene();
+  std::vector<glm::uvec3> triangles;
+  std::vector<uint32_t> materials;
+  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
+    const glm::uvec3& v = scene.triangles[t];
+    bool ceiling = scene.positions[v.x].y > 0.5f && scene.positions[v.y].y > 0.5f && scene.positions[v.z].y > 0.5f;
+    bool emitter = scene.materials[scene.triangleMaterials[t]].emission != glm::vec3(0.0f);
+    if (ceiling && !(emitter && keepEmitter)) continue;
+    triangles.push_back(v);
+    materials.push_back(scene.triangleMaterials[t]);
+  }
+  scene.triangles = triangles;
+  scene.triangleMaterials = materials;
+  return scene;
+}
+
 TEST_P(GlDirect, AreaLightMatchesReferenceCornellBox) {
   auto l = test::loadAssetScene("cornell-box");
   ImageMetrics m = directAgainstReference(*l, 64, 1024, "cornell-box");
@@ -75,20 +94,8 @@ TEST_P(GlDirect, PointLightMatchesReferenceOnDetailedModel) {
 // The Cornell box under a sun through where its ceiling would be: the blocks' shadows on the floor from a
 // directional light's orthographic map, against the reference.
 TEST_P(GlDirect, DirectionalLightMatchesReference) {
-  Scene scene = test::loadAssetScene("cornell-box")->scene();
+  Scene scene = openCornellBox(false);
   for (Material& m : scene.materials) m.emission = glm::vec3(0.0f);
-  // Drop the ceiling so that the sun reaches the floor.
-  std::vector<glm::uvec3> triangles;
-  std::vector<uint32_t> materials;
-  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
-    const glm::uvec3& v = scene.triangles[t];
-    bool ceiling = scene.positions[v.x].y > 0.5f && scene.positions[v.y].y > 0.5f && scene.positions[v.z].y > 0.5f;
-    if (ceiling) continue;
-    triangles.push_back(v);
-    materials.push_back(scene.triangleMaterials[t]);
-  }
-  scene.triangles = triangles;
-  scene.triangleMaterials = materials;
   PunctualLight sun;
   sun.name = "sun";
   sun.type = PunctualLight::Type::Directional;
@@ -149,6 +156,65 @@ TEST_P(GlDirect, GrazingPlaneShowsNoAcne) {
   std::printf("[ measured ] grazing point light (80 degrees): %d lit pixels, %d darker than unshadowed\n", lit, dark);
   ASSERT_GT(lit, 10000);
   EXPECT_EQ(dark, 0);
+}
+
+// The direct pass draws its lights in runs that share one shadow map, each kind of map (area emitter, punctual light,
+// directional light) with its own program (renderer/gl/direct_pass.h): an open Cornell box lit by two area emitters, a
+// point, a spot and a directional light gives the sum of the images of its lights drawn alone.
+TEST_P(GlDirect, LightsOfEveryKindAddUp) {
+  Scene open = openCornellBox(true);
+  // A second, smaller emitter facing down near the left wall.
+  uint32_t lamp = test::addLambertMaterial(open, glm::vec3(0.5f), glm::vec3(4.0f, 6.0f, 8.0f));
+  test::addQuad(open, {0.45f, 0.35f, 0.1f}, {0.5f, 0.35f, 0.1f}, {0.5f, 0.35f, 0.2f}, {0.45f, 0.35f, 0.2f}, lamp,
+                {0, -1, 0});
+  std::vector<PunctualLight> punctual(3);
+  punctual[0].name = "point";
+  punctual[0].position = glm::vec3(0.15f, 0.3f, 0.2f);
+  punctual[0].intensity = glm::vec3(0.2f, 0.1f, 0.05f);
+  punctual[1].name = "spot";
+  punctual[1].type = PunctualLight::Type::Spot;
+  punctual[1].position = glm::vec3(0.3f, 0.45f, 0.3f);
+  punctual[1].direction = glm::vec3(0.0f, -1.0f, 0.0f);
+  punctual[1].innerConeAngle = 0.3f;
+  punctual[1].outerConeAngle = 0.5f;
+  punctual[1].intensity = glm::vec3(0.1f, 0.3f, 0.2f);
+  punctual[2].name = "sun";
+  punctual[2].type = PunctualLight::Type::Directional;
+  punctual[2].direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.4f));
+  punctual[2].intensity = glm::vec3(1.0f);
+  // The direct light of `scene` with the lights picked: the emitters, and the punctual lights whose bits are set.
+  auto render = [&](bool emitters, unsigned lights) {
+    Scene scene = open;
+    if (!emitters)
+      for (Material& m : scene.materials) m.emission = glm::vec3(0.0f);
+    for (std::size_t i = 0; i < punctual.size(); ++i)
+      if (lights & (1u << i)) scene.punctualLights.push_back(punctual[i]);
+    scene.finalize();
+    Settings s;
+    s.width = s.height = 64;
+    s.directLightSamples = 48;
+    PreviewRenderer renderer;
+    renderer.render(scene, VplSet{}, s, scene.camera);
+    return renderer.readLinear(PreviewOutput::Direct);
+  };
+  Image all = render(true, 7u);
+  Image sum = render(true, 0u);
+  for (unsigned i = 0; i < punctual.size(); ++i) {
+    Image alone = render(false, 1u << i);
+    double energy = 0.0;
+    for (std::size_t p = 0; p < sum.pixels.size(); ++p) {
+      sum.pixels[p] += alone.pixels[p];
+      energy += alone.pixels[p].r + alone.pixels[p].g + alone.pixels[p].b;
+    }
+    EXPECT_GT(energy, 1.0) << punctual[i].name << " lights nothing";
+  }
+  ImageMetrics m = compareImages(all, sum);
+  std::printf(
+      "[ measured ] two emitters + point + spot + sun against the sum of each alone: relMSE %.3g, energy %.7f\n",
+      m.relMse, m.energyRatioOverall);
+  EXPECT_EQ(m.nonFinitePixels, 0u);
+  EXPECT_LE(m.relMse, 1e-9);
+  EXPECT_NEAR(m.energyRatioOverall, 1.0, 1e-5);
 }
 
 }  // namespace

@@ -1,6 +1,7 @@
 #include "renderer/gl/direct_pass.h"
 
 #include <algorithm>
+#include <string>
 #include <unordered_map>
 
 #include "renderer/core/sampling.h"
@@ -14,9 +15,17 @@ struct DirectLightGpu {
 };
 }  // namespace
 
+namespace {
+BrdfVariants directProgram(const UniformTableLayout& layout, int mapKind) {
+  return BrdfVariants("preview/direct.frag.glsl",
+                      {uniformTableDefine("DIRECT_UBO_LIGHTS", layout), "DIRECT_MAP_KIND " + std::to_string(mapKind)});
+}
+}  // namespace
+
 DirectLightPass::DirectLightPass()
     : tableLayout_(uniformTableLayout(sizeof(DirectLightGpu))),
-      program_("preview/direct.frag.glsl", {uniformTableDefine("DIRECT_UBO_LIGHTS", tableLayout_)}) {}
+      programs_{directProgram(tableLayout_, AreaMap), directProgram(tableLayout_, PunctualMap),
+                directProgram(tableLayout_, DirectionalMap)} {}
 
 bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, float sceneRadius,
                                  const std::function<bool()>& outOfTime) {
@@ -40,21 +49,33 @@ bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, f
 
 void DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius,
                            Target& raw, const InterleavedLayout& layout, const GlVertexArray& vao) {
-  ShaderProgram& direct = program_[lambertOnly];
-  direct.set("uCameraPosition", camera.position);
-  direct.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
-  direct.set("uSceneCentre", sceneCentre);
-  direct.set("uSceneRadius", sceneRadius);
-  direct.set("uDirectionalShadowTexel", 2.0f * sceneRadius / static_cast<float>(kDirectionalShadowSize));
+  for (BrdfVariants& variants : programs_) {
+    ShaderProgram& direct = variants[lambertOnly];
+    direct.set("uCameraPosition", camera.position);
+    direct.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
+    direct.set("uSceneCentre", sceneCentre);
+    direct.set("uSceneRadius", sceneRadius);
+    direct.set("uDirectionalShadowTexel", 2.0f * sceneRadius / static_cast<float>(kDirectionalShadowSize));
+  }
+  // Every map is a layer of one cube-map array or of one 2D array, all bound at once; a chunk per run of lights behind
+  // one map, drawn by the program of the map's kind.
   shadows_.bind();
-  // The whole table is one chunk: every light's map is a layer of one cube-map array.
   LightTable table{&table_, BufferBinding::DirectLights, tableLayout_, {}, {}};
-  if (lightCount_ > 0) table.chunks.push_back({0, lightCount_});
-  drawInterleavedLightTable(direct, raw, layout, table, vao);
+  for (const MapRun& run : runs_) table.chunks.push_back({run.begin, run.end, 0, 0, &programs_[run.kind][lambertOnly]});
+  drawInterleavedLightTable(programs_[AreaMap][lambertOnly], raw, layout, table, vao);
 }
 
 void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings) {
   std::vector<DirectLightGpu> lights;
+  runs_.clear();
+  // Appends a light behind map `map` of `kind`: a run goes on while the map stays the same.
+  auto add = [&](const DirectLightGpu& light, MapKind kind) {
+    const int map = static_cast<int>(light.shadow.x), index = static_cast<int>(lights.size());
+    if (runs_.empty() || runs_.back().kind != kind || static_cast<int>(lights.back().shadow.x) != map)
+      runs_.push_back({index, index, kind});
+    lights.push_back(light);
+    runs_.back().end = index + 1;
+  };
   casters_.clear();
   // One shadow map per area emitter (light_shadows.h) and per punctual light.
   std::vector<AreaLightGroup> groups = groupAreaLights(scene);
@@ -78,6 +99,7 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
     emitters.push_back(t);
   }
   if (total > 0.0f) {
+    std::vector<DirectLightGpu> samples;
     int k = settings.directLightSamples;
     // Sample s is Halton point s in bases 2 (the light choice) and 3, 5 (the point on the triangle), rotated by the
     // seed: deterministic (the same settings give the same samples, hence a stable preview) and stratified, so the
@@ -102,30 +124,33 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
           scene.emissionAt(scene.triangleMaterials[tri], scene.uvAt(tri, b)) / (static_cast<float>(k) * pdfA);
       const int g = groupOf.at(tri);
       const LightShadowCaster& caster = casters_[static_cast<std::size_t>(g)];
-      lights.push_back({glm::vec4(y, 0.0f), glm::vec4(scene.geometricNormal(tri), 0.0f), glm::vec4(weight, 0.0f),
-                        glm::vec4(static_cast<float>(g), caster.radius, 0.0f, 0.0f), glm::vec4(caster.position, 0.0f)});
+      samples.push_back({glm::vec4(y, 0.0f), glm::vec4(scene.geometricNormal(tri), 0.0f), glm::vec4(weight, 0.0f),
+                         glm::vec4(static_cast<float>(g), caster.radius, 0.0f, 0.0f),
+                         glm::vec4(caster.position, 0.0f)});
     }
     // Samples of one emitter next to each other: the shader filters its map once per run of them.
-    std::stable_sort(lights.begin(), lights.end(),
+    std::stable_sort(samples.begin(), samples.end(),
                      [](const DirectLightGpu& a, const DirectLightGpu& b) { return a.shadow.x < b.shadow.x; });
+    for (const DirectLightGpu& sample : samples) add(sample, AreaMap);
   }
   directionalDirections_.clear();
   for (const PunctualLight& l : scene.punctualLights) {
     if (l.isDirectional()) {
       const float map = static_cast<float>(directionalDirections_.size());
       directionalDirections_.push_back(l.direction);
-      lights.push_back({glm::vec4(0.0f, 0.0f, 0.0f, 3.0f), glm::vec4(l.direction, 0.0f), glm::vec4(l.intensity, 0.0f),
-                        glm::vec4(map, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f)});
+      add({glm::vec4(0.0f, 0.0f, 0.0f, 3.0f), glm::vec4(l.direction, 0.0f), glm::vec4(l.intensity, 0.0f),
+           glm::vec4(map, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f)},
+          DirectionalMap);
       continue;
     }
     bool spot = l.type == PunctualLight::Type::Spot;
     const float cube = static_cast<float>(casters_.size());
     casters_.push_back({l.position, 0.0f});
-    lights.push_back({glm::vec4(l.position, spot ? 2.0f : 1.0f), glm::vec4(l.direction, std::cos(l.outerConeAngle)),
-                      glm::vec4(l.intensity, std::cos(l.innerConeAngle)), glm::vec4(cube, 0.0f, 0.0f, 0.0f),
-                      glm::vec4(l.position, 0.0f)});
+    add({glm::vec4(l.position, spot ? 2.0f : 1.0f), glm::vec4(l.direction, std::cos(l.outerConeAngle)),
+         glm::vec4(l.intensity, std::cos(l.innerConeAngle)), glm::vec4(cube, 0.0f, 0.0f, 0.0f),
+         glm::vec4(l.position, 0.0f)},
+        PunctualMap);
   }
-  lightCount_ = static_cast<int>(lights.size());
   table_.assign(lights.data(), lights.size() * sizeof(DirectLightGpu));
 }
 

@@ -3,6 +3,7 @@
 // of the punctual lights, shadowed by one map per light (light_shadows.h) and interleaved over the light samples as the
 // gather is over the VPLs.
 
+#include <array>
 #include <functional>
 #include <vector>
 
@@ -37,12 +38,20 @@ class DirectLightPass {
             const InterleavedLayout& layout, const GlVertexArray& vao);
 
  private:
+  // What a light's shadow map is; each kind has its own program (DIRECT_MAP_KIND of shaders/preview/direct.frag.glsl).
+  enum MapKind { AreaMap, PunctualMap, DirectionalMap, MapKinds };
+  // Consecutive lights of the table behind one shadow map: drawn together, the map filtered once per pixel.
+  struct MapRun {
+    int begin, end;
+    MapKind kind;
+  };
+
   void uploadLights(const Scene& scene, const Settings& settings);
 
   UniformTableLayout tableLayout_;
-  BrdfVariants program_;
+  std::array<BrdfVariants, MapKinds> programs_;
   GlBuffer table_;
-  int lightCount_ = 0;
+  std::vector<MapRun> runs_;
   LightShadowMaps shadows_;
   std::vector<LightShadowCaster> casters_;
   std::vector<glm::vec3> directionalDirections_;

@@ -19,12 +19,13 @@ uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / fa
 
 const int kLightShadowTaps = 16;
 
-// Tap i of a Vogel spiral over the unit disc, rotated by `rotation`.
-vec2 vogelTap(int i, float rotation) {
-  float r = sqrt((float(i) + 0.5) / float(kLightShadowTaps));
-  float a = float(i) * 2.39996323 + rotation;
-  return r * vec2(cos(a), sin(a));
-}
+// A Vogel spiral over the unit disc, rotated by `rotation`: tap i at radius sqrt((i + 0.5) / kLightShadowTaps) and
+// angle rotation + i times the golden angle. The angle advances by a complex multiplication (vogelNext) instead of a sin
+// and cos per tap: llvmpipe evaluates those as polynomials, and 32 of them per pixel cost more than the shadow lookups.
+const vec2 kGoldenTurn = vec2(-0.7373688, 0.6754903);  // cos, sin of the golden angle 2.39996323
+vec2 vogelStart(float rotation) { return vec2(cos(rotation), sin(rotation)); }
+vec2 vogelTap(int i, vec2 angle) { return sqrt((float(i) + 0.5) / float(kLightShadowTaps)) * angle; }
+vec2 vogelNext(vec2 angle) { return vec2(angle.x * kGoldenTurn.x - angle.y * kGoldenTurn.y, angle.x * kGoldenTurn.y + angle.y * kGoldenTurn.x); }
 
 // The receiver's distance along tap direction u: to its own plane (planeOffset = (x - light).n, wn = w.n for the
 // central direction w), clamped where the plane turns away from the light.
@@ -50,8 +51,9 @@ float lightVisibility(int cube, vec3 lightPos, float emitterRadius, vec3 x, vec3
     float searchAngle = clamp(emitterRadius / dist, uLightShadowTexel, 0.7);
     float blockerSum = 0.0;
     int blockers = 0;
-    for (int i = 0; i < kLightShadowTaps; ++i) {
-      vec2 o = vogelTap(i, rotation) * searchAngle;
+    vec2 angle = vogelStart(rotation);
+    for (int i = 0; i < kLightShadowTaps; ++i, angle = vogelNext(angle)) {
+      vec2 o = vogelTap(i, angle) * searchAngle;
       vec3 u = normalize(w + o.x * s + o.y * t);
       float stored = texture(uLightShadows, vec4(u, float(cube))).r;
       if (stored < tapReference(u, ng, planeOffset, wn, dist)) {
@@ -64,8 +66,9 @@ float lightVisibility(int cube, vec3 lightPos, float emitterRadius, vec3 x, vec3
     filterAngle = clamp(emitterRadius * (dist - zb) / (zb * dist), uLightShadowTexel, 0.7);
   }
   float lit = 0.0;
-  for (int i = 0; i < kLightShadowTaps; ++i) {
-    vec2 o = vogelTap(i, rotation) * filterAngle;
+  vec2 angle = vogelStart(rotation);
+  for (int i = 0; i < kLightShadowTaps; ++i, angle = vogelNext(angle)) {
+    vec2 o = vogelTap(i, angle) * filterAngle;
     vec3 u = normalize(w + o.x * s + o.y * t);
     lit += texture(uLightShadows, vec4(u, float(cube))).r >= tapReference(u, ng, planeOffset, wn, dist) ? 1.0 : 0.0;
   }
@@ -84,8 +87,9 @@ float directionalVisibility(int map, vec3 direction, vec3 x, vec3 ng, float rota
   float nd = dot(ng, direction);
   vec2 slope = abs(nd) > 0.05 ? -vec2(dot(ng, s), dot(ng, t)) / nd : vec2(0.0);
   float lit = 0.0;
-  for (int i = 0; i < kLightShadowTaps; ++i) {
-    vec2 o = vogelTap(i, rotation) * uDirectionalShadowTexel;
+  vec2 angle = vogelStart(rotation);
+  for (int i = 0; i < kLightShadowTaps; ++i, angle = vogelNext(angle)) {
+    vec2 o = vogelTap(i, angle) * uDirectionalShadowTexel;
     float ref = depth + clamp(dot(slope, o), -4.0 * uDirectionalShadowTexel, 4.0 * uDirectionalShadowTexel);
     float stored = texture(uDirectionalShadows, vec3(uv + o / (2.0 * uSceneRadius), float(map))).r;
     lit += stored >= ref ? 1.0 : 0.0;

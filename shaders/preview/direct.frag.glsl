@@ -6,6 +6,13 @@
 // The area estimator is unbiased per sample, so the image converges to the exact direct light as K grows.
 // Interleaved like the VPL gather (gather.frag.glsl, same deinterleaved block layout): pixel subset s uses lights
 // s, s + k^2, ... with weight k^2, and the geometry-aware merge recombines the subsets.
+// Every light of a draw shares one shadow map (the renderer draws the table in runs of one map each, renderer/gl/
+// direct_pass.cpp), whose kind is DIRECT_MAP_KIND: its visibility is filtered once per pixel, before the loop. llvmpipe
+// runs the body of a branch for the whole SIMD group whatever its condition, so filtering inside the loop only when
+// the map changes would cost one filter per light; for the same reason the loop body has no branches.
+#define DIRECT_MAP_AREA 0         // an area emitter's cube map: soft shadows
+#define DIRECT_MAP_PUNCTUAL 1     // a point or spot light's cube map
+#define DIRECT_MAP_DIRECTIONAL 2  // a directional light's orthographic map
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/interleaved.glsl"
@@ -37,50 +44,43 @@ void main() {
   BrdfParams p = s.brdf;
   vec3 sum = vec3(0.0);
   int k2 = uInterleave * uInterleave;
-  // The samples of one emitter share its shadow map: the visibility is filtered once per emitter and pixel.
-  int cachedCube = -1;
-  float cachedVisibility = 0.0;
   // Filter rotation per pixel (interleaved gradient noise, Jimenez 2014): deterministic, and the de-interleave blurs it.
   float rotation = 6.2831853 * fract(52.9829189 * fract(dot(vec2(s.px), vec2(0.06711056, 0.00583715))));
-  // This subset's lights inside the range [uLightBegin, uLightEnd).
+  // This subset's lights inside the range [uLightBegin, uLightEnd), all behind the map of the first.
+  DirectLight first = lights[uLightBegin + uSubsetOffset - uUboBase];
+  int map = int(first.shadow.x);
+#if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
+  float visibility = directionalVisibility(map, first.axis.xyz, x1, ng, rotation);
+#elif DIRECT_MAP_KIND == DIRECT_MAP_AREA
+  float visibility = lightVisibility(map, first.centre.xyz, first.shadow.y, x1, ng, rotation);
+#else
+  float visibility = lightVisibility(map, first.centre.xyz, 0.0, x1, ng, rotation);
+#endif
   for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
     DirectLight l = lights[i - uUboBase];
-    bool directional = l.position.w == 3.0;
+#if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
+    // Arrives from -direction with its irradiance, no falloff with distance.
+    vec3 w = -l.axis.xyz;
+    float dist2 = 1.0, emitted = 1.0;
+#else
     vec3 d = l.position.xyz - x1;
-    // A directional light arrives from -direction with its irradiance, no falloff with distance.
-    float dist2 = directional ? 1.0 : dot(d, d);
-    if (!(dist2 > 0.0)) continue;
-    vec3 w = directional ? -l.axis.xyz : d * inversesqrt(dist2);
+    float dist2 = dot(d, d);
+    vec3 w = d * inversesqrt(max(dist2, 1e-30));
+    float cosLight = -dot(l.axis.xyz, w);
+#if DIRECT_MAP_KIND == DIRECT_MAP_AREA
+    // One-sided emitter, cosine at the light.
+    float emitted = max(cosLight, 0.0);
+#else
+    // A point light, or a spot light with the KHR_lights_punctual falloff.
+    float t = clamp((cosLight - l.axis.w) / max(0.001, l.weight.w - l.axis.w), 0.0, 1.0);
+    float emitted = l.position.w == 2.0 ? t * t : 1.0;
+#endif
+#endif
     // One-sided receiver: the light must be on the side the geometric normal faces.
-    if (dot(ng, w) <= 0.0) continue;
     float cos1 = dot(n1, w);
-    if (cos1 <= 0.0) continue;
-    vec3 radiantTerm;
-    if (l.position.w == 0.0) {
-      // Area sample: one-sided emitter, cosine at the light.
-      float cosY = -dot(l.axis.xyz, w);
-      if (cosY <= 0.0) continue;
-      radiantTerm = l.weight.rgb * cosY;
-    } else if (l.position.w == 1.0 || directional) {
-      radiantTerm = l.weight.rgb;
-    } else {
-      float cd = -dot(l.axis.xyz, w);
-      float t = clamp((cd - l.axis.w) / max(0.001, l.weight.w - l.axis.w), 0.0, 1.0);
-      radiantTerm = l.weight.rgb * (t * t);
-    }
-    int cube = int(l.shadow.x);
-    float v;
-    if (directional) {
-      v = directionalVisibility(cube, l.axis.xyz, x1, ng, rotation);
-    } else {
-      if (cube != cachedCube) {
-        cachedVisibility = lightVisibility(cube, l.centre.xyz, l.shadow.y, x1, ng, rotation);
-        cachedCube = cube;
-      }
-      v = cachedVisibility;
-    }
-    if (v <= 0.0) continue;
-    sum += evaluateBrdf(p, n1, wo, w) * cos1 / dist2 * radiantTerm * v;
+    bool reaches = dist2 > 0.0 && dot(ng, w) > 0.0 && cos1 > 0.0 && emitted > 0.0;
+    sum += reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * l.weight.rgb) : vec3(0.0);
   }
+  sum *= visibility;
   outColor = interleavedOutput(s, sum * float(k2));
 }
