@@ -105,24 +105,22 @@ void main() {
   }
   sum *= f1;
 #else
+  // The same terms at glossy ends, also without branches.
   for (int i = first; i < uLightEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];
     vec3 x2 = vpl.position.xyz, n2 = vpl.normal.xyz;
     BrdfParams p2 = BrdfParams(vpl.baseColor.rgb, vpl.normal.w, vpl.incoming.w, vpl.flux.w);
     vec3 d = x2 - x1;
     float dist2 = dot(d, d);
-    if (!(dist2 > 0.0)) continue;
-    vec3 w = d * inversesqrt(dist2);
-    // One-sided surfaces: both ends must face each other geometrically.
-    if (dot(ng, w) <= 0.0 || dot(vpl.geoNormal.xyz, w) >= 0.0) continue;
-    // Geometry term with clamped cosines, bounded by b (docs/theory.md §4).
+    float invDist = inversesqrt(max(dist2, 1e-30));
+    vec3 w = d * invDist;
     float cos1 = dot(n1, w), cos2 = -dot(n2, w);
-    if (cos1 <= 0.0 || cos2 <= 0.0) continue;
-    float g = min(cos1 * cos2 / dist2, uClampBound);
-    float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, length(x2 - x1), ng);
-    if (v <= 0.0) continue;
+    bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 && cos2 > 0.0;
+    float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, dist2 * invDist, ng);
+    float gv = min(cos1 * cos2 * invDist * invDist, uClampBound) * v;
     // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
-    sum += evaluateBrdf(p1, n1, wo, w) * g * v * evaluateBrdf(p2, n2, vpl.incoming.xyz, -w) * vpl.flux.rgb;
+    sum += contributes ? evaluateBrdf(p1, n1, wo, w) * gv * evaluateBrdf(p2, n2, vpl.incoming.xyz, -w) * vpl.flux.rgb
+                       : vec3(0.0);
   }
 #endif
   outColor = interleavedOutput(surface, sum * float(k2));
