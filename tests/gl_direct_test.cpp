@@ -217,6 +217,35 @@ TEST_P(GlDirect, LightsOfEveryKindAddUp) {
   EXPECT_NEAR(m.energyRatioOverall, 1.0, 1e-5);
 }
 
+// Punctual lights are drawn at every pixel and added after the merge (shaders/preview/direct.frag.glsl): with k x k
+// interleaving, and with the indirect light on a coarser grid, a point light's direct light is the one of k = 1, where
+// interleaving it gave one pixel in k^2 its light and the merge 4-pixel stair-steps along its shadows.
+TEST_P(GlDirect, PunctualLightsAreNotInterleaved) {
+  Scene scene = test::denseCornellScene(2000);
+  for (Material& m : scene.materials) m.emission = glm::vec3(0.0f);
+  PunctualLight p;
+  p.position = glm::vec3(0.15f, 0.5f, 0.15f);
+  p.intensity = glm::vec3(1.2f, 0.8f, 0.2f);
+  scene.punctualLights.push_back(p);
+  scene.finalize();
+  // With no VPLs the final image is the direct light.
+  auto render = [&](int interleave, int downscale) {
+    Settings s;
+    s.width = s.height = 64;
+    s.interleave = interleave;
+    s.indirectDownscale = downscale;
+    PreviewRenderer renderer;
+    renderer.render(scene, VplSet{}, s, scene.camera);
+    return renderer.readLinear(PreviewOutput::Final);
+  };
+  Image every = render(1, 1);
+  for (auto [k, s] : {std::pair{4, 1}, std::pair{4, 2}, std::pair{3, 2}}) {
+    ImageMetrics m = compareImages(render(k, s), every);
+    std::printf("[ measured ] point light, k = %d, s = %d against k = 1: relMSE %.3g\n", k, s, m.relMse);
+    EXPECT_LE(m.relMse, 1e-9) << "k = " << k << ", s = " << s;
+  }
+}
+
 }  // namespace
 
 VPLAB_GL_BACKENDS(GlDirect);

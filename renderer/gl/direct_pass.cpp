@@ -48,7 +48,7 @@ bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, f
 }
 
 void DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius,
-                           Target& raw, const InterleavedLayout& layout, const GlVertexArray& vao) {
+                           Target& raw, const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao) {
   for (BrdfVariants& variants : programs_) {
     ShaderProgram& direct = variants[lambertOnly];
     direct.set("uCameraPosition", camera.position);
@@ -60,9 +60,14 @@ void DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sce
   // Every map is a layer of one cube-map array or of one 2D array, all bound at once; a chunk per run of lights behind
   // one map, drawn by the program of the map's kind.
   shadows_.bind();
-  LightTable table{&table_, BufferBinding::DirectLights, tableLayout_, {}, {}};
-  for (const MapRun& run : runs_) table.chunks.push_back({run.begin, run.end, 0, 0, &programs_[run.kind][lambertOnly]});
-  drawInterleavedLightTable(programs_[AreaMap][lambertOnly], raw, layout, table, vao);
+  LightTable area{&table_, BufferBinding::DirectLights, tableLayout_, {}, {}};
+  LightTable exact = area;
+  for (const MapRun& run : runs_)
+    (run.kind == AreaMap ? area : exact)
+        .chunks.push_back({run.begin, run.end, 0, 0, &programs_[run.kind][lambertOnly]});
+  drawInterleavedLightTable(programs_[AreaMap][lambertOnly], raw, layout, area, vao);
+  const InterleavedLayout everyPixel{layout.width, layout.height, 1, layout.width, layout.height};
+  drawInterleavedLightTable(programs_[PunctualMap][lambertOnly], punctual, everyPixel, exact, vao);
 }
 
 void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings) {

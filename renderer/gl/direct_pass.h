@@ -33,9 +33,13 @@ class DirectLightPass {
                   const std::function<bool()>& outOfTime = {});
   /// The next renderMaps() starts over (the lights or their samples changed while it was under way).
   void restartMaps() { mapsStarted_ = false; }
-  /// Draws the direct light into the interleaved layout of `raw`, reading the G-buffer bound at its units.
+  /// Draws the direct light, reading the G-buffer bound at its units: the area-light samples' into the interleaved
+  /// layout of `raw` (merged with the gather), the punctual lights' at every pixel of `punctual` (layout's width and
+  /// height; added after the merge, deinterleave.frag.glsl). Both targets are cleared first.
   void draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius, Target& raw,
-            const InterleavedLayout& layout, const GlVertexArray& vao);
+            const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao);
+  /// Whether the lights uploaded by the last renderMaps() include area-light samples (else `raw` stays 0).
+  bool hasAreaSamples() const { return !runs_.empty() && runs_.front().kind == AreaMap; }
 
  private:
   // What a light's shadow map is; each kind has its own program (DIRECT_MAP_KIND of shaders/preview/direct.frag.glsl).

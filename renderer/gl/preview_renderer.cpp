@@ -91,9 +91,11 @@ struct ScreenGrid {
   // (upsample.frag.glsl; a grid of its own).
   Target light;
   GlTexture blockPlane;
-  // Interleaved direct light (on the image's own grid only) and gather in the deinterleaved block layout
-  // (gather.frag.glsl): k x k blocks of blockWidth x blockHeight texels, reallocated when k changes.
+  // Interleaved direct light of the area-light samples (on the image's own grid only) and gather in the deinterleaved
+  // block layout (gather.frag.glsl): k x k blocks of blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
+  // The punctual lights' direct light at every pixel, which the merge adds (with directRaw: the image's own grid).
+  std::unique_ptr<Target> punctualDirect;
   int rawInterleave = 0, blockWidth = 0, blockHeight = 0;
 
   ScreenGrid(int w, int h)
@@ -119,6 +121,8 @@ struct ScreenGrid {
     blockWidth = (width + k - 1) / k;
     blockHeight = (height + k - 1) / k;
     directRaw = withDirect ? std::make_unique<Target>(blockWidth * k, blockHeight * k) : nullptr;
+    if (!withDirect) punctualDirect.reset();
+    if (withDirect && !punctualDirect) punctualDirect = std::make_unique<Target>(width, height);
     indirectRaw = std::make_unique<Target>(blockWidth * k, blockHeight * k);
   }
   InterleavedLayout interleaved() const { return {width, height, rawInterleave, blockWidth, blockHeight}; }
@@ -412,7 +416,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     t.directMs = timed(timer_, t.directWallMs, [&] {
       tg.full.g.bind();
       direct_.draw(lambertOnly_, camera, scene.bounds.center(), sceneRadius, *tg.full.directRaw, tg.full.interleaved(),
-                   vao_);
+                   *tg.full.punctualDirect, vao_);
     });
     tg.directMergeStale = true;
     ++counters_.direct;
@@ -447,7 +451,11 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         mergeInterleaved(tg.full, glm::vec2(1.0f), tg.full.i0.framebuffer);
         return;
       }
-      if (tg.directMergeStale) mergeInterleaved(tg.full, glm::vec2(1.0f, 0.0f), tg.direct.framebuffer);
+      // Punctual lights alone need no merge: their light is per pixel already.
+      if (tg.directMergeStale && direct_.hasAreaSamples())
+        mergeInterleaved(tg.full, glm::vec2(1.0f, 0.0f), tg.direct.framebuffer);
+      else if (tg.directMergeStale)
+        tg.direct.texture.copyFrom(tg.full.punctualDirect->texture);
       tg.directMergeStale = false;
       mergeInterleaved(grid, glm::vec2(0.0f, 1.0f), grid.indirect.framebuffer);
       tg.full.g.bind();
@@ -528,6 +536,8 @@ void PreviewRenderer::mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFr
   drawFullscreen(deinterleaveRows_, vao_);
   out.bind(grid.width, grid.height);
   grid.rows.texture.bind(unit(TextureUnit::PassInput0));
+  (grid.punctualDirect ? *grid.punctualDirect : grid.rows).texture.bind(unit(TextureUnit::PassInput1));
+  deinterleaveColumns_.set("uPunctualWeight", grid.punctualDirect ? weights.x : 0.0f);
   deinterleaveColumns_.set("uInterleave", k);
   drawFullscreen(deinterleaveColumns_, vao_);
 }

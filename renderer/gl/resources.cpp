@@ -126,6 +126,12 @@ void GlTexture::uploadRgb(const std::vector<glm::vec3>& texels) {
   glTextureSubImage2D(id(), 0, 0, 0, width_, height_, GL_RGB, GL_FLOAT, texels.data());
 }
 
+void GlTexture::copyFrom(const GlTexture& source) {
+  assert(layers_ == 0 && source.layers_ == 0 && source.width_ == width_ && source.height_ == height_ &&
+         source.format_ == format_);
+  glCopyImageSubData(source.id(), GL_TEXTURE_2D, 0, 0, 0, 0, id(), GL_TEXTURE_2D, 0, 0, 0, 0, width_, height_, 1);
+}
+
 void GlTexture::generateMipmaps() {
   glGenerateTextureMipmap(id());
 }

@@ -71,6 +71,8 @@ class GlTexture {
   /// Depth16 texture array.
   void uploadDepth16(const std::vector<uint16_t>& texels);
   void generateMipmaps();
+  /// Copies level 0 of `source`, a 2D texture of the same size and format, into level 0 of this one.
+  void copyFrom(const GlTexture& source);
   /// Sets depth-comparison sampling (sampler2DShadow / sampler2DArrayShadow).
   void setDepthCompare(bool on);
   void setLinearFiltering(bool linear, bool mipmaps = false);

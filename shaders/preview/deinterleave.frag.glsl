@@ -9,13 +9,16 @@
 // divides the sum of all k^2 values by their count, exactly the k x k mean; at a discontinuity a diagonal neighbour
 // counts only when the row's centre is on the pixel's surface too.
 // The interleaved passes write light per unit of reflectance (common/reflectance.glsl): the column pass multiplies the
-// pixel's own reflectance back in, so the average does not blur textures.
+// pixel's own reflectance back in, so the average does not blur textures. It then adds uWeights.x times the punctual
+// lights' direct light, drawn at every pixel and not merged (direct.frag.glsl).
 #include "common/units.glsl"
 #include "common/fullscreen.glsl"
 #include "common/reflectance.glsl"
 
 #if DEINTERLEAVE_COLUMNS
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uRows;        // row sums, accepted count in w
+layout(binding = UNIT_PASS_INPUT1) uniform sampler2D uPunctualDirect;  // per pixel, reflected radiance
+uniform float uPunctualWeight;                                     // uWeights.x of the row pass
 #else
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uDirectIn;    // deinterleaved blocks of the direct light
 layout(binding = UNIT_PASS_INPUT1) uniform sampler2D uIndirectIn;  // same for the gather
@@ -72,7 +75,10 @@ void main() {
   // p itself always passes its own test and its row sum counts p, so w >= 1 (background: the count of 1 passed on).
   vec3 light = sum.rgb / sum.w;
   // Background texels hold no light, and their base colour is whatever an earlier frame left.
-  outColor = vec4(key.w > 0.0 ? light * mergeReflectance(texelFetch(gBaseColor, px, 0).rgb) : light, 1.0);
+  light = key.w > 0.0 ? light * mergeReflectance(texelFetch(gBaseColor, px, 0).rgb) : light;
+  // A grid without a direct light of its own binds some other texture here, with weight 0.
+  vec3 punctual = uPunctualWeight > 0.0 ? uPunctualWeight * texelFetch(uPunctualDirect, px, 0).rgb : vec3(0.0);
+  outColor = vec4(light + punctual, 1.0);
 #else
   outColor = sum;
 #endif

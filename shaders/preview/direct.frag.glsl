@@ -4,8 +4,11 @@
 //  - area-light sample y_k (one-sided):  f(x1) cos1 max(0, n_y.(-w)) / d^2 * Le / (K p_A(y_k)) * V   (weight = Le/(K p_A))
 //  - punctual light:                      f(x1) cos1 I(-w) / d^2 * V   (KHR_lights_punctual spot falloff)
 // The area estimator is unbiased per sample, so the image converges to the exact direct light as K grows.
-// Interleaved like the VPL gather (gather.frag.glsl, same deinterleaved block layout): pixel subset s uses lights
-// s, s + k^2, ... with weight k^2, and the geometry-aware merge recombines the subsets.
+// The area-light samples are interleaved like the VPL gather (gather.frag.glsl, same deinterleaved block layout): pixel
+// subset s uses samples s, s + k^2, ... with weight k^2, and the geometry-aware merge recombines the subsets. The
+// punctual lights are few and exact, so they are drawn at every pixel (k = 1) and added after the merge
+// (deinterleave.frag.glsl): interleaving one point light over k x k subsets would leave it at one pixel in k^2, and the
+// merge would turn its sharp shadow edges into k-pixel stair-steps.
 // Every light of a draw shares one shadow map (the renderer draws the table in runs of one map each, renderer/gl/
 // direct_pass.cpp), whose kind is DIRECT_MAP_KIND: its visibility is filtered once per pixel, before the loop. llvmpipe
 // runs the body of a branch for the whole SIMD group whatever its condition, so filtering inside the loop only when
@@ -82,5 +85,10 @@ void main() {
     sum += reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * l.weight.rgb) : vec3(0.0);
   }
   sum *= visibility;
+#if DIRECT_MAP_KIND == DIRECT_MAP_AREA
   outColor = interleavedOutput(s, sum * float(k2));
+#else
+  // Reflected radiance at every pixel (k = 1): not merged, so not divided by the reflectance.
+  outColor = vec4(sum, 1.0);
+#endif
 }
