@@ -73,10 +73,12 @@ void DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sce
 void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings) {
   std::vector<DirectLightGpu> lights;
   runs_.clear();
-  // Appends a light behind map `map` of `kind`: a run goes on while the map stays the same.
+  // Appends a light behind a map of `kind`: a run goes on while the kind stays the same, and for area-light samples
+  // while the map does (the shader filters it once per run).
   auto add = [&](const DirectLightGpu& light, MapKind kind) {
     const int map = static_cast<int>(light.shadow.x), index = static_cast<int>(lights.size());
-    if (runs_.empty() || runs_.back().kind != kind || static_cast<int>(lights.back().shadow.x) != map)
+    if (runs_.empty() || runs_.back().kind != kind ||
+        (kind == AreaMap && static_cast<int>(lights.back().shadow.x) != map))
       runs_.push_back({index, index, kind});
     lights.push_back(light);
     runs_.back().end = index + 1;
@@ -138,16 +140,9 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
                      [](const DirectLightGpu& a, const DirectLightGpu& b) { return a.shadow.x < b.shadow.x; });
     for (const DirectLightGpu& sample : samples) add(sample, AreaMap);
   }
-  directionalDirections_.clear();
+  // The point and spot lights, then the directional ones: one run each.
   for (const PunctualLight& l : scene.punctualLights) {
-    if (l.isDirectional()) {
-      const float map = static_cast<float>(directionalDirections_.size());
-      directionalDirections_.push_back(l.direction);
-      add({glm::vec4(0.0f, 0.0f, 0.0f, 3.0f), glm::vec4(l.direction, 0.0f), glm::vec4(l.intensity, 0.0f),
-           glm::vec4(map, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f)},
-          DirectionalMap);
-      continue;
-    }
+    if (l.isDirectional()) continue;
     bool spot = l.type == PunctualLight::Type::Spot;
     const float cube = static_cast<float>(casters_.size());
     casters_.push_back({l.position, 0.0f});
@@ -155,6 +150,15 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
          glm::vec4(l.intensity, std::cos(l.innerConeAngle)), glm::vec4(cube, 0.0f, 0.0f, 0.0f),
          glm::vec4(l.position, 0.0f)},
         PunctualMap);
+  }
+  directionalDirections_.clear();
+  for (const PunctualLight& l : scene.punctualLights) {
+    if (!l.isDirectional()) continue;
+    const float map = static_cast<float>(directionalDirections_.size());
+    directionalDirections_.push_back(l.direction);
+    add({glm::vec4(0.0f, 0.0f, 0.0f, 3.0f), glm::vec4(l.direction, 0.0f), glm::vec4(l.intensity, 0.0f),
+         glm::vec4(map, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f)},
+        DirectionalMap);
   }
   table_.assign(lights.data(), lights.size() * sizeof(DirectLightGpu));
 }

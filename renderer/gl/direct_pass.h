@@ -44,7 +44,8 @@ class DirectLightPass {
  private:
   // What a light's shadow map is; each kind has its own program (DIRECT_MAP_KIND of shaders/preview/direct.frag.glsl).
   enum MapKind { AreaMap, PunctualMap, DirectionalMap, MapKinds };
-  // Consecutive lights of the table behind one shadow map: drawn together, the map filtered once per pixel.
+  // Consecutive lights of the table drawn together by the program of their kind of map: an area emitter's samples
+  // (its map filtered once per pixel), or all point and spot lights, or all directional lights.
   struct MapRun {
     int begin, end;
     MapKind kind;

@@ -9,10 +9,11 @@
 // punctual lights are few and exact, so they are drawn at every pixel (k = 1) and added after the merge
 // (deinterleave.frag.glsl): interleaving one point light over k x k subsets would leave it at one pixel in k^2, and the
 // merge would turn its sharp shadow edges into k-pixel stair-steps.
-// Every light of a draw shares one shadow map (the renderer draws the table in runs of one map each, renderer/gl/
-// direct_pass.cpp), whose kind is DIRECT_MAP_KIND: its visibility is filtered once per pixel, before the loop. llvmpipe
-// runs the body of a branch for the whole SIMD group whatever its condition, so filtering inside the loop only when
-// the map changes would cost one filter per light; for the same reason the loop body has no branches.
+// The renderer draws the table in runs of one kind of shadow map each (DIRECT_MAP_KIND; renderer/gl/direct_pass.cpp):
+// the samples of one area emitter, which share its map, or all punctual or all directional lights, a map each. The
+// emitter's map is filtered once per pixel, before the loop; a punctual light's inside it. llvmpipe runs the body of a
+// branch for the whole SIMD group whatever its condition, so filtering inside the loop only when the map changes would
+// cost one filter per sample; for the same reason the loop body has no branches.
 #define DIRECT_MAP_AREA 0         // an area emitter's cube map: soft shadows
 #define DIRECT_MAP_PUNCTUAL 1     // a point or spot light's cube map
 #define DIRECT_MAP_DIRECTIONAL 2  // a directional light's orthographic map
@@ -49,15 +50,10 @@ void main() {
   int k2 = uInterleave * uInterleave;
   // Filter rotation per pixel (interleaved gradient noise, Jimenez 2014): deterministic, and the de-interleave blurs it.
   float rotation = 6.2831853 * fract(52.9829189 * fract(dot(vec2(s.px), vec2(0.06711056, 0.00583715))));
-  // This subset's lights inside the range [uLightBegin, uLightEnd), all behind the map of the first.
+#if DIRECT_MAP_KIND == DIRECT_MAP_AREA
+  // This subset's samples inside the range [uLightBegin, uLightEnd), all behind the map of the first.
   DirectLight first = lights[uLightBegin + uSubsetOffset - uUboBase];
-  int map = int(first.shadow.x);
-#if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
-  float visibility = directionalVisibility(map, first.axis.xyz, x1, ng, rotation);
-#elif DIRECT_MAP_KIND == DIRECT_MAP_AREA
-  float visibility = lightVisibility(map, first.centre.xyz, first.shadow.y, x1, ng, rotation);
-#else
-  float visibility = lightVisibility(map, first.centre.xyz, 0.0, x1, ng, rotation);
+  float visibility = lightVisibility(int(first.shadow.x), first.centre.xyz, first.shadow.y, x1, ng, rotation);
 #endif
   for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
     DirectLight l = lights[i - uUboBase];
@@ -79,12 +75,23 @@ void main() {
     float emitted = l.position.w == 2.0 ? t * t : 1.0;
 #endif
 #endif
+#if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
+    float visibility = directionalVisibility(int(l.shadow.x), l.axis.xyz, x1, ng, rotation);
+#elif DIRECT_MAP_KIND == DIRECT_MAP_PUNCTUAL
+    float visibility = lightVisibility(int(l.shadow.x), l.centre.xyz, 0.0, x1, ng, rotation);
+#endif
     // One-sided receiver: the light must be on the side the geometric normal faces.
     float cos1 = dot(n1, w);
     bool reaches = dist2 > 0.0 && dot(ng, w) > 0.0 && cos1 > 0.0 && emitted > 0.0;
-    sum += reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * l.weight.rgb) : vec3(0.0);
+    vec3 light = reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * l.weight.rgb) : vec3(0.0);
+#if DIRECT_MAP_KIND == DIRECT_MAP_AREA
+    sum += light;
   }
   sum *= visibility;
+#else
+    sum += light * visibility;
+  }
+#endif
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA
   outColor = interleavedOutput(s, sum * float(k2));
 #else
