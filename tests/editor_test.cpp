@@ -384,13 +384,18 @@ RunResult runEditor(const std::string& script, const std::string& extraArgs) {
   // In the test's own directory: CTest runs tests in parallel, and a shared script file let one test run the other's.
   const std::string scriptPath = test::tmpPath("script.txt");
   std::ofstream(scriptPath) << script;
-  const std::string log = test::tmpPath("run.log");
-  std::string cmd = "xvfb-run -a -s \"-screen 0 1280x720x24\" " + std::string(VPLAB_BINARY) + " edit " +
+  const std::string log = test::tmpPath("run.log"), statusFile = test::tmpPath("status.txt");
+  std::remove(statusFile.c_str());
+  // The editor's own exit status is written to a file: xvfb-run's replaces it with 5 when removing its temporary
+  // directory fails, which happens now and then while other tests run.
+  std::string cmd = "xvfb-run -a -s \"-screen 0 1280x720x24\" sh -c '" + std::string(VPLAB_BINARY) + " edit " +
                     std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf --script " + scriptPath + " " +
-                    extraArgs + " > " + log + " 2>&1";
+                    extraArgs + " > " + log + " 2>&1; echo $? > " + statusFile + "'";
   RunResult r;
   int raw = std::system(cmd.c_str());
   r.status = WIFEXITED(raw) ? WEXITSTATUS(raw) : -1;
+  std::ifstream statusIn(statusFile);
+  if (int status = 0; statusIn >> status) r.status = status;
   std::ifstream in(log);
   std::stringstream s;
   s << in.rdbuf();
