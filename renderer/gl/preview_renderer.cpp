@@ -121,8 +121,7 @@ struct ScreenGrid {
     blockWidth = (width + k - 1) / k;
     blockHeight = (height + k - 1) / k;
     directRaw = withDirect ? std::make_unique<Target>(blockWidth * k, blockHeight * k) : nullptr;
-    if (!withDirect) punctualDirect.reset();
-    if (withDirect && !punctualDirect) punctualDirect = std::make_unique<Target>(width, height);
+    punctualDirect = withDirect ? std::make_unique<Target>(width, height) : nullptr;
     indirectRaw = std::make_unique<Target>(blockWidth * k, blockHeight * k);
   }
   InterleavedLayout interleaved() const { return {width, height, rawInterleave, blockWidth, blockHeight}; }
@@ -451,11 +450,13 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         mergeInterleaved(tg.full, glm::vec2(1.0f), tg.full.i0.framebuffer);
         return;
       }
-      // Punctual lights alone need no merge: their light is per pixel already.
-      if (tg.directMergeStale && direct_.hasAreaSamples())
-        mergeInterleaved(tg.full, glm::vec2(1.0f, 0.0f), tg.direct.framebuffer);
-      else if (tg.directMergeStale)
-        tg.direct.texture.copyFrom(tg.full.punctualDirect->texture);
+      if (tg.directMergeStale) {
+        // Punctual lights alone need no merge: their light is per pixel already.
+        if (direct_.hasAreaSamples())
+          mergeInterleaved(tg.full, glm::vec2(1.0f, 0.0f), tg.direct.framebuffer);
+        else
+          tg.direct.texture.copyFrom(tg.full.punctualDirect->texture);
+      }
       tg.directMergeStale = false;
       mergeInterleaved(grid, glm::vec2(0.0f, 1.0f), grid.indirect.framebuffer);
       tg.full.g.bind();

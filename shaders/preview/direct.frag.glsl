@@ -83,15 +83,8 @@ void main() {
     // One-sided receiver: the light must be on the side the geometric normal faces.
     float cos1 = dot(n1, w);
     bool reaches = dist2 > 0.0 && dot(ng, w) > 0.0 && cos1 > 0.0 && emitted > 0.0;
-    vec3 light = reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * l.weight.rgb) : vec3(0.0);
-#if DIRECT_MAP_KIND == DIRECT_MAP_AREA
-    sum += light;
+    sum += reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * visibility * l.weight.rgb) : vec3(0.0);
   }
-  sum *= visibility;
-#else
-    sum += light * visibility;
-  }
-#endif
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA
   outColor = interleavedOutput(s, sum * float(k2));
 #else
