@@ -26,12 +26,38 @@ glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& light
                       ? ShadowRay{embree.offsetOrigin(hit.position, hit.geometricNormal, ls.wi), ls.wi, ls.distance}
                       : embree.shadowRayBetween(hit.position, hit.geometricNormal, ls.position, ls.normal);
   if (shadowRays) ++*shadowRays;
-  if (ray.tMax > 0.0f && embree.occluded(ray.origin, ray.direction, ray.tMax)) return glm::vec3(0.0f);
+  if (!embree.hasMedia()) {
+    if (ray.tMax > 0.0f && embree.occluded(ray.origin, ray.direction, ray.tMax)) return glm::vec3(0.0f);
+  }
+  // With media, the light is attenuated by their transmittance along the shadow ray (docs/theory.md §16).
+  const glm::vec3 tr = embree.hasMedia() ? embree.shadowTransmittance(ray, ls.mediumDistance) : glm::vec3(1.0f);
 
   // Veach's power heuristic against the BRDF pdf of the same direction; a delta light cannot be hit by BRDF
   // sampling, so its weight is 1.
   float weight = ls.isDelta ? 1.0f : powerHeuristic(ls.pdf, brdfPdf(brdf, n, wo, ls.wi));
-  return f * ls.radiance * (cosI * weight / ls.pdf);
+  glm::vec3 result = f * ls.radiance * (cosI * weight / ls.pdf);
+  return embree.hasMedia() ? result * tr : result;
+}
+
+glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng,
+                            uint64_t* shadowRays) {
+  if (!it.inMedium) return sampleLightDirect(embree, lights, it.hit, it.wo, it.brdf, rng, shadowRays);
+  float uLight = rng.next1D();
+  glm::vec2 uPoint = rng.next2D();
+  if (lights.empty()) return glm::vec3(0.0f);
+  // The same light sample as on a surface; the phase function instead of f cos, no side to face.
+  LightSampleLi ls = lights.sampleLi(it.position, uLight, uPoint);
+  if (!ls.valid()) return glm::vec3(0.0f);
+  const float phase = phaseHG(it.wo, ls.wi, it.g);
+  ShadowRay ray = std::isinf(ls.distance) ? ShadowRay{it.position, ls.wi, ls.distance}
+                                          : embree.shadowRayBetween(it.position, glm::vec3(0.0f), ls.position,
+                                                                    ls.normal);
+  if (shadowRays) ++*shadowRays;
+  const glm::vec3 tr = embree.shadowTransmittance(ray, ls.mediumDistance);
+  if (tr.r <= 0.0f && tr.g <= 0.0f && tr.b <= 0.0f) return glm::vec3(0.0f);
+  // MIS against phase-function sampling of the same direction (power heuristic), delta lights unweighted.
+  float weight = ls.isDelta ? 1.0f : powerHeuristic(ls.pdf, phase);
+  return tr * ls.radiance * (phase * weight / ls.pdf);
 }
 
 glm::vec3 misWeightedEmission(const LightSampler& lights, const glm::vec3& from, const SurfaceHit& emitterHit,
@@ -59,7 +85,23 @@ glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lig
   if (!next) return result;
   float cosI = glm::dot(hit.shadingNormal, bs.wi);
   glm::vec3 le = misWeightedEmission(lights, hit.position, *next, bs.wi, bs.pdf);
+  // Light from the emitter crosses the media on the way (their transmittance, not a free flight: this estimator
+  // counts only light that comes straight from the emitter).
+  if (embree.hasMedia()) le *= embree.transmittance(origin, bs.wi, next->distance);
   return result + bs.f * le * (cosI / bs.pdf);
+}
+
+glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng) {
+  if (!it.inMedium) return estimateDirectLight(embree, lights, it.hit, it.wo, it.brdf, rng);
+  glm::vec3 result = sampleLightDirect(embree, lights, it, rng);
+  glm::vec2 u = rng.next2D();
+  if (lights.empty()) return result;
+  PhaseSample ps = samplePhaseHG(it.wo, it.g, u);
+  std::optional<SurfaceHit> next = embree.intersect(it.position, ps.wi);
+  if (!next) return result;
+  glm::vec3 le = misWeightedEmission(lights, it.position, *next, ps.wi, ps.pdf);
+  // f_p / pdf = 1: the phase function is sampled exactly.
+  return result + le * embree.transmittance(it.position, ps.wi, next->distance);
 }
 
 }  // namespace vplab

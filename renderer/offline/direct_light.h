@@ -7,6 +7,7 @@
 #include "renderer/core/brdf.h"
 #include "renderer/core/sampling.h"
 #include "renderer/offline/embree_scene.h"
+#include "renderer/offline/interaction.h"
 #include "renderer/offline/light_sampler.h"
 
 #include <glm/glm.hpp>
@@ -37,5 +38,15 @@ glm::vec3 misWeightedEmission(const LightSampler& lights, const glm::vec3& from,
 /// sampleLightDirect() plus one BRDF-sampled ray traced here and counted by misWeightedEmission().
 glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const SurfaceHit& hit,
                               const glm::vec3& wo, const BrdfParams& brdf, Rng& rng);
+
+/// sampleLightDirect() at any path vertex: on a surface exactly the function above; in a medium the phase function
+/// replaces f cos (MIS against phase sampling), and the shadow ray starts at the point itself. With media, every
+/// shadow ray carries their transmittance.
+glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng,
+                            uint64_t* shadowRays = nullptr);
+
+/// estimateDirectLight() at any path vertex (a medium point samples the phase function for the second strategy).
+/// Draws 3 + 3 numbers on a surface, 3 + 2 in a medium.
+glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng);
 
 }  // namespace vplab

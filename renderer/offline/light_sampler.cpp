@@ -35,6 +35,17 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene), triangleToLight_
     sceneCenter_ = scene.geometryBounds.center();
     diskRadius_ = 0.5f * scene.geometryBounds.diagonal();
   }
+  if (scene.hasMedia()) {
+    // Light paths of a directional light start on its disk: it must cover the media boxes too, or light scattered
+    // there would be missing from the VPLs while next-event estimation sees it.
+    Bounds b = scene.geometryBounds;
+    for (const Medium& m : scene.media)
+      for (const glm::vec3& c : m.corners()) b.extend(c);
+    if (b.valid()) {
+      sceneCenter_ = b.center();
+      diskRadius_ = 0.5f * b.diagonal();
+    }
+  }
   for (uint32_t tri : scene.emissiveTriangles) {
     // A one-sided Lambertian emitter of radiance L and area A emits pi A L; a textured one pi A times its mean L, so
     // that triangles are chosen by the power the texture gives them (a black part of an emitter is never chosen).
@@ -89,6 +100,10 @@ LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2
       s.wi = -pl.direction;
       s.distance = std::numeric_limits<float>::infinity();
       s.position = x;
+      if (scene_.hasMedia()) {
+        s.mediumDistance = directionalMediumDistance(pl, x);
+        if (s.mediumDistance < 0.0f) return LightSampleLi{};
+      }
       s.radiance = pl.intensity;
       s.pdf = pLight;
       s.isDelta = true;
@@ -205,6 +220,16 @@ glm::vec3 LightSampler::emissionDiskCenter(const PunctualLight& directional) con
   // The plane touching the bounding sphere on the side the light comes from, pushed back by a small margin so that
   // no geometry lies on it (a ray starting on a surface would not see that surface).
   return sceneCenter_ - directional.direction * (1.01f * diskRadius_ + 1e-4f);
+}
+
+float LightSampler::directionalMediumDistance(const PunctualLight& directional, const glm::vec3& x) const {
+  // The light enters the media at its emission disk: the distance from x back to the disk's plane along -direction,
+  // provided x lies inside the cylinder the disk sweeps (light tracing covers nothing else).
+  glm::vec3 rel = x - emissionDiskCenter(directional);
+  float along = glm::dot(rel, directional.direction);
+  glm::vec3 lateral = rel - along * directional.direction;
+  if (glm::dot(lateral, lateral) > diskRadius_ * diskRadius_) return -1.0f;
+  return std::max(0.0f, along);
 }
 
 }  // namespace vplab

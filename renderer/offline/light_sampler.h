@@ -18,6 +18,9 @@ struct LightSampleLi {
   glm::vec3 normal{0.0f};    ///< emitter normal (zero for punctual lights)
   glm::vec3 wi{0.0f};        ///< unit direction from x toward the light
   float distance = 0.0f;     ///< infinite for a directional light
+  /// Length of the shadow ray's part that media attenuate, -1 for all of it: a directional light's light enters the
+  /// media at its emission disk (directionalMediumDistance()).
+  float mediumDistance = -1.0f;
   /// Incident radiance Le (area), intensity / d^2 (point, spot) or irradiance E (directional), before dividing by
   /// pdf: for the delta lights, the factor that multiplies f cos.
   glm::vec3 radiance{0.0f};
@@ -69,6 +72,11 @@ class LightSampler {
   /// Centre and radius of the disk directional lights emit from (radius zero for a scene without geometry).
   glm::vec3 emissionDiskCenter(const PunctualLight& directional) const;
   float emissionDiskRadius() const { return diskRadius_; }
+  /// In a scene with media, a directional light's light enters them at its emission disk (docs/theory.md §16): the
+  /// distance from x back to the disk's plane, along which its light is attenuated, or -1 when x lies outside the
+  /// cylinder the disk sweeps (no light reaches there, as no light path does). The disk covers the geometry and the
+  /// media boxes, so this matters only in a medium that fills all space.
+  float directionalMediumDistance(const PunctualLight& directional, const glm::vec3& x) const;
 
  private:
   struct LightRef {

@@ -1,6 +1,7 @@
 #include "renderer/offline/path_tracer.h"
 
 #include "renderer/offline/direct_light.h"
+#include "renderer/offline/interaction.h"
 #include "renderer/scene/brdf_params.h"
 
 #include <algorithm>
@@ -23,45 +24,49 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
   const Scene& scene = embree.scene();
   const bool wantDirect = components != Components::Indirect;
   const bool wantIndirect = components != Components::Direct;
-  // A Direct-only render never needs vertices past the first reflection.
+  // A Direct-only render never needs vertices past the first reflection or scattering event.
   const int lastBounce = wantIndirect ? maxDepth : std::min(maxDepth, 1);
+  // Free flights draw their two numbers only on segments that cross a medium (EmbreeScene::traceSegment).
+  auto draw = [&rng]() { return rng.next2D(); };
+  constexpr float kUnbounded = std::numeric_limits<float>::infinity();
 
   uint64_t shadowRays = 0, bounceRays = 0;
   glm::vec3 radiance(0.0f);
   glm::vec3 throughput(1.0f);
   glm::vec3 dir = direction;
 
-  // Primary ray; emission seen directly belongs to the Direct component (zero reflections).
-  std::optional<SurfaceHit> hit = embree.intersect(origin, dir);
-  if (hit && wantDirect) radiance += lights.emittedRadiance(hit->triangle, hit->geometricNormal, hit->uv, -dir);
+  // Primary ray; emission seen directly belongs to the Direct component (zero reflections). Through media the
+  // segment ends at the surface or at a scattering event, with the free flight's weight.
+  Segment segment = embree.traceSegment(origin, dir, kUnbounded, draw);
+  if (segment.crossedMedium) throughput *= segment.weight;
+  if (segment.end == Segment::End::Surface && wantDirect)
+    radiance += throughput * lights.emittedRadiance(segment.hit->triangle, segment.hit->geometricNormal,
+                                                    segment.hit->uv, -dir);
 
-  // Vertex `bounce` is the bounce-th reflection: light leaving it toward the camera has been reflected `bounce`
-  // times, so bounce 1 feeds Direct and bounces >= 2 feed Indirect.
-  for (int bounce = 1; hit && bounce <= lastBounce; ++bounce) {
-    const glm::vec3 wo = -dir;
+  // Vertex `bounce` is the bounce-th reflection or scattering event: light leaving it toward the camera has
+  // interacted `bounce` times, so bounce 1 feeds Direct and bounces >= 2 feed Indirect.
+  for (int bounce = 1; segment.end != Segment::End::Escape && bounce <= lastBounce; ++bounce) {
+    const Interaction vertex = Interaction::atSegmentEnd(scene, segment, -dir);
     // One-sided surfaces: the back of a surface reflects nothing (and the path ends there).
-    if (!facesDirection(*hit, wo)) break;
+    if (!vertex.scatters()) break;
     const bool count = bounce == 1 ? wantDirect : wantIndirect;
-    BrdfParams brdf = brdfParamsAt(scene, hit->material, hit->uv);
 
-    // Next-event estimation with MIS (Veach 1997, eq. 9.13, power heuristic): the light-sampling strategy.
-    // When this bounce is not wanted its three random numbers are still drawn, so the stream (and every later
-    // vertex) does not depend on the components asked for.
+    // Next-event estimation with MIS (Veach 1997, eq. 9.13, power heuristic): the light-sampling strategy, through
+    // the media's transmittance. When this bounce is not wanted its three random numbers are still drawn, so the
+    // stream (and every later vertex) does not depend on the components asked for.
     if (count) {
-      radiance += throughput * sampleLightDirect(embree, lights, *hit, wo, brdf, rng, &shadowRays);
+      radiance += throughput * sampleLightDirect(embree, lights, vertex, rng, &shadowRays);
     } else {
       rng.next1D();
       rng.next2D();
     }
 
-    // BRDF sampling: the next direction of the walk, and the second MIS strategy for the next vertex's emission.
-    glm::vec3 u(rng.next1D(), rng.next1D(), rng.next1D());
-    BrdfSample bs = sampleBrdf(brdf, hit->shadingNormal, wo, u);
-    if (!bs.valid() || !facesDirection(*hit, bs.wi)) break;
-    float cosI = glm::dot(hit->shadingNormal, bs.wi);
-    if (cosI <= 0.0f) break;
-    // Path throughput update: beta *= f cos / pdf (the Monte Carlo estimator of the rendering equation).
-    throughput *= bs.f * (cosI / bs.pdf);
+    // BRDF or phase-function sampling: the next direction of the walk, and the second MIS strategy for the next
+    // vertex's emission.
+    const Interaction::Sample bs = vertex.sample(rng);
+    if (!bs.valid()) break;
+    // Path throughput update: beta *= f cos / pdf (f_p / pdf = 1 in a medium).
+    if (!vertex.inMedium) throughput *= bs.weight;
     // A non-finite throughput is a defect of a BRDF or pdf: the sample becomes NaN, which renderProgressive leaves
     // out of the mean and counts, instead of a silently shortened path.
     if (!finite3(throughput)) {
@@ -69,13 +74,16 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
       break;
     }
 
-    glm::vec3 next = embree.offsetOrigin(hit->position, hit->geometricNormal, bs.wi);
-    std::optional<SurfaceHit> nextHit = embree.intersect(next, bs.wi);
+    const glm::vec3 next = vertex.rayOrigin(embree, bs.wi);
+    Segment nextSegment = embree.traceSegment(next, bs.wi, kUnbounded, draw);
     ++bounceRays;
-    if (!nextHit) break;
-    // Emission found by the BRDF-sampled ray, MIS-weighted against the light pdf next-event estimation used at this
-    // vertex: it has been reflected `bounce` times, like the NEE term above.
-    if (count) radiance += throughput * misWeightedEmission(lights, hit->position, *nextHit, bs.wi, bs.pdf);
+    if (nextSegment.end == Segment::End::Escape) break;
+    // Free-flight sampling: T sigma_s / pdf for a scattering event, T / P(no event) for the surface.
+    if (nextSegment.crossedMedium) throughput *= nextSegment.weight;
+    // Emission found by the sampled ray, MIS-weighted against the light pdf next-event estimation used at this
+    // vertex: it has interacted `bounce` times, like the NEE term above.
+    if (count && nextSegment.end == Segment::End::Surface)
+      radiance += throughput * misWeightedEmission(lights, vertex.position, *nextSegment.hit, bs.wi, bs.pdf);
 
     // Russian roulette on the throughput (Arvo & Kirk 1990): survive with probability q, divide by q to stay
     // unbiased. The draw happens at every bounce past the start so the stream stays component-independent.
@@ -86,7 +94,7 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
       throughput /= q;
     }
     dir = bs.wi;
-    hit = nextHit;
+    segment = std::move(nextSegment);
   }
 
   if (stats) {

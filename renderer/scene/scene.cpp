@@ -142,4 +142,10 @@ void Scene::finalize() {
   }
 }
 
+bool Scene::hasMedia() const {
+  for (const Medium& m : media)
+    if (!m.isVacuum()) return true;
+  return false;
+}
+
 }  // namespace vplab

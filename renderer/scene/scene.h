@@ -2,6 +2,8 @@
 // The whole world vplab renders: flattened world-space triangles, materials, lights and one camera.
 // glTF node transforms are baked at load time; there is no scene graph.
 
+#include "renderer/scene/medium.h"
+
 #include <glm/glm.hpp>
 
 #include <cstdint>
@@ -110,6 +112,10 @@ struct Scene {
 
   std::vector<uint32_t> emissiveTriangles;  ///< triangles whose material emits: the area lights
   std::vector<PunctualLight> punctualLights;
+  /// Homogeneous participating media (glTF extension VPLAB_participating_media, docs/scenes.md): disjoint boxes, or
+  /// one medium filling all space. Empty for a scene without media, whose images are exactly those of a scene that
+  /// never heard of them.
+  std::vector<Medium> media;
 
   Camera camera;
   /// Triangles plus the positions of Point and Spot lights: what shadow-map ranges and ray offsets must cover.
@@ -126,6 +132,8 @@ struct Scene {
   std::size_t degenerateTrianglesDropped = 0;
 
   bool hasLights() const { return !emissiveTriangles.empty() || !punctualLights.empty(); }
+  /// True when some medium absorbs or scatters: the passes then trace rays through media.
+  bool hasMedia() const;
   const Material& materialOf(uint32_t triangle) const { return materials[triangleMaterials[triangle]]; }
   /// Unit normal from the winding order (loaders make it agree with the vertex normals). Cached by finalize().
   glm::vec3 geometricNormal(uint32_t triangle) const {

@@ -1,0 +1,145 @@
+#include "renderer/scene/medium.h"
+
+#include "renderer/core/sampling.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace vplab {
+
+glm::vec3 Medium::albedo() const {
+  glm::vec3 t = sigmaT();
+  return {t.x > 0.0f ? sigmaS.x / t.x : 0.0f, t.y > 0.0f ? sigmaS.y / t.y : 0.0f, t.z > 0.0f ? sigmaS.z / t.z : 0.0f};
+}
+
+bool Medium::isVacuum() const {
+  glm::vec3 t = sigmaT();
+  return !(t.x > 0.0f || t.y > 0.0f || t.z > 0.0f);
+}
+
+std::vector<glm::vec3> Medium::corners() const {
+  std::vector<glm::vec3> out;
+  if (fillsSpace) return out;
+  for (int i = 0; i < 8; ++i) {
+    glm::vec4 c((i & 1) ? 1.0f : -1.0f, (i & 2) ? 1.0f : -1.0f, (i & 4) ? 1.0f : -1.0f, 1.0f);
+    out.push_back(glm::vec3(worldFromBox * c));
+  }
+  return out;
+}
+
+void mediumIntervals(const std::vector<Medium>& media, const glm::vec3& origin, const glm::vec3& direction, float tMax,
+                     std::vector<MediumInterval>& out) {
+  out.clear();
+  for (std::size_t m = 0; m < media.size(); ++m) {
+    const Medium& medium = media[m];
+    if (medium.isVacuum()) continue;
+    if (medium.fillsSpace) {
+      if (tMax > 0.0f) out.push_back({0.0f, tMax, static_cast<uint32_t>(m)});
+      continue;
+    }
+    // Slab test in the box's own space, where the box is [-1, 1]^3: the map is affine, so the ray parameter t is the
+    // same on both sides.
+    glm::vec3 o = glm::vec3(medium.boxFromWorld * glm::vec4(origin, 1.0f));
+    glm::vec3 d = glm::vec3(medium.boxFromWorld * glm::vec4(direction, 0.0f));
+    float t0 = 0.0f, t1 = tMax;
+    bool miss = false;
+    for (int a = 0; a < 3 && !miss; ++a) {
+      if (d[a] == 0.0f) {
+        if (o[a] < -1.0f || o[a] > 1.0f) miss = true;
+        continue;
+      }
+      float inv = 1.0f / d[a];
+      float tn = (-1.0f - o[a]) * inv, tf = (1.0f - o[a]) * inv;
+      if (tn > tf) std::swap(tn, tf);
+      t0 = std::max(t0, tn);
+      t1 = std::min(t1, tf);
+      if (!(t0 < t1)) miss = true;
+    }
+    if (!miss) out.push_back({t0, t1, static_cast<uint32_t>(m)});
+  }
+  if (out.size() > 1)
+    std::sort(out.begin(), out.end(), [](const MediumInterval& a, const MediumInterval& b) { return a.t0 < b.t0; });
+}
+
+int mediumAt(const std::vector<Medium>& media, const glm::vec3& p) {
+  for (std::size_t m = 0; m < media.size(); ++m) {
+    const Medium& medium = media[m];
+    if (medium.fillsSpace) return static_cast<int>(m);
+    glm::vec3 q = glm::vec3(medium.boxFromWorld * glm::vec4(p, 1.0f));
+    if (std::abs(q.x) <= 1.0f && std::abs(q.y) <= 1.0f && std::abs(q.z) <= 1.0f) return static_cast<int>(m);
+  }
+  return -1;
+}
+
+bool boxesOverlap(const Medium& a, const Medium& b) {
+  if (a.fillsSpace || b.fillsSpace) return true;
+  // Separating-axis theorem (Gottschalk et al. 1996): two convex boxes are disjoint iff their projections on one of
+  // the 15 axes (3 + 3 face normals, 9 edge cross products) do not overlap. Touching faces count as disjoint.
+  auto axesOf = [](const Medium& m) {
+    std::array<glm::vec3, 3> e;
+    for (int i = 0; i < 3; ++i) e[i] = glm::vec3(m.worldFromBox[i]);
+    return e;
+  };
+  const std::array<glm::vec3, 3> ea = axesOf(a), eb = axesOf(b);
+  const glm::vec3 ca(a.worldFromBox[3]), cb(b.worldFromBox[3]);
+  auto radius = [](const std::array<glm::vec3, 3>& e, const glm::vec3& axis) {
+    return std::abs(glm::dot(e[0], axis)) + std::abs(glm::dot(e[1], axis)) + std::abs(glm::dot(e[2], axis));
+  };
+  std::vector<glm::vec3> axes(ea.begin(), ea.end());
+  axes.insert(axes.end(), eb.begin(), eb.end());
+  for (const glm::vec3& x : ea)
+    for (const glm::vec3& y : eb) axes.push_back(glm::cross(x, y));
+  for (const glm::vec3& axis : axes) {
+    float len2 = glm::dot(axis, axis);
+    if (!(len2 > 1e-12f * (glm::dot(ea[0], ea[0]) + glm::dot(eb[0], eb[0])))) continue;  // parallel edges
+    float gap = std::abs(glm::dot(cb - ca, axis)) - radius(ea, axis) - radius(eb, axis);
+    // A relative tolerance: boxes that share a face are placed side by side on purpose.
+    if (gap >= -1e-5f * (radius(ea, axis) + radius(eb, axis))) return false;
+  }
+  return true;
+}
+
+glm::vec3 transmittanceOver(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals,
+                            float tMax) {
+  glm::vec3 depth(0.0f);
+  for (const MediumInterval& i : intervals) {
+    float t1 = std::min(i.t1, tMax);
+    if (t1 <= i.t0) break;
+    const glm::vec3 sigmaT = media[i.medium].sigmaT();
+    const float length = t1 - i.t0;
+    // A channel that does not interact stays at depth 0 over an infinite interval (0 * inf would be NaN).
+    depth += glm::vec3(sigmaT.x > 0.0f ? sigmaT.x * length : 0.0f, sigmaT.y > 0.0f ? sigmaT.y * length : 0.0f,
+                       sigmaT.z > 0.0f ? sigmaT.z * length : 0.0f);
+  }
+  return glm::exp(-depth);
+}
+
+float phaseHG(float cosTheta, float g) {
+  float denom = 1.0f + g * g - 2.0f * g * cosTheta;
+  return (1.0f - g * g) / (4.0f * kPi * denom * std::sqrt(std::max(denom, 1e-30f)));
+}
+
+PhaseSample samplePhaseHG(const glm::vec3& wo, float g, glm::vec2 u) {
+  // Invert the HG cdf in cos t (as pbrt-v3 §15.2.3 does, with its opposite sign convention): the direction light
+  // travelled before scattering is dIn with cos t = dot(dIn, wo), and wi = -dIn points back toward it.
+  float cosTheta;
+  if (std::abs(g) < 1e-3f) {
+    cosTheta = 1.0f - 2.0f * u.x;
+  } else {
+    float s = (1.0f - g * g) / (1.0f - g + 2.0f * g * u.x);
+    cosTheta = (1.0f + g * g - s * s) / (2.0f * g);
+  }
+  cosTheta = std::clamp(cosTheta, -1.0f, 1.0f);
+  float sinTheta = std::sqrt(std::max(0.0f, 1.0f - cosTheta * cosTheta));
+  float phi = 2.0f * kPi * u.y;
+  Frame frame(wo);
+  glm::vec3 dIn = frame.toWorld(glm::vec3(sinTheta * std::cos(phi), sinTheta * std::sin(phi), cosTheta));
+  PhaseSample s;
+  s.wi = -dIn;
+  s.pdf = phaseHG(cosTheta, g);
+  return s;
+}
+
+}  // namespace vplab

@@ -1,0 +1,72 @@
+#pragma once
+// Homogeneous participating media (docs/theory.md §16): RGB absorption and scattering coefficients, a Henyey-Greenstein
+// phase function, and a region that is either all space or an oriented box. A scene holds any number of boxes that do
+// not overlap, or a single medium filling all space (the loader refuses anything else), so a point lies in at most
+// one medium and a ray crosses the media as disjoint intervals. Surfaces are not interfaces: light crosses them only
+// where it is not blocked, nothing refracts.
+
+#include <glm/glm.hpp>
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace vplab {
+
+struct Medium {
+  std::string name;             ///< the glTF node's name (or "scene" for a medium that fills all space)
+  glm::vec3 sigmaA{0.0f};       ///< absorption coefficient per channel, 1/m (scene units), >= 0
+  glm::vec3 sigmaS{0.0f};       ///< scattering coefficient per channel, 1/m, >= 0
+  float g = 0.0f;               ///< Henyey-Greenstein asymmetry in (-1, 1); > 0 scatters forward
+  bool fillsSpace = false;      ///< true: the medium is everywhere; false: inside the box below
+  glm::mat4 worldFromBox{1.0f};  ///< maps the cube [-1, 1]^3 onto the medium's box (the node's world transform)
+  glm::mat4 boxFromWorld{1.0f};  ///< its inverse
+
+  glm::vec3 sigmaT() const { return sigmaA + sigmaS; }
+  /// Single-scattering albedo sigma_s / sigma_t per channel (0 where sigma_t is 0).
+  glm::vec3 albedo() const;
+  /// True when the medium neither absorbs nor scatters in any channel (a ray crosses it unchanged).
+  bool isVacuum() const;
+  /// World-space corners of the box (fillsSpace: none).
+  std::vector<glm::vec3> corners() const;
+};
+
+/// The part [t0, t1) of a ray that lies inside media[medium].
+struct MediumInterval {
+  float t0 = 0.0f;
+  float t1 = 0.0f;
+  uint32_t medium = 0;
+};
+
+/// Appends to `out` (cleared first) the intervals of origin + t * direction, t in [0, tMax), that lie inside media,
+/// sorted by t0; tMax may be infinite (a medium filling all space then gives [0, inf)). direction need not be unit:
+/// t is the ray parameter. Media that neither absorb nor scatter are left out.
+void mediumIntervals(const std::vector<Medium>& media, const glm::vec3& origin, const glm::vec3& direction, float tMax,
+                     std::vector<MediumInterval>& out);
+
+/// Index of the medium containing p, or -1.
+int mediumAt(const std::vector<Medium>& media, const glm::vec3& p);
+
+/// True when the two boxes share interior points (separating-axis test for oriented boxes).
+bool boxesOverlap(const Medium& a, const Medium& b);
+
+/// Transmittance exp(-sum sigma_t length) over the intervals, clipped to [0, tMax).
+glm::vec3 transmittanceOver(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals,
+                            float tMax);
+
+/// Henyey-Greenstein phase function (docs/theory.md §16), normalised over the sphere:
+///   f_p(cos t) = (1 - g^2) / (4 pi (1 + g^2 - 2 g cos t)^(3/2)),
+/// t the angle between the direction light travelled before and after scattering. In the interface below both wo and
+/// wi point away from the scattering point, as for a BRDF (wo toward the viewer, wi toward the light): light arrives
+/// travelling along -wi and leaves along wo, so cos t = -dot(wi, wo).
+float phaseHG(float cosTheta, float g);
+inline float phaseHG(const glm::vec3& wo, const glm::vec3& wi, float g) { return phaseHG(-glm::dot(wi, wo), g); }
+
+struct PhaseSample {
+  glm::vec3 wi{0.0f};  ///< unit, away from the scattering point (toward where the light comes from)
+  float pdf = 0.0f;    ///< solid-angle pdf, equal to the phase function's value (sampled exactly)
+};
+/// Draws wi with density phaseHG(wo, wi, g) from two uniform numbers.
+PhaseSample samplePhaseHG(const glm::vec3& wo, float g, glm::vec2 u);
+
+}  // namespace vplab
