@@ -1,4 +1,5 @@
-// vplab info <scene>: what the loader made of a glTF file (counts, bounds, lights, materials, camera, warnings).
+// vplab info <scene>: what the loader made of a glTF file (counts, bounds, lights, media, materials, camera,
+// warnings).
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -7,8 +8,10 @@
 #include "renderer/scene/lights_json.h"
 #include "renderer/scene/staging.h"
 
+#include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 #include <map>
 
 namespace vplab::app {
@@ -20,6 +23,50 @@ std::string vec(const glm::vec3& v) {
   return buf;
 }
 
+/// Per channel 1 / sigma_t: the mean distance light travels before it is absorbed or scattered (inf where the
+/// channel does not interact).
+glm::vec3 meanFreePath(const glm::vec3& sigmaT) {
+  const float inf = std::numeric_limits<float>::infinity();
+  return {sigmaT.x > 0.0f ? 1.0f / sigmaT.x : inf, sigmaT.y > 0.0f ? 1.0f / sigmaT.y : inf,
+          sigmaT.z > 0.0f ? 1.0f / sigmaT.z : inf};
+}
+
+/// The media, one block each: where, the coefficients, and optical depths that say how foggy the scene will look
+/// (exp(-depth) of the light gets straight through).
+void printMedia(const Scene& scene) {
+  std::printf("media:\n");
+  if (scene.media.empty()) std::printf("  none\n");
+  const float sceneDiagonal = scene.geometryBounds.diagonal();
+  for (const Medium& m : scene.media) {
+    const glm::vec3 sigmaT = m.sigmaT();
+    if (m.fillsSpace) {
+      std::printf("  %-20s all space\n", m.name.c_str());
+    } else {
+      // The box is [-1, 1]^3 under worldFromBox: its centre is the translation, its half sizes the axis lengths.
+      const glm::vec3 half(glm::length(glm::vec3(m.worldFromBox[0])), glm::length(glm::vec3(m.worldFromBox[1])),
+                           glm::length(glm::vec3(m.worldFromBox[2])));
+      bool aligned = true;
+      for (int i = 0; i < 3; ++i)
+        for (int j = 0; j < 3; ++j)
+          if (i != j && std::abs(m.worldFromBox[i][j]) > 1e-6f * half[i]) aligned = false;
+      std::printf("  %-20s box centre %s, half sizes %s m%s\n", m.name.c_str(),
+                  vec(glm::vec3(m.worldFromBox[3])).c_str(), vec(half).c_str(), aligned ? "" : " (rotated)");
+    }
+    std::printf("  %-20s sigmaA %s, sigmaS %s, sigma_t %s 1/m%s\n", "", vec(m.sigmaA).c_str(), vec(m.sigmaS).c_str(),
+                vec(sigmaT).c_str(), m.isVacuum() ? " (vacuum)" : "");
+    std::printf("  %-20s albedo %s, g %.3g, mean free path %s m\n", "", vec(m.albedo()).c_str(), m.g,
+                vec(meanFreePath(sigmaT)).c_str());
+    std::printf("  %-20s optical depth across the scene (%.4g m) %s", "", sceneDiagonal,
+                vec(sigmaT * sceneDiagonal).c_str());
+    if (!m.fillsSpace) {
+      float longest = 0.0f;
+      for (int i = 0; i < 3; ++i) longest = std::max(longest, 2.0f * glm::length(glm::vec3(m.worldFromBox[i])));
+      std::printf(", along the box's longest edge (%.4g m) %s", longest, vec(sigmaT * longest).c_str());
+    }
+    std::printf("\n");
+  }
+}
+
 }  // namespace
 
 int cmdInfo(const Args& args) {
@@ -27,7 +74,7 @@ int cmdInfo(const Args& args) {
                       {{"stage", "auto|none|studio", "staging as the rendering commands apply it (default auto)"}});
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
-    std::printf("Prints counts, bounds, lights, materials, camera and load warnings of a glTF scene.\n");
+    std::printf("Prints counts, bounds, lights, media, materials, camera and load warnings of a glTF scene.\n");
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
@@ -46,6 +93,7 @@ int cmdInfo(const Args& args) {
   std::printf("textures   %zu\n", scene.textures.size());
   std::printf("emissive triangles  %zu\n", scene.emissiveTriangles.size());
   std::printf("punctual lights     %zu\n", scene.punctualLights.size());
+  std::printf("media      %zu\n", scene.media.size());
   std::printf("degenerate triangles dropped  %zu\n", scene.degenerateTrianglesDropped);
   std::printf("bounds     %s .. %s  (extent %s, diagonal %.4g)\n", vec(scene.bounds.lower).c_str(),
               vec(scene.bounds.upper).c_str(), vec(scene.bounds.extent()).c_str(), scene.bounds.diagonal());
@@ -81,6 +129,8 @@ int cmdInfo(const Args& args) {
                   l.outerConeAngle * 180.0f / kPi);
     std::printf("\n");
   }
+
+  printMedia(scene);
 
   std::printf("materials:\n");
   for (const Material& m : scene.materials) {

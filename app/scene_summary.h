@@ -11,7 +11,8 @@ namespace vplab::cli {
 inline std::string sceneSummary(const Scene& scene) {
   return scene.sourcePath + " (" + std::to_string(scene.triangles.size()) +
          " triangles; lights: " + std::to_string(scene.emissiveTriangles.size()) + " emissive triangles, " +
-         std::to_string(scene.punctualLights.size()) + " punctual)";
+         std::to_string(scene.punctualLights.size()) + " punctual" +
+         (scene.media.empty() ? std::string() : "; media: " + std::to_string(scene.media.size())) + ")";
 }
 
 }  // namespace vplab::cli

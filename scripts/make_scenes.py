@@ -78,6 +78,7 @@ class Gltf:
         self.materials = []
         self.material_index = {}
         self.cameras = []
+        self.lights = []
         self.extensions_used = set()
 
     def _view(self, data, target):
@@ -158,6 +159,30 @@ class Gltf:
                              "perspective": {"aspectRatio": 1.0, "yfov": yfov, "znear": znear, "zfar": zfar}})
         self.nodes.append({"name": name, "camera": len(self.cameras) - 1, "matrix": [r6(v) for v in matrix]})
 
+    def medium_node(self, name, lower, upper, sigma_a, sigma_s, g):
+        """A VPLAB_participating_media box (docs/scenes.md) spanning the axis-aligned box [lower, upper]: the node's
+        translation is the centre and its scale the half sizes, so the cube [-1, 1]^3 maps onto it."""
+        centre = [r6(0.5 * (lo + hi)) for lo, hi in zip(lower, upper)]
+        half = [r6(0.5 * (hi - lo)) for lo, hi in zip(lower, upper)]
+        medium = {"sigmaA": [r6(c) for c in sigma_a], "sigmaS": [r6(c) for c in sigma_s], "g": g}
+        self.nodes.append({"name": name, "translation": centre, "scale": half,
+                           "extensions": {"VPLAB_participating_media": medium}})
+        self.extensions_used.add("VPLAB_participating_media")
+
+    def spot_light_node(self, name, position, target, intensity, inner, outer, colour=(1.0, 1.0, 1.0)):
+        """A KHR_lights_punctual spot light (intensity in candela) at `position` aimed at `target`: spot lights shine
+        down their node's local -Z, so the node matrix is built like a camera's."""
+        forward = normalize(sub(target, position))
+        right = normalize(cross(forward, (0.0, 1.0, 0.0)))
+        up = cross(right, forward)
+        back = scale(forward, -1.0)
+        matrix = [*right, 0.0, *up, 0.0, *back, 0.0, *position, 1.0]
+        self.lights.append({"name": name, "type": "spot", "color": list(colour), "intensity": intensity,
+                            "spot": {"innerConeAngle": inner, "outerConeAngle": outer}})
+        self.nodes.append({"name": name, "matrix": [r6(v) for v in matrix],
+                           "extensions": {"KHR_lights_punctual": {"light": len(self.lights) - 1}}})
+        self.extensions_used.add("KHR_lights_punctual")
+
     def camera_node_rotated(self, name, position, rotation_xyzw, yfov, znear=0.01, zfar=100.0):
         self.cameras.append({"name": name, "type": "perspective",
                              "perspective": {"aspectRatio": 1.0, "yfov": yfov, "znear": znear, "zfar": zfar}})
@@ -178,6 +203,8 @@ class Gltf:
             "bufferViews": self.views,
             "buffers": [{"byteLength": len(self.buffer), "uri": uri}],
         }
+        if self.lights:
+            doc["extensions"] = {"KHR_lights_punctual": {"lights": self.lights}}
         if self.extensions_used:
             doc["extensionsUsed"] = sorted(self.extensions_used)
         return json.dumps(doc, indent=1, sort_keys=False) + "\n"
@@ -239,10 +266,11 @@ def block_quads(faces):
     return [orient(f, sub(centroid(f), c)) for f in faces]
 
 
-def cornell(name, variant):
+def cornell(name, variant, extras_more=None):
     extras = {"units": "metres", "source": "Cornell Program of Computer Graphics, Cornell Box data",
               "triangles": 32, "emissiveTriangles": 2, "lightRadianceR": LIGHT_RADIANCE[0],
               "lightRadianceG": LIGHT_RADIANCE[1], "lightRadianceB": LIGHT_RADIANCE[2]}
+    extras.update(extras_more or {})
     g = Gltf(name, extras)
     # The measured materials are pure Lambert: no specular lobe at all.
     mats = {
@@ -274,6 +302,28 @@ def cornell(name, variant):
     # Official camera: (278, 273, -800) mm looking +z, 35 mm lens on a 25 mm film. Rotating the glTF camera
     # (which looks down -Z) by pi about +Y makes it look down +Z.
     g.camera_node_rotated("camera", (0.278, 0.273, -0.8), [0.0, 1.0, 0.0, 0.0], 2.0 * math.atan(12.5 / 35.0))
+    return g
+
+
+# --- Cornell box with fog ------------------------------------------------------------------------------------------
+
+# Bluish haze: scattering rises toward blue (as in small-particle haze), absorption is small and grey, and the box
+# is about one mean free path across (optical depth 0.7 to 1.1 over its 0.55 m), so the light's cone, the blocks'
+# shadows through the air and the colour shift all show. g = 0.3: mildly forward scattering.
+CORNELL_FOG_SIGMA_A = (0.1, 0.1, 0.1)
+CORNELL_FOG_SIGMA_S = (1.2, 1.5, 1.9)
+CORNELL_FOG_G = 0.3
+# 1 mm inside the walls (the left wall leans: its nearest point is at x = 549.6 mm), and below the light.
+CORNELL_FOG_LOWER = (0.001, 0.001, 0.001)
+CORNELL_FOG_UPPER = (0.5486, 0.5478, 0.5582)
+
+
+def cornell_fog():
+    sigma_t = [a + s for a, s in zip(CORNELL_FOG_SIGMA_A, CORNELL_FOG_SIGMA_S)]
+    width = CORNELL_FOG_UPPER[0] - CORNELL_FOG_LOWER[0]
+    extras = {"fogSigmaTBlue": sigma_t[2], "fogOpticalDepthAcrossBlue": r6(sigma_t[2] * width), "fogG": CORNELL_FOG_G}
+    g = cornell("cornell-fog", "plain", extras)
+    g.medium_node("fog", CORNELL_FOG_LOWER, CORNELL_FOG_UPPER, CORNELL_FOG_SIGMA_A, CORNELL_FOG_SIGMA_S, CORNELL_FOG_G)
     return g
 
 
@@ -384,6 +434,70 @@ def two_rooms():
     return g
 
 
+# --- fog shaft ------------------------------------------------------------------------------------------------------
+
+SHAFT_W, SHAFT_H, SHAFT_D = 4.0, 3.0, 4.0        # room interior in x, y, z (metres)
+SHAFT_WALL_T = 0.1                                # thickness of the wall with the window (x = SHAFT_W)
+SHAFT_WIN_Y0, SHAFT_WIN_Y1 = 1.6, 2.8             # window opening in that wall
+SHAFT_WIN_Z0, SHAFT_WIN_Z1 = 1.4, 2.6
+SHAFT_LIGHT_POS = (6.0, 4.2, 2.0)                 # outside, above the window
+SHAFT_LIGHT_INTENSITY = 400.0                     # candela
+SHAFT_LIGHT_CONES = (0.12, 0.22)                  # inner, outer (radians): a little wider than the window
+# Grey fog, optical depth 0.76 across the room's 4 m, albedo 0.84; g = 0.5 throws most scattered light onward along
+# the shaft, so it looks brighter from the floor end than from the side.
+SHAFT_FOG_SIGMA_A = (0.03, 0.03, 0.03)
+SHAFT_FOG_SIGMA_S = (0.16, 0.16, 0.16)
+SHAFT_FOG_G = 0.5
+
+
+def fog_shaft():
+    window_centre = (SHAFT_W + 0.5 * SHAFT_WALL_T, 0.5 * (SHAFT_WIN_Y0 + SHAFT_WIN_Y1),
+                     0.5 * (SHAFT_WIN_Z0 + SHAFT_WIN_Z1))
+    sigma_t = SHAFT_FOG_SIGMA_A[0] + SHAFT_FOG_SIGMA_S[0]
+    extras = {"units": "metres", "lightIntensity": SHAFT_LIGHT_INTENSITY, "fogSigmaT": sigma_t,
+              "fogOpticalDepthAcross": r6(sigma_t * SHAFT_W), "fogG": SHAFT_FOG_G}
+    g = Gltf("fog-shaft", extras)
+    white = g.material("white", (0.75, 0.75, 0.75), 0.0, 1.0, specular=0.0)
+    w, h, d, x1 = SHAFT_W, SHAFT_H, SHAFT_D, SHAFT_W + SHAFT_WALL_T
+    y0, y1, z0, z1 = SHAFT_WIN_Y0, SHAFT_WIN_Y1, SHAFT_WIN_Z0, SHAFT_WIN_Z1
+    # Axis 0 (x): other axes y (a), z (b). Axis 1 (y): z (a), x (b). Axis 2 (z): x (a), y (b).
+    room = [
+        box_quad(1, 0.0, 0.0, d, 0.0, w, 1.0),    # floor
+        box_quad(1, h, 0.0, d, 0.0, w, -1.0),     # ceiling
+        box_quad(2, 0.0, 0.0, w, 0.0, h, 1.0),    # near wall (z = 0)
+        box_quad(2, d, 0.0, w, 0.0, h, -1.0),     # far wall (z = depth)
+        box_quad(0, 0.0, 0.0, h, 0.0, d, 1.0),    # wall facing the window
+    ]
+    g.mesh_node("room", room, white)
+
+    def around_window(x, facing):
+        """The window wall's face at x as four quads around the opening."""
+        return [
+            box_quad(0, x, 0.0, y0, 0.0, d, facing),
+            box_quad(0, x, y1, h, 0.0, d, facing),
+            box_quad(0, x, y0, y1, 0.0, z0, facing),
+            box_quad(0, x, y0, y1, z1, d, facing),
+        ]
+
+    # Both faces of the window wall and the opening's reveal, so the light outside meets a solid wall with a hole.
+    reveal = [
+        box_quad(1, y0, z0, z1, w, x1, 1.0),
+        box_quad(1, y1, z0, z1, w, x1, -1.0),
+        box_quad(2, z0, w, x1, y0, y1, 1.0),
+        box_quad(2, z1, w, x1, y0, y1, -1.0),
+    ]
+    g.mesh_node("window-wall", around_window(w, -1.0) + around_window(x1, 1.0) + reveal, white)
+    g.spot_light_node("sun-spot", SHAFT_LIGHT_POS, window_centre, SHAFT_LIGHT_INTENSITY, *SHAFT_LIGHT_CONES)
+    # Fog 5 mm inside the room's walls; the window's reveal stays clear.
+    margin = 0.005
+    g.medium_node("fog", (margin,) * 3, (w - margin, h - margin, d - margin), SHAFT_FOG_SIGMA_A, SHAFT_FOG_SIGMA_S,
+                  SHAFT_FOG_G)
+    # By the wall opposite the window, off to one side: the window, the shaft across the room and its patch on the
+    # floor are all in view.
+    g.camera_node("camera", (0.4, 1.5, 0.3), (3.0, 1.2, 2.0), math.radians(70.0))
+    return g
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -396,6 +510,8 @@ def main():
         "cornell-indirect": cornell("cornell-indirect", "indirect"),
         "furnace": furnace(),
         "two-rooms": two_rooms(),
+        "cornell-fog": cornell_fog(),
+        "fog-shaft": fog_shaft(),
     }
     for name, g in scenes.items():
         text = g.to_json()

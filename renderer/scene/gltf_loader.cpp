@@ -68,10 +68,18 @@ std::string boundText(double bound) {
   return buf;
 }
 
+constexpr const char* kMediaExtension = "VPLAB_participating_media";
+/// Largest absorption or scattering coefficient accepted, 1/m: a mean free path of 0.1 um. Anything denser is a unit
+/// mistake, and keeping sigma_t * length finite in float over scenes up to kMaxCoordinate needs a bound anyway.
+constexpr double kMaxSigma = 1e7;
+/// A medium box whose axes span less than this fraction of the volume their lengths allow (|det| over the product
+/// of the column lengths, the box's "squareness") is treated as flat: its inverse would not be trustworthy in float.
+constexpr double kMinBoxSquareness = 1e-6;
+
 /// Extensions the loader implements, and what it does with some it does not (used in the warning).
 bool isSupportedExtension(const std::string& name) {
   return name == "KHR_lights_punctual" || name == "KHR_materials_emissive_strength" ||
-         name == "KHR_materials_specular" || name == "KHR_texture_transform";
+         name == "KHR_materials_specular" || name == "KHR_texture_transform" || name == kMediaExtension;
 }
 
 std::string unsupportedExtensionEffect(const std::string& name) {
@@ -160,6 +168,10 @@ class Loader {
   glm::mat3 textureTransform(const tinygltf::ExtensionMap& extensions, const std::string& where);
   void addLight(int nodeIndex, const glm::mat4& world);
   void addCamera(int nodeIndex, const glm::mat4& world);
+  /// Reads the coefficients of one VPLAB_participating_media object (at: its glTF path) into a Medium.
+  Medium readMedium(const tinygltf::Value& ext, const std::string& at) const;
+  void addMediumBox(int nodeIndex, const glm::mat4& world);
+  void checkMediaDisjoint() const;
   void frameBounds();
   void readAssetExtras();
 
@@ -173,6 +185,7 @@ class Loader {
   int defaultMaterial_ = -1;
   std::vector<int> imageTextures_;  ///< glTF image -> Scene texture, -1 unloadable, -2 not tried yet
   bool haveCamera_ = false;
+  std::vector<std::string> mediumPaths_;  ///< glTF path of each scene_.media entry, for error messages
 };
 
 AccessorView Loader::view(int accessorIndex, const std::string& where, const std::vector<int>& types) {
@@ -361,7 +374,16 @@ void Loader::run() {
     if (static_cast<std::size_t>(s) >= model_.scenes.size())
       fail("scene",
            "scene " + std::to_string(s) + " out of range (" + std::to_string(model_.scenes.size()) + " scenes)");
-    roots = model_.scenes[static_cast<std::size_t>(s)].nodes;
+    const tinygltf::Scene& gscene = model_.scenes[static_cast<std::size_t>(s)];
+    roots = gscene.nodes;
+    if (auto ext = gscene.extensions.find(kMediaExtension); ext != gscene.extensions.end()) {
+      std::string at = "scenes[" + std::to_string(s) + "].extensions." + kMediaExtension;
+      Medium m = readMedium(ext->second, at);
+      m.name = "scene";
+      m.fillsSpace = true;
+      scene_.media.push_back(m);
+      mediumPaths_.push_back(at);
+    }
     for (std::size_t i = 0; i < roots.size(); ++i)
       if (roots[i] < 0 || static_cast<std::size_t>(roots[i]) >= model_.nodes.size())
         fail("scenes[" + std::to_string(s) + "].nodes[" + std::to_string(i) + "]",
@@ -399,6 +421,7 @@ void Loader::run() {
   }
 
   if (scene_.triangles.empty()) fail("meshes", "no triangles to render");
+  checkMediaDisjoint();
   scene_.finalize();
   if (!haveCamera_) frameBounds();
   if (!scene_.hasLights()) scene_.warnings.push_back(kNoLightsWarning);
@@ -422,6 +445,14 @@ void Loader::visitNode(int nodeIndex, const glm::mat4& world) {
   }
   auto ext = node.extensions.find("KHR_lights_punctual");
   if (ext != node.extensions.end()) addLight(nodeIndex, world);
+  if (node.extensions.count(kMediaExtension) != 0) {
+    // The box is the node's own [-1, 1]^3; a mesh on the same node would suggest the mesh is the boundary, which it
+    // is not (surfaces are not interfaces).
+    if (node.mesh >= 0)
+      fail(at + ".extensions." + kMediaExtension,
+           "the extension belongs on a node without a mesh (its box is the node's [-1, 1]^3, not the mesh)");
+    addMediumBox(nodeIndex, world);
+  }
 }
 
 void Loader::addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& world) {
@@ -829,6 +860,84 @@ void Loader::addCamera(int nodeIndex, const glm::mat4& world) {
   haveCamera_ = true;
 }
 
+Medium Loader::readMedium(const tinygltf::Value& ext, const std::string& at) const {
+  if (!ext.IsObject()) fail(at, "must be an object with sigmaA, sigmaS and optionally g");
+  static const char* const known[] = {"sigmaA", "sigmaS", "g", "extensions", "extras"};
+  for (const std::string& key : ext.Keys())
+    if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return key == k; }) == std::end(known))
+      fail(at + "." + key, "unknown field '" + key + "' (known: sigmaA, sigmaS, g, extensions, extras)");
+  auto coefficient = [&](const char* key) {
+    std::string where = at + "." + key;
+    if (!ext.Has(key)) fail(where, "required (RGB in 1/m, e.g. [0.1, 0.1, 0.1])");
+    const tinygltf::Value& v = ext.Get(key);
+    if (!v.IsArray() || v.ArrayLen() != 3) fail(where, "needs an array of 3 numbers (RGB, 1/m)");
+    glm::vec3 out;
+    for (int c = 0; c < 3; ++c) {
+      const tinygltf::Value& x = v.Get(c);
+      if (!x.IsNumber()) fail(where + "[" + std::to_string(c) + "]", "is not a number");
+      double d = x.GetNumberAsDouble();
+      if (!(d >= 0.0 && d <= kMaxSigma))
+        fail(where + "[" + std::to_string(c) + "]",
+             "must lie in [0, " + boundText(kMaxSigma) + "] 1/m (got " + boundText(d) + ")");
+      out[c] = static_cast<float>(d);
+    }
+    return out;
+  };
+  Medium m;
+  m.sigmaA = coefficient("sigmaA");
+  m.sigmaS = coefficient("sigmaS");
+  if (ext.Has("g")) {
+    const tinygltf::Value& g = ext.Get("g");
+    if (!g.IsNumber()) fail(at + ".g", "is not a number");
+    double d = g.GetNumberAsDouble();
+    // |g| = 1 is a delta phase function, which no sampler here can evaluate.
+    if (!(std::abs(d) < 1.0)) fail(at + ".g", "must lie in (-1, 1) (got " + boundText(d) + ")");
+    m.g = static_cast<float>(d);
+  }
+  return m;
+}
+
+void Loader::addMediumBox(int nodeIndex, const glm::mat4& world) {
+  const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(nodeIndex)];
+  std::string at = "nodes[" + std::to_string(nodeIndex) + "]";
+  Medium m = readMedium(node.extensions.at(kMediaExtension), at + ".extensions." + kMediaExtension);
+  m.name = node.name.empty() ? at : node.name;
+  // The box must have volume: every axis of the node's world transform non-zero and the three not (nearly) in one
+  // plane, measured scale-free as |det| against the product of the axis lengths.
+  double lengths = 1.0;
+  for (int i = 0; i < 3; ++i) lengths *= glm::length(glm::dvec3(glm::vec3(world[i])));
+  double det = glm::determinant(glm::dmat3(glm::mat3(world)));
+  if (!(lengths > 0.0) || !std::isfinite(lengths) || !(std::abs(det) > kMinBoxSquareness * lengths))
+    fail(at, "singular transform for a medium box (a zero scale, or axes in one plane): the box has no volume");
+  m.worldFromBox = world;
+  m.boxFromWorld = glm::inverse(world);
+  bool finiteInverse = true;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j) finiteInverse = finiteInverse && std::isfinite(m.boxFromWorld[i][j]);
+  if (!finiteInverse) fail(at, "medium box too small to invert in float");
+  for (const glm::vec3& corner : m.corners())
+    if (!withinCoordinateBound(corner))
+      fail(at, "medium box reaches beyond +-" + boundText(kMaxCoordinate) + " m");
+  scene_.media.push_back(m);
+  mediumPaths_.push_back(at + ".extensions." + kMediaExtension);
+}
+
+void Loader::checkMediaDisjoint() const {
+  // A point lies in at most one medium (renderer/scene/medium.h): overlapping boxes, or a box inside a medium that
+  // fills all space, would need a rule for mixing coefficients that the format does not have.
+  for (std::size_t a = 0; a < scene_.media.size(); ++a)
+    for (std::size_t b = a + 1; b < scene_.media.size(); ++b)
+      if (boxesOverlap(scene_.media[a], scene_.media[b])) {
+        const Medium& ma = scene_.media[a];
+        const Medium& mb = scene_.media[b];
+        std::string what = ma.fillsSpace || mb.fillsSpace
+                               ? "a medium box cannot lie inside the medium that fills all space"
+                               : "medium boxes overlap";
+        fail(mediumPaths_[b], "'" + mb.name + "' and '" + ma.name + "' (" + mediumPaths_[a] + "): " + what +
+                                  "; media must be disjoint");
+      }
+}
+
 void Loader::frameBounds() {
   // Look down -Z at the bounding sphere from far enough that it fits the vertical field of view.
   Camera c;
@@ -895,6 +1004,20 @@ void checkReferences(const std::string& file, const std::string& baseDir, const 
       if (std::filesystem::is_directory(target, ec)) throw SceneError(at + ": '" + uri + "' is a directory");
       if (std::filesystem::exists(target, ec) && !std::filesystem::is_regular_file(target, ec))
         throw SceneError(at + ": '" + uri + "' is not a regular file");
+    }
+  }
+  // tinygltf drops extension values that are not objects without a word; a medium given as a number or an array
+  // must not vanish silently.
+  for (const char* kind : {"nodes", "scenes"}) {
+    auto list = doc.find(kind);
+    if (list == doc.end() || !list->is_array()) continue;
+    for (std::size_t i = 0; i < list->size(); ++i) {
+      const nlohmann::json& entry = (*list)[i];
+      if (!entry.is_object() || !entry.contains("extensions") || !entry["extensions"].is_object()) continue;
+      auto ext = entry["extensions"].find(kMediaExtension);
+      if (ext != entry["extensions"].end() && !ext->is_object())
+        throw SceneError(file + ": " + kind + "[" + std::to_string(i) + "].extensions." + kMediaExtension +
+                         ": must be an object with sigmaA, sigmaS and optionally g");
     }
   }
   const std::size_t accessors = count("accessors"), views = count("bufferViews"), buffers = count("buffers");
