@@ -238,6 +238,9 @@ const char* toString(Method method) {
     case Method::Vpl: return "vpl";
     case Method::VplKK: return "vpl-kk";
     case Method::Vsl: return "vsl";
+    case Method::VplAbc: return "vpl-abc";
+    case Method::Vrl: return "vrl";
+    case Method::Vbl: return "vbl";
   }
   return "?";
 }
@@ -284,7 +287,7 @@ bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out) {
 }
 
 bool parseMethod(const std::string& text, Method& out) {
-  for (Method m : {Method::Reference, Method::Vpl, Method::VplKK, Method::Vsl})
+  for (Method m : {Method::Reference, Method::Vpl, Method::VplKK, Method::Vsl, Method::VplAbc, Method::Vrl, Method::Vbl})
     if (text == toString(m)) {
       out = m;
       return true;

@@ -16,6 +16,10 @@ enum class Method {
   Vpl,        ///< instant radiosity with exact visibility and the bounded geometry term G_b
   VplKK,      ///< Vpl plus Kollig-Keller path-traced bias compensation (unbiased)
   Vsl,        ///< virtual spherical lights of radius vslRadius
+  VplAbc,     ///< Vpl plus approximate bias compensation in media (Engelhardt et al. 2012): one residual bounce,
+              ///< the medium taken as homogeneous and unoccluded inside the bound's ball
+  Vrl,        ///< virtual ray lights (Novak et al. 2012a): the light paths' media segments light the media
+  Vbl,        ///< progressive virtual beam lights (Novak et al. 2012b): VRLs of shrinking radius, pass after pass
 };
 
 /// How the GL preview answers the visibility between a VPL and a shading point (docs/methods.md "VPL visibility").

@@ -214,6 +214,7 @@ Segment EmbreeScene::beginSegment(const glm::vec3& origin, const glm::vec3& dire
   } else {
     s.distance = tMax;
   }
+  s.surfaceDistance = s.distance;
   if (!hasMedia_) return s;
   std::vector<MediumInterval>& intervals = intervalScratch();
   mediumIntervals(scene_.media, origin, direction, s.distance, intervals);

@@ -39,6 +39,8 @@ struct Segment {
   std::optional<SurfaceHit> hit;  ///< End::Surface
   glm::vec3 position{0.0f};       ///< End::Medium: the scattering point (End::Surface: the hit's position)
   float distance = 0.0f;          ///< ray parameter of the end (infinite for Escape)
+  /// Ray parameter of the closest surface (tMax when there is none), also when the segment scattered before it.
+  float surfaceDistance = 0.0f;
   uint32_t medium = 0;            ///< End::Medium
   /// The free-flight estimator's weight (spectral MIS over the channels): T(t) sigma_s / pdf(t) for a scattering
   /// event, T(s) / P(no event before s) for a surface or an escape. Exactly 1 when the segment crosses no medium.

@@ -74,6 +74,7 @@ struct Interaction {
 
   struct Sample {
     glm::vec3 wi{0.0f};
+    glm::vec3 f{0.0f};       ///< the BRDF (without the cosine) or the phase function at wi
     glm::vec3 weight{0.0f};  ///< scatter(wi) / pdf
     float pdf = 0.0f;
     bool valid() const { return pdf > 0.0f; }
@@ -88,6 +89,7 @@ struct Interaction {
       PhaseSample ps = samplePhaseHG(wo, g, u);
       s.wi = ps.wi;
       s.pdf = ps.pdf;
+      s.f = glm::vec3(ps.pdf);
       s.weight = glm::vec3(1.0f);  // f_p / pdf, sampled exactly
       return s;
     }
@@ -98,6 +100,7 @@ struct Interaction {
     if (cosI <= 0.0f) return s;
     s.wi = bs.wi;
     s.pdf = bs.pdf;
+    s.f = bs.f;
     s.weight = bs.f * (cosI / bs.pdf);
     return s;
   }

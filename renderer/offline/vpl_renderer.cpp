@@ -32,6 +32,9 @@ struct Context {
   float clampBound;
   int vslSamples = 1;
   int maxDepth = 1;
+  bool media = false;             ///< the scene has media: every transfer carries their transmittance
+  std::vector<float> vplPhaseG;   ///< Henyey-Greenstein g of each medium VPL's medium (media scenes)
+  float sceneDiagonal = 1.0f;
 };
 
 /// Per-gather counters (the VPL part only).
@@ -102,9 +105,10 @@ glm::vec3 vslContribution(const Context& ctx, const ShadingPoint& sp, std::size_
   return vpl.flux * sum * (1.0f / (static_cast<float>(ctx.vslSamples) * kPi * radius * radius));
 }
 
-/// sum_i C_i(x1) V(x1, x2_i) with batched exact shadow rays (docs/theory.md §1, §4, §7).
+/// sum_i C_i(x) V(x, x2_i) with batched exact shadow rays (docs/theory.md §1, §4, §7), at a surface point or (in a
+/// scene with media) a medium point, every transfer then attenuated by the media's transmittance (§17).
 /// trackUnclamped: also trace rays for VPLs whose clamped contribution is zero (b = 0), for the energy statistic.
-glm::vec3 gatherVpls(const Context& ctx, const ShadingPoint& sp, Rng& rng, GatherTally& tally, bool trackUnclamped) {
+glm::vec3 gatherVpls(const Context& ctx, const Interaction& x, Rng& rng, GatherTally& tally, bool trackUnclamped) {
   std::array<ShadowRay, kShadowBatch> rays;
   std::array<glm::vec3, kShadowBatch> clamped;
   std::array<float, kShadowBatch> unclampedLum;
@@ -116,27 +120,44 @@ glm::vec3 gatherVpls(const Context& ctx, const ShadingPoint& sp, Rng& rng, Gathe
     tally.shadowRays += n;
     for (std::size_t i = 0; i < n; ++i) {
       if (blocked[i]) continue;
-      sum += clamped[i];
-      tally.clampedLum += luminance(clamped[i]);
-      tally.unclampedLum += unclampedLum[i];
+      glm::vec3 c = clamped[i];
+      float u = unclampedLum[i];
+      if (ctx.media) {
+        const glm::vec3 tr = ctx.embree.transmittance(rays[i].origin, rays[i].direction, rays[i].tMax);
+        c *= tr;
+        u *= luminance(tr);
+      }
+      sum += c;
+      tally.clampedLum += luminance(c);
+      tally.unclampedLum += u;
     }
     n = 0;
   };
   const bool vsl = ctx.method == Method::Vsl;
+  const ShadingPoint sp{x.hit, x.wo, x.brdf};
   for (std::size_t i = 0; i < ctx.vpls.size(); ++i) {
     const Vpl& vpl = ctx.vpls[i];
     glm::vec3 c, u;
-    if (vsl) {
+    if (!ctx.media) {
+      if (vsl) {
+        c = vslContribution(ctx, sp, i, rng);
+        u = c;
+      } else {
+        c = vplUnoccludedContribution(sp, vpl, ctx.vplBrdfs[i], ctx.clampBound, &u);
+      }
+    } else if (vsl && !x.inMedium && !vpl.inMedium) {
       c = vslContribution(ctx, sp, i, rng);
       u = c;
     } else {
-      c = vplUnoccludedContribution(sp, vpl, ctx.vplBrdfs[i], ctx.clampBound, &u);
+      // Medium ends are point lights in every method (a VSL spreads a VPL over surfaces only).
+      c = vplContributionAt(x, vpl, ctx.vplBrdfs[i], ctx.vplPhaseG[i], ctx.clampBound, &u);
     }
     ++tally.evaluations;
     // Only VPLs that could contribute cost a shadow ray.
     bool useful = c.r > 0.0f || c.g > 0.0f || c.b > 0.0f;
     if (!useful && !(trackUnclamped && (u.r > 0.0f || u.g > 0.0f || u.b > 0.0f))) continue;
-    rays[n] = ctx.embree.shadowRayBetween(sp.hit.position, sp.hit.geometricNormal, vpl.position, vpl.geometricNormal);
+    rays[n] = ctx.embree.shadowRayBetween(x.position, x.offsetNormal(), vpl.position,
+                                          vpl.inMedium ? glm::vec3(0.0f) : vpl.geometricNormal);
     clamped[n] = c;
     unclampedLum[n] = luminance(u);
     if (++n == kShadowBatch) flush();
@@ -145,39 +166,230 @@ glm::vec3 gatherVpls(const Context& ctx, const ShadingPoint& sp, Rng& rng, Gathe
   return sum;
 }
 
-/// Kollig & Keller 2004 compensation K(x1) of the residual transport T_r (docs/theory.md §5; see vpl_renderer.h).
-glm::vec3 compensation(const Context& ctx, const ShadingPoint& sp, Rng& rng, int depth, GatherTally& tally) {
-  // Step 1: sample w from f(x1) cos and trace to x2.
-  glm::vec3 u(rng.next1D(), rng.next1D(), rng.next1D());
-  BrdfSample bs = sampleBrdf(sp.brdf, sp.hit.shadingNormal, sp.wo, u);
-  if (!bs.valid() || !facesDirection(sp.hit, bs.wi)) return glm::vec3(0.0f);
-  glm::vec3 origin = ctx.embree.offsetOrigin(sp.hit.position, sp.hit.geometricNormal, bs.wi);
-  std::optional<SurfaceHit> next = ctx.embree.intersect(origin, bs.wi);
-  if (!next || !facesDirection(*next, -bs.wi)) return glm::vec3(0.0f);
+/// Kollig & Keller 2004 compensation K(x1) of the residual transport T_r (docs/theory.md §5; see vpl_renderer.h),
+/// and in media Raab et al. 2008 (§18): the direction from the BRDF or the phase function, the next vertex by a free
+/// flight (a surface or a medium point), G with whichever cosines exist.
+glm::vec3 compensation(const Context& ctx, const Interaction& x, Rng& rng, int depth, GatherTally& tally) {
+  // Step 1: sample w from f(x1) cos (or f_p) and trace to x2.
+  const Interaction::Sample bs = x.sample(rng);
+  if (!bs.valid()) return glm::vec3(0.0f);
+  glm::vec3 origin = x.rayOrigin(ctx.embree, bs.wi);
+  Segment next = ctx.embree.traceSegment(origin, bs.wi, kInfinity, [&rng]() { return rng.next2D(); });
+  if (next.end == Segment::End::Escape) return glm::vec3(0.0f);
+  Interaction x2 = Interaction::atSegmentEnd(ctx.scene, next, -bs.wi);
+  if (!x2.scatters()) return glm::vec3(0.0f);
 
   // Step 2: only inside the bounded region (G > b) does the residual max(G - b, 0) = G (1 - b/G) act.
-  float cos1 = glm::dot(sp.hit.shadingNormal, bs.wi);
-  float cos2 = std::max(0.0f, -glm::dot(next->shadingNormal, bs.wi));
-  glm::vec3 seg = next->position - sp.hit.position;
+  float cos1 = x.inMedium ? 1.0f : glm::dot(x.hit.shadingNormal, bs.wi);
+  float cos2 = x2.inMedium ? 1.0f : std::max(0.0f, -glm::dot(x2.hit.shadingNormal, bs.wi));
+  glm::vec3 seg = x2.position - x.position;
   float dist2 = glm::dot(seg, seg);
   if (!(cos1 > 0.0f) || !(dist2 > 0.0f)) return glm::vec3(0.0f);
   float g = cos1 * cos2 / dist2;
   if (!(g > ctx.clampBound)) return glm::vec3(0.0f);
 
   // Step 3: L(x2 -> x1) without Le(x2): direct light + bounded VPL estimate + the compensation at x2.
-  ShadingPoint x2;
-  x2.hit = *next;
-  x2.wo = -bs.wi;
-  x2.brdf = brdfParamsAt(ctx.scene, next->material, next->uv);
-  glm::vec3 l = estimateDirectLight(ctx.embree, ctx.lights, x2.hit, x2.wo, x2.brdf, rng);
+  glm::vec3 l = estimateDirectLight(ctx.embree, ctx.lights, x2, rng);
   GatherTally inner;
   l += gatherVpls(ctx, x2, rng, inner, false);
   tally.shadowRays += inner.shadowRays;
   tally.evaluations += inner.evaluations;
   if (depth + 1 < ctx.maxDepth) l += compensation(ctx, x2, rng, depth + 1, tally);
 
-  // Step 4: f(x1) (1 - b/G) cos1 L / p: G dA = cos1 dw turns the area integral into the solid-angle one.
-  return bs.f * l * ((1.0f - ctx.clampBound / g) * cos1 / bs.pdf);
+  // Step 4: f(x1) (1 - b/G) cos1 L / p: G dA = cos1 dw turns the area integral into the solid-angle one (f_p / p = 1
+  // in a medium); through media the free flight's weight (T sigma_s / pdf or T / P) carries the distance integral.
+  glm::vec3 result = x.inMedium ? l * (1.0f - ctx.clampBound / g)
+                                : bs.f * l * ((1.0f - ctx.clampBound / g) * cos1 / bs.pdf);
+  return next.crossedMedium ? result * next.weight : result;
+}
+
+/// Approximate bias compensation in media (Engelhardt et al. 2012, docs/theory.md §18; see vpl_renderer.h): one
+/// residual bounce. At a medium point x the residual acts only inside the ball |x - y| < 1/sqrt(b) (G = 1/d^2 there),
+/// so y is drawn along a phase-sampled direction by a free flight in x's medium taken as homogeneous and unbounded
+/// over that ball: no ray is traced (no local visibility, surfaces inside the ball ignored) and the recursion is cut.
+/// A surface point gets one bounce of Kollig-Keller (exact, as screen-space compensation approximates it in GL).
+glm::vec3 approximateCompensation(const Context& ctx, const Interaction& x, Rng& rng, GatherTally& tally) {
+  if (!x.inMedium) return compensation(ctx, x, rng, ctx.maxDepth - 1, tally);
+  // Step 1: a direction from the phase function and a channel for the distance (spectral MIS).
+  glm::vec2 uDir = rng.next2D();
+  glm::vec2 uDist = rng.next2D();
+  const PhaseSample ps = samplePhaseHG(x.wo, x.g, uDir);
+  const Medium& medium = ctx.scene.media[x.medium];
+  const glm::vec3 sigmaT = medium.sigmaT();
+  const float radius = 1.0f / std::sqrt(ctx.clampBound);
+  // Step 2: t in [0, radius) with density proportional to sigma_t,c exp(-sigma_t,c t), truncated to the ball, for a
+  // channel c picked uniformly; the pdf is the mean of the three channels' truncated densities.
+  const int channel = std::min(2, static_cast<int>(uDist.x * 3.0f));
+  auto truncatedMass = [&](int c) { return sigmaT[c] > 0.0f ? -std::expm1(-sigmaT[c] * radius) : 0.0f; };
+  float t;
+  if (sigmaT[channel] > 0.0f)
+    t = -std::log1p(-uDist.y * truncatedMass(channel)) / sigmaT[channel];
+  else
+    t = uDist.y * radius;
+  t = std::min(t, radius);
+  if (!(t > 0.0f)) return glm::vec3(0.0f);
+  float pdf = 0.0f;
+  for (int c = 0; c < 3; ++c)
+    pdf += sigmaT[c] > 0.0f ? sigmaT[c] * std::exp(-sigmaT[c] * t) / truncatedMass(c) : 1.0f / radius;
+  pdf /= 3.0f;
+  const float g = 1.0f / (t * t);
+  if (!(g > ctx.clampBound) || !(pdf > 0.0f)) return glm::vec3(0.0f);
+  // Step 3: the bounded estimate at y (direct light + VPL gather with visibility), no further compensation.
+  const Interaction y = Interaction::inMediumAt(ctx.scene, x.position + ps.wi * t, x.medium, -ps.wi);
+  glm::vec3 l = estimateDirectLight(ctx.embree, ctx.lights, y, rng);
+  GatherTally inner;
+  l += gatherVpls(ctx, y, rng, inner, false);
+  tally.shadowRays += inner.shadowRays;
+  tally.evaluations += inner.evaluations;
+  // Step 4: f_p / pdf = 1; T(t) sigma_s / pdf(t) for the distance, (1 - b/G) for the residual.
+  return l * medium.sigmaS * glm::exp(-sigmaT * t) * ((1.0f - ctx.clampBound / g) / pdf);
+}
+
+/// The residual compensation the method asks for at x (zero for plain Vpl and Vsl or without a bound).
+glm::vec3 compensationFor(const Context& ctx, const Interaction& x, Rng& rng, GatherTally& tally) {
+  if (!std::isfinite(ctx.clampBound)) return glm::vec3(0.0f);
+  if (ctx.method == Method::VplKK) return compensation(ctx, x, rng, 0, tally);
+  if (ctx.method == Method::VplAbc) return approximateCompensation(ctx, x, rng, tally);
+  return glm::vec3(0.0f);
+}
+
+/// A distance along the camera ray, inside the media intervals before `end`, with density proportional to
+/// mean_c sigma_t,c T_c(t) (the free flight conditioned on scattering before `end`): returns false when no channel can
+/// scatter there. tOut, mediumOut, weightOut = T(t) sigma_s / pdf(t).
+bool sampleForcedFlight(const Context& ctx, const std::vector<MediumInterval>& intervals, float end, glm::vec2 u,
+                        float& tOut, uint32_t& mediumOut, glm::vec3& weightOut) {
+  // Optical depth of each channel over all intervals up to `end`.
+  glm::vec3 total(0.0f);
+  for (const MediumInterval& i : intervals) {
+    float len = std::min(i.t1, end) - i.t0;
+    if (len <= 0.0f) break;
+    const glm::vec3 st = ctx.scene.media[i.medium].sigmaT();
+    for (int c = 0; c < 3; ++c)
+      if (st[c] > 0.0f) total[c] += st[c] * len;
+  }
+  glm::vec3 mass(0.0f);  // probability of scattering before `end`, per channel
+  int usable = 0;
+  for (int c = 0; c < 3; ++c) {
+    mass[c] = std::isinf(total[c]) ? 1.0f : -std::expm1(-total[c]);
+    if (mass[c] > 0.0f) ++usable;
+  }
+  if (usable == 0) return false;
+  // Pick one of the channels that can scatter, uniformly.
+  int pick = std::min(usable - 1, static_cast<int>(u.x * static_cast<float>(usable)));
+  int channel = 0;
+  for (int c = 0, k = 0; c < 3; ++c)
+    if (mass[c] > 0.0f && k++ == pick) channel = c;
+  float tau = -std::log1p(-u.y * mass[channel]);
+  glm::vec3 depth(0.0f);
+  for (const MediumInterval& i : intervals) {
+    float len = std::min(i.t1, end) - i.t0;
+    if (len <= 0.0f) break;
+    const Medium& m = ctx.scene.media[i.medium];
+    const glm::vec3 st = m.sigmaT();
+    float channelDepth = st[channel] > 0.0f ? st[channel] * len : 0.0f;
+    if (channelDepth > tau || &i == &intervals.back()) {
+      float dt = st[channel] > 0.0f ? std::min(len, tau / st[channel]) : len;
+      for (int c = 0; c < 3; ++c)
+        if (st[c] > 0.0f) depth[c] += st[c] * dt;
+      const glm::vec3 tr = glm::exp(-depth);
+      float pdf = 0.0f;
+      for (int c = 0; c < 3; ++c)
+        if (mass[c] > 0.0f) pdf += st[c] * tr[c] / mass[c];
+      pdf /= static_cast<float>(usable);
+      if (!(pdf > 0.0f)) return false;
+      tOut = i.t0 + dt;
+      mediumOut = i.medium;
+      weightOut = m.sigmaS * tr / pdf;
+      return true;
+    }
+    tau -= channelDepth;
+    for (int c = 0; c < 3; ++c)
+      if (st[c] > 0.0f) depth[c] += st[c] * len;
+  }
+  return false;
+}
+
+/// The medium part of one camera sample (docs/theory.md §16-§18): integral over the media intervals of
+/// T(0, t) sigma_s L_s(x(t)). Direct light (single scattering) and the compensation at one forced-flight distance;
+/// each VPL's in-scattering at a distance of its own, drawn equiangularly around it (Kulla & Fajardo 2012), which
+/// cancels its 1/d^2 along the ray.
+glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm::vec3& dir,
+                         const std::vector<MediumInterval>& intervals, float end, bool wantDirect, bool wantIndirect,
+                         Rng& rng, GatherTally& tally) {
+  glm::vec3 radiance(0.0f);
+  // Step 1: one distance by forced free flight for the direct light and the residual compensation.
+  glm::vec2 u = rng.next2D();
+  float t = 0.0f;
+  uint32_t medium = 0;
+  glm::vec3 weight(0.0f);
+  if (sampleForcedFlight(ctx, intervals, end, u, t, medium, weight)) {
+    const Interaction x = Interaction::inMediumAt(ctx.scene, origin + dir * t, medium, -dir);
+    glm::vec3 l(0.0f);
+    if (wantDirect) l += estimateDirectLight(ctx.embree, ctx.lights, x, rng);
+    if (wantIndirect) l += compensationFor(ctx, x, rng, tally);
+    radiance += weight * l;
+  }
+  if (!wantIndirect || ctx.vpls.empty()) return radiance;
+
+  // Step 2: every VPL's in-scattering along the ray, equiangular over the span of the media intervals. A span that
+  // reaches infinity (a medium filling all space) is cut where the least attenuated channel's transmittance is 1e-6,
+  // or at 1000 scene diagonals for a channel that does not attenuate (the VPLs' 1/d^2 has faded long before).
+  const float a = intervals.front().t0;
+  float b = std::min(intervals.back().t1, end);
+  if (!std::isfinite(b)) {
+    const glm::vec3 st = ctx.scene.media[intervals.back().medium].sigmaT();
+    float least = std::min({st.x, st.y, st.z});
+    b = intervals.back().t0 + (least > 0.0f ? 14.0f / least : 1000.0f * ctx.sceneDiagonal);
+  }
+  if (!(b > a)) return radiance;
+  std::array<ShadowRay, kShadowBatch> rays;
+  std::array<glm::vec3, kShadowBatch> clamped;
+  std::array<float, kShadowBatch> unclampedLum;
+  std::array<uint8_t, kShadowBatch> blocked;
+  std::size_t n = 0;
+  auto flush = [&]() {
+    ctx.embree.occludedBatch(rays.data(), blocked.data(), n);
+    tally.shadowRays += n;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (blocked[i]) continue;
+      const glm::vec3 tr = ctx.embree.transmittance(rays[i].origin, rays[i].direction, rays[i].tMax);
+      const glm::vec3 c = clamped[i] * tr;
+      radiance += c;
+      tally.clampedLum += luminance(c);
+      tally.unclampedLum += unclampedLum[i] * luminance(tr);
+    }
+    n = 0;
+  };
+  const float minH = 1e-6f * ctx.sceneDiagonal;
+  for (std::size_t i = 0; i < ctx.vpls.size(); ++i) {
+    const Vpl& vpl = ctx.vpls[i];
+    float uT = rng.next1D();
+    // Equiangular sampling (Kulla & Fajardo 2012): t = delta + h tan(theta), theta uniform in [thetaA, thetaB].
+    const float delta = glm::dot(vpl.position - origin, dir);
+    const float h = std::max(minH, glm::length(origin + dir * delta - vpl.position));
+    const float thetaA = std::atan2(a - delta, h), thetaB = std::atan2(b - delta, h);
+    const float tv = delta + h * std::tan(thetaA + uT * (thetaB - thetaA));
+    const float pdf = h / ((thetaB - thetaA) * (h * h + (tv - delta) * (tv - delta)));
+    if (!(pdf > 0.0f) || !std::isfinite(tv)) continue;
+    // The medium at tv (between boxes there is none) and the transmittance from the camera to it.
+    const MediumInterval* in = nullptr;
+    for (const MediumInterval& iv : intervals)
+      if (tv >= iv.t0 && tv < iv.t1) in = &iv;
+    ++tally.evaluations;
+    if (!in) continue;
+    const Interaction x = Interaction::inMediumAt(ctx.scene, origin + dir * tv, in->medium, -dir);
+    glm::vec3 uc;
+    glm::vec3 c = vplContributionAt(x, vpl, ctx.vplBrdfs[i], ctx.vplPhaseG[i], ctx.clampBound, &uc);
+    if (!(c.r > 0.0f || c.g > 0.0f || c.b > 0.0f) && !(uc.r > 0.0f || uc.g > 0.0f || uc.b > 0.0f)) continue;
+    const glm::vec3 w = ctx.scene.media[in->medium].sigmaS * transmittanceOver(ctx.scene.media, intervals, tv) / pdf;
+    rays[n] = ctx.embree.shadowRayBetween(x.position, glm::vec3(0.0f), vpl.position,
+                                          vpl.inMedium ? glm::vec3(0.0f) : vpl.geometricNormal);
+    clamped[n] = c * w;
+    unclampedLum[n] = luminance(uc * w);
+    if (++n == kShadowBatch) flush();
+  }
+  if (n > 0) flush();
+  return radiance;
 }
 
 }  // namespace
@@ -187,7 +399,7 @@ VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Met
   const Scene& scene = offline.scene();
   const EmbreeScene& embree = offline.embree();
   const LightSampler& lights = offline.lights();
-  assert(method == Method::Vpl || method == Method::VplKK || method == Method::Vsl);
+  assert(method == Method::Vpl || method == Method::VplKK || method == Method::Vsl || method == Method::VplAbc);
   Context ctx{scene, embree, lights, vplSet.vpls, {}, {}, {}, {}, method, settings.clampBound};
   ctx.vplBrdfs.reserve(vplSet.vpls.size());
   for (const Vpl& v : vplSet.vpls) ctx.vplBrdfs.push_back(brdfParamsAt(scene, v.material, v.uv));
@@ -202,6 +414,10 @@ VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Met
   }
   ctx.vslSamples = std::max(1, settings.vslSamples);
   ctx.maxDepth = std::max(1, settings.maxDepth);
+  ctx.media = scene.hasMedia();
+  ctx.sceneDiagonal = std::max(scene.bounds.diagonal(), 1e-6f);
+  ctx.vplPhaseG.reserve(vplSet.vpls.size());
+  for (const Vpl& v : vplSet.vpls) ctx.vplPhaseG.push_back(v.inMedium ? scene.media[v.medium].g : 0.0f);
 
   const bool wantDirect = settings.components != Components::Indirect;
   const bool wantIndirect = settings.components != Components::Direct;
@@ -217,29 +433,40 @@ VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Met
     glm::vec3 dir = cameraRayDirection(scene.camera, static_cast<float>(x) + jitter.x,
                                        static_cast<float>(y) + jitter.y, settings.width, settings.height);
     std::optional<SurfaceHit> hit = embree.intersect(scene.camera.position, dir);
-    if (!hit) return glm::vec3(0.0f);
-    ShadingPoint sp;
-    sp.hit = *hit;
-    sp.wo = -dir;
-    glm::vec3 radiance(0.0f);
-    // Step 2: emission seen directly, as the reference counts it (one-sided emitters).
-    if (wantDirect) radiance += lights.emittedRadiance(hit->triangle, hit->geometricNormal, hit->uv, sp.wo);
-    if (!facesDirection(*hit, sp.wo)) return radiance;
-    sp.brdf = brdfParamsAt(scene, hit->material, hit->uv);
-    // Step 3: direct light, the reference's estimator (next-event estimation + BRDF sampling, MIS).
-    if (wantDirect) radiance += estimateDirectLight(embree, lights, sp.hit, sp.wo, sp.brdf, rng);
-    if (!wantIndirect) return radiance;
-    // Step 4: indirect light from the VPLs (bounded, or spherical), then Kollig-Keller's compensation.
     GatherTally& tally = tallies[static_cast<std::size_t>(y) * settings.width + x];
-    GatherTally primary;
-    radiance += gatherVpls(ctx, sp, rng, primary, true);
-    tally.clampedLum += primary.clampedLum;
-    tally.unclampedLum += primary.unclampedLum;
-    tally.shadowRays += primary.shadowRays;
-    tally.evaluations += primary.evaluations;
-    if (method == Method::VplKK && std::isfinite(ctx.clampBound))
-      radiance += compensation(ctx, sp, rng, 0, tally);
-    return radiance;
+    // Step 1': through media, the in-scattered light along the ray (docs/theory.md §16-§18), and the surface's
+    // light attenuated by the transmittance to it.
+    glm::vec3 radiance(0.0f);
+    glm::vec3 toSurface(1.0f);
+    if (ctx.media) {
+      static thread_local std::vector<MediumInterval> intervals;
+      const float end = hit ? hit->distance : kInfinity;
+      mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
+      if (!intervals.empty()) {
+        radiance += mediumAlongRay(ctx, scene.camera.position, dir, intervals, end, wantDirect, wantIndirect, rng,
+                                   tally);
+        toSurface = transmittanceOver(scene.media, intervals, end);
+      }
+    }
+    if (!hit) return radiance;
+    const Interaction sp = Interaction::onSurface(scene, *hit, -dir);
+    glm::vec3 surface(0.0f);
+    // Step 2: emission seen directly, as the reference counts it (one-sided emitters).
+    if (wantDirect) surface += lights.emittedRadiance(hit->triangle, hit->geometricNormal, hit->uv, sp.wo);
+    if (!sp.scatters()) return radiance + surface * toSurface;
+    // Step 3: direct light, the reference's estimator (next-event estimation + BRDF sampling, MIS).
+    if (wantDirect) surface += estimateDirectLight(embree, lights, sp.hit, sp.wo, sp.brdf, rng);
+    if (wantIndirect) {
+      // Step 4: indirect light from the VPLs (bounded, or spherical), then the residual's compensation.
+      GatherTally primary;
+      surface += gatherVpls(ctx, sp, rng, primary, true);
+      tally.clampedLum += primary.clampedLum;
+      tally.unclampedLum += primary.unclampedLum;
+      tally.shadowRays += primary.shadowRays;
+      tally.evaluations += primary.evaluations;
+      surface += compensationFor(ctx, sp, rng, tally);
+    }
+    return ctx.media ? radiance + surface * toSurface : surface;
   };
 
   VplRenderResult result;

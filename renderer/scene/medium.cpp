@@ -117,7 +117,10 @@ glm::vec3 transmittanceOver(const std::vector<Medium>& media, const std::vector<
 }
 
 float phaseHG(float cosTheta, float g) {
-  float denom = 1.0f + g * g - 2.0f * g * cosTheta;
+  // 1 + g^2 - 2 g cos written as a sum of two non-negative terms, (1 - |g|)^2 + 2 |g| (1 - |cos| on the peak's side):
+  // the plain form loses the peak to cancellation in float (4e-5 relative at g = 0.95, 1e-3 at g = 0.99).
+  float denom = g >= 0.0f ? (1.0f - g) * (1.0f - g) + 2.0f * g * (1.0f - cosTheta)
+                          : (1.0f + g) * (1.0f + g) - 2.0f * g * (1.0f + cosTheta);
   return (1.0f - g * g) / (4.0f * kPi * denom * std::sqrt(std::max(denom, 1e-30f)));
 }
 

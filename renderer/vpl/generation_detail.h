@@ -54,14 +54,18 @@ EmissionSample sampleLightEmission(const LightSampler& lights, RandomSource& ran
 /// the raw path throughput alpha (not yet divided by the path count). emissionAreaPdf, when given, receives one
 /// value per candidate: for bounce 1 the area density at the candidate with which the emission, given its point on
 /// the light, lands there (pdf_dir cos / d^2; 0 for a delta direction), 0 for later bounces.
+/// In a scene with media the path samples free flights: a medium VPL at every scattering event, surface VPLs
+/// weighted by the free flight's transmittance, and (when vrls is given) every segment's media parts as virtual ray
+/// lights with the raw throughput at the segment's start (docs/theory.md §17, §19).
 void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights, int maxBounces,
-                    RandomSource& random, std::vector<Vpl>& out, std::vector<float>* emissionAreaPdf = nullptr);
+                    RandomSource& random, std::vector<Vpl>& out, std::vector<float>* emissionAreaPdf = nullptr,
+                    std::vector<Vrl>* vrls = nullptr);
 
 /// `paths` light paths (Halton rotated by the seed and `tag`, then PCG), in parallel, candidates in path order.
 /// pathCandidateCount, when given, receives each path's candidate count; emissionAreaPdf as traceLightPath's.
 std::vector<Vpl> traceLightPaths(const GenerationContext& ctx, int64_t paths, uint64_t tag,
                                  std::vector<uint32_t>* pathCandidateCount = nullptr,
-                                 std::vector<float>* emissionAreaPdf = nullptr);
+                                 std::vector<float>* emissionAreaPdf = nullptr, std::vector<Vrl>* vrls = nullptr);
 
 /// Mean VPL candidates per light path, from kVplPilotPaths paths of a stream of their own.
 double candidatesPerLightPath(const GenerationContext& ctx);

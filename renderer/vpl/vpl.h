@@ -25,6 +25,25 @@ struct Vpl {
   uint32_t material = 0;                 ///< index into Scene::materials
   uint32_t bounce = 1;                   ///< number of surface interactions since the light, >= 1
   float radius = 0.0f;                   ///< VSL radius for this light (0 = point VPL)
+  /// A medium VPL (docs/theory.md §17): light that scattered at `position` inside Scene::media[medium]. It has no
+  /// normal; its "BRDF" is the medium's phase function, evaluated from `incoming`, and it lights every direction.
+  bool inMedium = false;
+  uint32_t medium = 0;  ///< index into Scene::media when inMedium
+};
+
+/// A virtual ray light (Novak et al. 2012a, docs/theory.md §19): the part of a light path's segment that lies in
+/// medium `medium`, start + t direction for t in [t0, t1). The segment leaves a light, surface or medium vertex with
+/// path throughput `flux` (already divided by the path count); light scatters out of it all along [t0, t1), attenuated
+/// by the media's transmittance from `start`. It spans the whole segment up to the next surface, whatever the free
+/// flight that continued the path sampled.
+struct Vrl {
+  glm::vec3 start{0.0f};
+  glm::vec3 direction{0.0f, 0.0f, 1.0f};  ///< unit
+  float t0 = 0.0f;
+  float t1 = 0.0f;
+  glm::vec3 flux{0.0f};
+  uint32_t medium = 0;
+  uint32_t bounce = 0;  ///< interactions before the segment (0: straight from the light)
 };
 
 struct VplStats {
@@ -51,6 +70,9 @@ std::uint64_t newVplSetId();
 
 struct VplSet {
   std::vector<Vpl> vpls;
+  /// The media segments of the same light paths as virtual ray lights (scenes with media only; the `vrl` and `vbl`
+  /// methods light with these instead of the medium VPLs).
+  std::vector<Vrl> vrls;
   std::vector<Vpl> rejected;  ///< rejected candidates (kept for display and teaching only)
   VplStats stats;
   /// Every set made has its own (copies keep it): with its address, how a renderer tells another set from the one it

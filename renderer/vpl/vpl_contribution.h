@@ -10,6 +10,7 @@
 
 #include "renderer/core/brdf.h"
 #include "renderer/offline/embree_scene.h"
+#include "renderer/offline/interaction.h"
 #include "renderer/vpl/vpl.h"
 
 #include <glm/glm.hpp>
@@ -61,6 +62,53 @@ inline glm::vec3 vplUnoccludedContribution(const ShadingPoint& sp, const Vpl& vp
   if (geometryTerm) *geometryTerm = g;
   if (unclamped) *unclamped = base * g;
   // Bounded geometry term G_b = min(G, b) (docs/theory.md §4).
+  return base * std::min(g, clampBound);
+}
+
+/// The transfer of §17 for any pair (docs/theory.md): a receiver on a surface or in a medium, a surface or medium
+/// VPL. Unoccluded and without the media's transmittance (the caller's, with the shadow ray):
+///   C = [receiver: f(x) cos_x | f_p(x)] * G_b * [VPL: f(y) cos_y | f_p(y)] * Phi,   G = (cosines that exist) / d^2.
+/// A medium receiver's sigma_s is not in it (it belongs to the distance integral along the camera ray). vplPhaseG is
+/// the medium VPL's Henyey-Greenstein g. A surface receiver and a surface VPL give exactly vplUnoccludedContribution().
+inline glm::vec3 vplContributionAt(const Interaction& x, const Vpl& vpl, const BrdfParams& vplBrdf, float vplPhaseG,
+                                   float clampBound, glm::vec3* unclamped = nullptr, float* geometryTerm = nullptr) {
+  if (!x.inMedium && !vpl.inMedium) {
+    ShadingPoint sp{x.hit, x.wo, x.brdf};
+    return vplUnoccludedContribution(sp, vpl, vplBrdf, clampBound, unclamped, geometryTerm);
+  }
+  if (unclamped) *unclamped = glm::vec3(0.0f);
+  if (geometryTerm) *geometryTerm = 0.0f;
+  glm::vec3 d = vpl.position - x.position;
+  float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return glm::vec3(0.0f);
+  glm::vec3 w = d * (1.0f / std::sqrt(dist2));
+  // Receiver end: a one-sided surface's BRDF and cosine, or the phase function (no cosine in a medium).
+  float cos1 = 1.0f;
+  glm::vec3 f1;
+  if (x.inMedium) {
+    f1 = glm::vec3(phaseHG(x.wo, w, x.g));
+  } else {
+    if (glm::dot(x.hit.geometricNormal, w) <= 0.0f) return glm::vec3(0.0f);
+    cos1 = glm::dot(x.hit.shadingNormal, w);
+    if (cos1 <= 0.0f) return glm::vec3(0.0f);
+    f1 = evaluateBrdfForVpl(x.brdf, x.hit.shadingNormal, x.wo, w);
+  }
+  // VPL end: light leaves the VPL along -w.
+  float cos2 = 1.0f;
+  glm::vec3 f2;
+  if (vpl.inMedium) {
+    f2 = glm::vec3(phaseHG(-w, vpl.incoming, vplPhaseG));
+  } else {
+    if (glm::dot(vpl.geometricNormal, w) >= 0.0f) return glm::vec3(0.0f);
+    cos2 = -glm::dot(vpl.normal, w);
+    if (cos2 <= 0.0f) return glm::vec3(0.0f);
+    f2 = evaluateBrdfForVpl(vplBrdf, vpl.normal, vpl.incoming, -w);
+  }
+  // The geometric factor without visibility and transmittance, bounded as on surfaces (docs/theory.md §17).
+  float g = cos1 * cos2 / dist2;
+  glm::vec3 base = f1 * f2 * vpl.flux;
+  if (geometryTerm) *geometryTerm = g;
+  if (unclamped) *unclamped = base * g;
   return base * std::min(g, clampBound);
 }
 

@@ -130,9 +130,12 @@ VplSet tracePlain(const GenerationContext& ctx) {
   const double perPath = candidatesPerLightPath(ctx);
   const double planned = perPath > 0.0 ? std::ceil(ctx.settings.vplCount / perPath) : ctx.settings.vplCount;
   const int64_t paths = static_cast<int64_t>(std::clamp(planned, 1.0, 1.0e9));
-  set.vpls = traceLightPaths(ctx, paths, kTagMainPaths);
+  // The same paths' media segments are the virtual ray lights (scenes with media only).
+  set.vpls = traceLightPaths(ctx, paths, kTagMainPaths, nullptr, nullptr,
+                             ctx.scene.hasMedia() ? &set.vrls : nullptr);
   const float invPaths = 1.0f / static_cast<float>(paths);
   for (Vpl& v : set.vpls) v.flux *= invPaths;
+  for (Vrl& v : set.vrls) v.flux *= invPaths;
   set.stats.candidates = set.vpls.size();
   set.stats.pathsTraced = static_cast<uint64_t>(paths);
   return set;
@@ -173,7 +176,8 @@ EmissionSample sampleLightEmission(const LightSampler& lights, RandomSource& ran
 }
 
 void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSampler& lights, int maxBounces,
-                    RandomSource& random, std::vector<Vpl>& out, std::vector<float>* emissionAreaPdf) {
+                    RandomSource& random, std::vector<Vpl>& out, std::vector<float>* emissionAreaPdf,
+                    std::vector<Vrl>* vrls) {
   // Step 1: emission sample.
   EmissionSample e = sampleLightEmission(lights, random);
   if (!e.valid) return;
@@ -183,43 +187,84 @@ void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSa
   glm::vec3 origin = glm::dot(e.normal, e.normal) > 0.0f ? embree.offsetOrigin(e.position, e.normal, e.direction)
                                                          : e.position;
   glm::vec3 dir = e.direction;
+  // Free flights draw their two numbers only on segments that cross a medium (EmbreeScene::traceSegment), so paths
+  // in a scene without media draw exactly the numbers they always did.
+  auto draw = [&random]() {
+    float a = random.next();
+    return glm::vec2(a, random.next());
+  };
+  std::vector<MediumInterval> intervals;
 
   for (int bounce = 1; bounce <= maxBounces; ++bounce) {
-    // Step 2: find the next surface. The vertex on the light is not a VPL: direct light is computed exactly.
-    std::optional<SurfaceHit> hit = embree.intersect(origin, dir);
-    if (!hit) return;
-    glm::vec3 wIn = -dir;
-    // One-sided surfaces absorb light arriving at their back.
-    if (glm::dot(hit->geometricNormal, wIn) <= 0.0f) return;
-
-    // Step 3: store the VPL: the light that arrived here with throughput alpha, reflected later by f(x2).
-    Vpl v;
-    v.position = hit->position;
-    v.normal = hit->shadingNormal;
-    v.geometricNormal = hit->geometricNormal;
-    v.incoming = wIn;
-    v.flux = alpha;
-    v.uv = hit->uv;
-    v.material = hit->material;
-    v.bounce = static_cast<uint32_t>(bounce);
-    out.push_back(v);
-    if (emissionAreaPdf) {
-      glm::vec3 d = hit->position - e.position;
-      float d2 = glm::dot(d, d);
-      emissionAreaPdf->push_back(bounce == 1 && d2 > 0.0f
-                                     ? e.pdfDirection * glm::dot(hit->geometricNormal, wIn) / d2
-                                     : 0.0f);
+    // Step 2: find the next surface or scattering event. The vertex on the light is not a VPL: direct light is
+    // computed exactly.
+    Segment segment = embree.traceSegment(origin, dir, kInfinity, draw);
+    if (segment.crossedMedium && vrls) {
+      // The segment's media parts are virtual ray lights, up to the surface whatever the free flight sampled.
+      mediumIntervals(scene.media, origin, dir, segment.surfaceDistance, intervals);
+      for (const MediumInterval& i : intervals)
+        if (std::isfinite(i.t1))
+          vrls->push_back({origin, dir, i.t0, i.t1, alpha, i.medium, static_cast<uint32_t>(bounce - 1)});
     }
-    if (bounce == maxBounces) return;
+    if (segment.end == Segment::End::Escape) return;
+    // Free-flight weight: T sigma_s / pdf at a scattering event, T / P(no event) at a surface (docs/theory.md §16).
+    if (segment.crossedMedium) alpha *= segment.weight;
+    glm::vec3 wIn = -dir;
 
-    // Step 4: continue by BRDF sampling, alpha *= f cos / pdf (the three numbers are drawn whatever happens).
-    glm::vec3 u(random.next(), random.next(), random.next());
-    BrdfParams params = brdfParamsAt(scene, hit->material, hit->uv);
-    BrdfSample bs = sampleBrdf(params, hit->shadingNormal, wIn, u);
-    if (!bs.valid() || glm::dot(hit->geometricNormal, bs.wi) <= 0.0f) return;
-    float cosI = glm::dot(hit->shadingNormal, bs.wi);
-    if (!(cosI > 0.0f)) return;
-    alpha *= bs.f * (cosI / bs.pdf);
+    if (segment.scattered()) {
+      // Step 3': a medium VPL (docs/theory.md §17): the light that scattered here, reflected later by the phase
+      // function from wIn.
+      Vpl v;
+      v.position = segment.position;
+      v.incoming = wIn;
+      v.flux = alpha;
+      v.inMedium = true;
+      v.medium = segment.medium;
+      v.bounce = static_cast<uint32_t>(bounce);
+      out.push_back(v);
+      if (emissionAreaPdf) emissionAreaPdf->push_back(0.0f);
+      if (bounce == maxBounces) return;
+      // Step 4': continue by phase-function sampling (f_p / pdf = 1: alpha is unchanged). HG is symmetric in its two
+      // directions, so sampling "wi" around wIn draws the outgoing direction with density f_p(out, wIn).
+      glm::vec2 u = draw();
+      dir = samplePhaseHG(wIn, scene.media[segment.medium].g, u).wi;
+      origin = segment.position;
+    } else {
+      const SurfaceHit* hit = &*segment.hit;
+      // One-sided surfaces absorb light arriving at their back.
+      if (glm::dot(hit->geometricNormal, wIn) <= 0.0f) return;
+
+      // Step 3: store the VPL: the light that arrived here with throughput alpha, reflected later by f(x2).
+      Vpl v;
+      v.position = hit->position;
+      v.normal = hit->shadingNormal;
+      v.geometricNormal = hit->geometricNormal;
+      v.incoming = wIn;
+      v.flux = alpha;
+      v.uv = hit->uv;
+      v.material = hit->material;
+      v.bounce = static_cast<uint32_t>(bounce);
+      out.push_back(v);
+      if (emissionAreaPdf) {
+        glm::vec3 d = hit->position - e.position;
+        float d2 = glm::dot(d, d);
+        emissionAreaPdf->push_back(bounce == 1 && d2 > 0.0f && !segment.crossedMedium
+                                       ? e.pdfDirection * glm::dot(hit->geometricNormal, wIn) / d2
+                                       : 0.0f);
+      }
+      if (bounce == maxBounces) return;
+
+      // Step 4: continue by BRDF sampling, alpha *= f cos / pdf (the three numbers are drawn whatever happens).
+      glm::vec3 u(random.next(), random.next(), random.next());
+      BrdfParams params = brdfParamsAt(scene, hit->material, hit->uv);
+      BrdfSample bs = sampleBrdf(params, hit->shadingNormal, wIn, u);
+      if (!bs.valid() || glm::dot(hit->geometricNormal, bs.wi) <= 0.0f) return;
+      float cosI = glm::dot(hit->shadingNormal, bs.wi);
+      if (!(cosI > 0.0f)) return;
+      alpha *= bs.f * (cosI / bs.pdf);
+      origin = embree.offsetOrigin(hit->position, hit->geometricNormal, bs.wi);
+      dir = bs.wi;
+    }
 
     // Step 5: Russian roulette on the throughput relative to alpha_0: survivors are scaled back up, so VPLs carry
     // roughly equal flux (Keller 1997) and dark paths end early.
@@ -227,19 +272,18 @@ void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSa
     float survive = std::min(1.0f, std::max({alpha.r, alpha.g, alpha.b}) / alpha0Max);
     if (!(survive > 0.0f) || uRr >= survive) return;
     alpha /= survive;
-
-    origin = embree.offsetOrigin(hit->position, hit->geometricNormal, bs.wi);
-    dir = bs.wi;
   }
 }
 
 std::vector<Vpl> traceLightPaths(const GenerationContext& ctx, int64_t paths, uint64_t tag,
-                                 std::vector<uint32_t>* pathCandidateCount, std::vector<float>* emissionAreaPdf) {
+                                 std::vector<uint32_t>* pathCandidateCount, std::vector<float>* emissionAreaPdf,
+                                 std::vector<Vrl>* vrls) {
   const std::array<float, kHaltonDims> offsets = haltonOffsets(ctx.settings.seed, tag);
   const int maxBounces = std::max(1, ctx.settings.vplMaxBounces);
   const int64_t items = (paths + kPathsPerItem - 1) / kPathsPerItem;
   std::vector<std::vector<Vpl>> chunks(static_cast<std::size_t>(items));
   std::vector<std::vector<float>> pdfChunks(emissionAreaPdf ? static_cast<std::size_t>(items) : 0);
+  std::vector<std::vector<Vrl>> vrlChunks(vrls ? static_cast<std::size_t>(items) : 0);
   std::vector<uint32_t> counts(static_cast<std::size_t>(std::max<int64_t>(paths, 0)), 0);
   parallelFor(
       items, ctx.settings.threads,
@@ -251,7 +295,8 @@ std::vector<Vpl> traceLightPaths(const GenerationContext& ctx, int64_t paths, ui
           HaltonPathSampler sampler(static_cast<uint64_t>(j), offsets,
                                     hashKey(streamSeed(ctx.settings.seed, tag), static_cast<uint64_t>(j), kTagPathTail));
           traceLightPath(ctx.scene, ctx.embree, ctx.lights, maxBounces, sampler, chunk,
-                         emissionAreaPdf ? &pdfChunks[static_cast<std::size_t>(item)] : nullptr);
+                         emissionAreaPdf ? &pdfChunks[static_cast<std::size_t>(item)] : nullptr,
+                         vrls ? &vrlChunks[static_cast<std::size_t>(item)] : nullptr);
           counts[static_cast<std::size_t>(j)] = static_cast<uint32_t>(chunk.size() - before);
         }
       },
@@ -262,6 +307,10 @@ std::vector<Vpl> traceLightPaths(const GenerationContext& ctx, int64_t paths, ui
   if (emissionAreaPdf) {
     emissionAreaPdf->clear();
     for (std::vector<float>& c : pdfChunks) emissionAreaPdf->insert(emissionAreaPdf->end(), c.begin(), c.end());
+  }
+  if (vrls) {
+    vrls->clear();
+    for (std::vector<Vrl>& c : vrlChunks) vrls->insert(vrls->end(), c.begin(), c.end());
   }
   return out;
 }
@@ -335,7 +384,13 @@ VplSet generateVpls(const OfflineScene& offline, const Settings& settings, Rende
   set.stats.generation = settings.generation;
   if (settings.vplCount > 0 && !lights.empty() && !scene.triangles.empty()) {
     GenerationContext ctx{offline, scene, offline.embree(), lights, settings, control};
-    set = generationMethod(settings.generation).generate(ctx);
+    if (scene.hasMedia() && (settings.generation != VplGeneration::Light || settings.rejection)) {
+      // The importance of a VPL (rejection, bidirectional resampling, the Metropolis target) is measured at surface
+      // points with surface transfer only: in media it would be wrong, so media scenes are light traced.
+      set = fallBackToLightTracing(ctx, "the scene has participating media, which only plain light tracing supports");
+    } else {
+      set = generationMethod(settings.generation).generate(ctx);
+    }
     if (set.stats.warnings.empty()) set.stats.generation = settings.generation;
   }
   set.stats.accepted = set.vpls.size();
