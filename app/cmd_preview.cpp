@@ -83,6 +83,9 @@ int cmdPreview(const Args& args) {
   const VplStats& st = vpls.stats;
   std::printf("gl          %s\n", context.description().c_str());
   std::printf("scene       %s\n", cli::sceneSummary(scene).c_str());
+  if (scene.hasMedia())
+    std::printf("warning     the GL preview does not draw participating media yet: surfaces only, without their\n"
+                "            transmittance, lit by the surface VPLs (the offline pass renders the media)\n");
   std::printf("preview     %dx%d, k = %d, b = %g, ssbc %d, shadow maps %d, direct samples %d, seed %u\n",
               settings.width, settings.height, settings.interleave, settings.clampBound, settings.ssbcSteps,
               settings.shadowMapSize, settings.directLightSamples, settings.seed);

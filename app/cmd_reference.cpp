@@ -24,7 +24,8 @@ int cmdReference(const Args& args) {
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     std::printf("Path-traced reference (NEE + MIS, Russian roulette) on all cores; progress on stderr.\n"
-                "--components direct is emission seen directly plus one reflection; indirect is the rest.\n");
+                "--components direct is emission seen directly plus one reflection or scattering event (in a scene\n"
+                "with participating media, single scattering included); indirect is the rest.\n");
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");

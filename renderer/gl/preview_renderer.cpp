@@ -242,9 +242,26 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   return why.str();
 }
 
-PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, const Settings& settings,
+const VplSet& PreviewRenderer::surfaceVplsOf(const VplSet& handed) {
+  if (std::none_of(handed.vpls.begin(), handed.vpls.end(), [](const Vpl& v) { return v.inMedium; })) return handed;
+  if (surfaceVpls_.id != handed.id || surfaceVplsSource_ != &handed || surfaceVplsCount_ != handed.vpls.size()) {
+    surfaceVpls_ = VplSet{};
+    for (const Vpl& v : handed.vpls)
+      if (!v.inMedium) surfaceVpls_.vpls.push_back(v);
+    surfaceVpls_.stats = handed.stats;
+    surfaceVpls_.id = handed.id;
+    surfaceVplsSource_ = &handed;
+    surfaceVplsCount_ = handed.vpls.size();
+  }
+  return surfaceVpls_;
+}
+
+PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed, const Settings& settings,
                                        const Camera& camera, double budgetMs) {
   auto frameStart = std::chrono::steady_clock::now();
+  // The preview lights surfaces only: a scene's media are not drawn yet (docs/methods.md, "Participating media"),
+  // so its medium VPLs are left out.
+  const VplSet& vpls = surfaceVplsOf(handed);
   requireValidSettings(settings);
   if (limits_.maxTextureSize == 0) limits_ = queryGlLimits();
   if (std::string problem = previewFitProblem(scene, vpls.vpls.size(), settings, limits_); !problem.empty())

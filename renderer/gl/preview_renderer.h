@@ -128,6 +128,11 @@ class PreviewRenderer {
   std::unique_ptr<GlScene> glScene_;
   const Scene* scene_ = nullptr;
   const VplSet* vplSet_ = nullptr;
+  /// The surface VPLs of a set that holds medium VPLs too (the preview does not draw media): copied once per set.
+  const VplSet& surfaceVplsOf(const VplSet& handed);
+  VplSet surfaceVpls_;
+  const VplSet* surfaceVplsSource_ = nullptr;
+  std::size_t surfaceVplsCount_ = 0;
   std::uint64_t vplSetId_ = 0;
   bool vplsDirty_ = true;
   bool sceneDirty_ = true;

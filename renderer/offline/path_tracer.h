@@ -1,7 +1,10 @@
 #pragma once
-// The path-traced reference (docs/theory.md §10): the ground truth every many-light method is measured
+// The path-traced reference (docs/theory.md §10, §16): the ground truth every many-light method is measured
 // against. Unidirectional path tracing with next-event estimation and MIS against BRDF sampling at every vertex,
-// Russian roulette on the throughput, one-sided emitters and a box pixel filter.
+// Russian roulette on the throughput, one-sided emitters and a box pixel filter. Through participating media every
+// segment samples a free flight (spectral MIS over the RGB channels, so chromatic media stay unbiased), scattering
+// vertices sample the Henyey-Greenstein phase function (MIS against next-event estimation) and every shadow ray
+// carries the media's transmittance.
 
 #include "renderer/core/parallel.h"
 #include "renderer/offline/embree_scene.h"
@@ -28,7 +31,8 @@ struct ReferenceStats {
 };
 
 /// Radiance arriving at the camera along one primary ray, restricted to `components`: Direct is emission seen
-/// directly plus light after exactly one reflection; Indirect is every path with two or more reflections.
+/// directly plus light after exactly one reflection or scattering event (single scattering in media); Indirect is
+/// every path with two or more.
 /// The random numbers drawn do not depend on `components`, so Direct + Indirect equals All sample by sample.
 /// NaN when the path's throughput became non-finite (renderProgressive counts such samples).
 glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& lights, const glm::vec3& origin,
