@@ -1,4 +1,5 @@
-// vplab render <scene> --method vpl|vpl-kk|vsl: VPL generation (with optional rejection) and the exact VPL render.
+// vplab render <scene> --method vpl|vpl-kk|vpl-abc|vsl|vrl|vbl: VPL generation (with optional rejection) and the exact
+// VPL render, or the virtual ray / progressive virtual beam light render (renderer/offline/vrl_renderer.h).
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -11,6 +12,7 @@
 #include "renderer/image/metrics.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/vpl_renderer.h"
+#include "renderer/offline/vrl_renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -23,8 +25,8 @@ namespace vplab::app {
 int cmdRender(const Args& args) {
   Settings settings;
   const unsigned use = kUseImage | kUseGeneration | kUseCpuVpl;
-  cli::CommandLine cl("vplab render <scene.gltf|scene.glb> --method vpl|vpl-kk|vsl -o image.exr [options]",
-                      {{"method", "vpl|vpl-kk|vsl", "many-light method (default vpl)"}});
+  cli::CommandLine cl("vplab render <scene.gltf|scene.glb> --method vpl|vpl-kk|vpl-abc|vsl|vrl|vbl -o image.exr [options]",
+                      {{"method", "vpl|vpl-kk|vpl-abc|vsl|vrl|vbl", "many-light method (default vpl)"}});
   cl.addOptions(cli::imageOutputOptions());
   cl.addOptions({{"ref", "FILE", "reference image: print relMSE, RMSE and energy ratio against it"},
                  {"save-vpls", "FILE", "write the VPL set (accepted and rejected) as JSON"}});
@@ -34,14 +36,16 @@ int cmdRender(const Args& args) {
     std::printf(
         "Generates VPLs by --generation (light tracing: --vpl-count is the expected count, with --rejection the\n"
         "expected accepted count; bidirectional: exactly --vpl-count; metropolis: about --vpl-count), then sums\n"
-        "them at every pixel sample with exact shadow rays.\n");
+        "them at every pixel sample with exact shadow rays. vrl lights the media with the light paths' media segments\n"
+        "(virtual ray lights, --vrl-samples each); vbl averages --beam-passes passes of fresh VPL sets whose segments\n"
+        "are beams of shrinking radius (--beam-radius, --beam-shrink).\n");
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
   Method method = Method::Vpl;
   std::string methodName = cl.getString("method", "vpl");
   if (!parseMethod(methodName, method) || method == Method::Reference)
-    throw cli::CliError("option --method: '" + methodName + "' is not vpl, vpl-kk or vsl");
+    throw cli::CliError("option --method: '" + methodName + "' is not vpl, vpl-kk, vpl-abc, vsl, vrl or vbl");
   cli::applySettingsOptions(cl, settings, use);
   cli::FilePlan files = cli::imageOutputPlan(cl);
   auto out = cl.value("out");
@@ -71,7 +75,10 @@ int cmdRender(const Args& args) {
   RenderControl control;
   cli::ProgressReporter progress("render");
   control.onProgress = [&](float f) { progress.update(f); };
-  VplRenderResult result = renderVpl(offline, vpls, method, offlineRenderSettings(settings, method), &control);
+  const Settings renderSettings = offlineRenderSettings(settings, method);
+  VplRenderResult result = method == Method::Vrl   ? renderVrl(offline, vpls, renderSettings, &control)
+                           : method == Method::Vbl ? renderVbl(offline, renderSettings, &control)
+                                                   : renderVpl(offline, vpls, method, renderSettings, &control);
   progress.finish();
 
   if (out)

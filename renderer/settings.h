@@ -172,6 +172,20 @@ struct Settings {
   /// on average, keeps the exact VSL render within 3x the point-VPL render (docs/benchmarks.md).
   int vslSamples = 2;
 
+  // --- virtual ray lights and progressive virtual beam lights, Novak et al. 2012a, 2012b (sections 19, 20) -----
+  /// Samples per VRL and pixel sample of the exact CPU VRL/VBL render (each for the camera ray's media part and
+  /// for the surface point) [1, 256]. Default 4.
+  int vrlSamples = 4;
+  /// Radius r_1 of the first pass's virtual beams, in metres [0, inf); 0 = derive: 2 % of the scene diagonal.
+  /// Default 0.
+  float beamRadius = 0.0f;
+  /// Passes of the progressive virtual beam render, each with a fresh VPL/VRL set (seed + pass) [1, 4096].
+  /// Default 16.
+  int beamPasses = 16;
+  /// Radius shrink alpha of the beams: r_i = r_1 (i + 1)^((alpha - 1) / 2), in (0, 1]; 1 keeps the radius.
+  /// Default 0.7.
+  float beamShrink = 0.7f;
+
   // --- GL preview (section 8) -------------------------------------------------------------------------------
   /// Shadow-mapped samples on area lights for the preview's direct light [1, 4096]. Default 64.
   int directLightSamples = 64;

@@ -1,0 +1,203 @@
+// Virtual ray lights (Novak et al. 2012a, docs/theory.md §19) and progressive virtual beam lights (Novak et al.
+// 2012b, §20): against the path-traced reference on the fog Cornell box, the fog furnace's closed form, degenerate
+// media, and the paper's claim of lower error than unbounded medium VPLs at equal time.
+
+#include "renderer/image/metrics.h"
+#include "renderer/offline/offline_scene.h"
+#include "renderer/offline/path_tracer.h"
+#include "renderer/offline/vpl_renderer.h"
+#include "renderer/offline/vrl_renderer.h"
+#include "renderer/vpl/vpl_generation.h"
+#include "tests/test_scenes.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <memory>
+
+namespace vplab {
+namespace {
+
+Medium globalMedium(glm::vec3 sigmaA, glm::vec3 sigmaS, float g) {
+  Medium m;
+  m.name = "scene";
+  m.sigmaA = sigmaA;
+  m.sigmaS = sigmaS;
+  m.g = g;
+  m.fillsSpace = true;
+  return m;
+}
+
+Medium boxMedium(glm::vec3 centre, glm::vec3 half, glm::vec3 sigmaA, glm::vec3 sigmaS, float g) {
+  Medium m;
+  m.name = "fog";
+  m.sigmaA = sigmaA;
+  m.sigmaS = sigmaS;
+  m.g = g;
+  m.worldFromBox = glm::mat4(glm::vec4(half.x, 0, 0, 0), glm::vec4(0, half.y, 0, 0), glm::vec4(0, 0, half.z, 0),
+                             glm::vec4(centre, 1));
+  m.boxFromWorld = glm::inverse(m.worldFromBox);
+  return m;
+}
+
+bool allFinite(const Image& image) {
+  for (const glm::vec3& p : image.pixels)
+    if (!isFinite(p)) return false;
+  return true;
+}
+
+double seconds(std::chrono::steady_clock::time_point since) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - since).count();
+}
+
+// The reference of the bundled cornell-fog scene at 24^2, shared by the tests below (256 spp).
+const Image& fogReference(const OfflineScene& scene, const Settings& s) {
+  static const Image reference = [&] {
+    Settings r = s;
+    r.samplesPerPixel = 256;
+    return renderReference(scene, r).image;
+  }();
+  return reference;
+}
+
+TEST(MediaVrl, FogCornellAgreesWithTheReference) {
+  auto scene = test::loadAssetScene("cornell-fog");
+  Settings s = test::smallVplSettings(24, 256);
+  const double ref = meanLuminance(fogReference(*scene, s));
+  ASSERT_GT(ref, 0.0);
+  const int seeds = 3;
+  double vrl = 0.0;
+  for (int i = 0; i < seeds; ++i) {
+    Settings v = s;
+    v.seed = 70 + static_cast<uint32_t>(i);
+    v.samplesPerPixel = 2;
+    v.vrlSamples = 2;
+    const VplSet set = generateVpls(*scene, v);
+    ASSERT_FALSE(set.vrls.empty());
+    VplRenderResult r = renderVrl(*scene, set, v);
+    EXPECT_EQ(r.nonFiniteSamples, 0u);
+    EXPECT_EQ(r.clampEnergyRemoved, 0.0);
+    vrl += meanLuminance(r.image) / seeds;
+  }
+  Settings b = s;
+  b.seed = 90;
+  b.samplesPerPixel = 1;
+  b.vrlSamples = 2;
+  b.beamPasses = 8;
+  int passesSeen = 0;
+  VplRenderResult vbl = renderVbl(*scene, b, nullptr, [&](const Image&, int) { ++passesSeen; });
+  EXPECT_EQ(passesSeen, 8);
+  EXPECT_EQ(vbl.samplesPerPixel, 8);
+  const double beams = meanLuminance(vbl.image);
+  std::printf("[ measured ] cornell-fog 24^2, 256 VPLs: reference %.5f; vrl (3 seeds) %.4f, vbl (8 passes) %.4f of "
+              "the reference\n",
+              ref, vrl / ref, beams / ref);
+  EXPECT_NEAR(vrl / ref, 1.0, 0.03);
+  EXPECT_NEAR(beams / ref, 1.0, 0.03);
+}
+
+// A closed furnace (walls emit 1, albedo 0.5) in a non-absorbing medium keeps L = 2 everywhere (docs/theory.md §16).
+TEST(MediaVrl, FurnaceWithFogStaysAtTwo) {
+  Scene scene = test::makeFurnaceBox(0.5f);
+  scene.media.push_back(globalMedium(glm::vec3(0.0f), glm::vec3(0.4f, 0.7f, 1.0f), 0.5f));
+  OfflineScene offline(std::move(scene));
+  Settings s = test::smallVplSettings(16, 512);
+  s.samplesPerPixel = 2;
+  s.vrlSamples = 2;
+  double vrl = 0.0;
+  const int seeds = 2;
+  for (int i = 0; i < seeds; ++i) {
+    Settings v = s;
+    v.seed = 20 + static_cast<uint32_t>(i);
+    VplRenderResult r = renderVrl(offline, generateVpls(offline, v), v);
+    ASSERT_TRUE(allFinite(r.image));
+    vrl += meanLuminance(r.image) / seeds;
+  }
+  Settings b = s;
+  b.samplesPerPixel = 1;
+  b.beamPasses = 6;
+  const double vbl = meanLuminance(renderVbl(offline, b).image);
+  std::printf("[ measured ] fog furnace (sigma_s = 0.4/0.7/1, g = 0.5) 16^2, 512 VPLs: vrl %.4f, vbl %.4f (exact 2)\n",
+              vrl, vbl);
+  EXPECT_NEAR(vrl, 2.0, 0.04);
+  EXPECT_NEAR(vbl, 2.0, 0.04);
+}
+
+TEST(MediaVrl, OpticallyHugeMediumIsFinite) {
+  auto base = test::loadAssetScene("cornell-box");
+  Scene scene = base->scene();
+  scene.media.push_back(boxMedium(scene.geometryBounds.center(), 0.3f * scene.geometryBounds.extent(),
+                                  glm::vec3(1e6f), glm::vec3(1e6f), 0.9f));
+  OfflineScene offline(std::move(scene));
+  Settings s = test::smallVplSettings(16, 64);
+  s.beamPasses = 2;
+  VplRenderResult vrl = renderVrl(offline, generateVpls(offline, s), s);
+  EXPECT_TRUE(allFinite(vrl.image));
+  EXPECT_EQ(vrl.nonFiniteSamples, 0u);
+  VplRenderResult vbl = renderVbl(offline, s);
+  EXPECT_TRUE(allFinite(vbl.image));
+  EXPECT_EQ(vbl.nonFiniteSamples, 0u);
+}
+
+// Without media there are no VRLs and every VPL is on a surface: the VRL render is the unbounded VPL render, bit for
+// bit (the same random numbers, the same sums).
+TEST(MediaVrl, WithoutMediaEqualsTheVplRender) {
+  auto scene = test::loadAssetScene("cornell-box");
+  Settings s = test::smallVplSettings(16, 64);
+  s.samplesPerPixel = 2;
+  const VplSet set = generateVpls(*scene, s);
+  ASSERT_TRUE(set.vrls.empty());
+  const Image a = renderVpl(*scene, set, Method::Vpl, s).image;
+  const Image b = renderVrl(*scene, set, s).image;
+  ASSERT_EQ(a.pixels.size(), b.pixels.size());
+  for (std::size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], b.pixels[i]) << i;
+}
+
+TEST(MediaVrl, BeamRadiusShrinksBySchedule) {
+  Settings s;
+  s.beamRadius = 0.1f;
+  s.beamShrink = 0.5f;
+  EXPECT_FLOAT_EQ(beamRadiusForPass(s, 10.0f, 0), 0.1f);
+  EXPECT_NEAR(beamRadiusForPass(s, 10.0f, 3), 0.1f * std::pow(4.0f, -0.25f), 1e-6f);
+  s.beamRadius = 0.0f;
+  EXPECT_FLOAT_EQ(beamRadiusForPass(s, 10.0f, 0), 0.2f);  // 2 % of the diagonal
+  s.beamShrink = 1.0f;
+  EXPECT_FLOAT_EQ(beamRadiusForPass(s, 10.0f, 7), 0.2f);
+}
+
+// Novak et al. 2012a: VRLs beat medium VPLs at equal time (the VPLs' 1/d^2 singularities in the medium splotch).
+// Unbounded `vpl` gets more VPLs until its render takes at least the VRL render's time.
+TEST(MediaVrl, LowerErrorThanUnboundedVplsAtEqualTime) {
+  auto scene = test::loadAssetScene("cornell-fog");
+  Settings s = test::smallVplSettings(24, 256);
+  const Image& reference = fogReference(*scene, s);
+  Settings v = s;
+  v.seed = 5;
+  v.samplesPerPixel = 2;
+  v.vrlSamples = 2;
+  auto t0 = std::chrono::steady_clock::now();
+  const VplSet vrlSet = generateVpls(*scene, v);
+  const Image vrl = renderVrl(*scene, vrlSet, v).image;
+  const double vrlTime = seconds(t0);
+  const double vrlErr = compareImages(vrl, reference).relMse;
+  // The VPL render with as many VPLs as fit in the VRL render's time (doubling until it takes at least as long).
+  Settings p = v;
+  double vplTime = 0.0, vplErr = 0.0;
+  for (int count = 256; count <= 65536; count *= 2) {
+    p.vplCount = count;
+    t0 = std::chrono::steady_clock::now();
+    const Image vpl = renderVpl(*scene, generateVpls(*scene, p), Method::Vpl, p).image;
+    vplTime = seconds(t0);
+    vplErr = compareImages(vpl, reference).relMse;
+    if (vplTime >= vrlTime) break;
+  }
+  std::printf("[ measured ] cornell-fog 24^2 vs reference: vrl (256 VPLs) relMSE %.5f in %.2f s; vpl unbounded "
+              "(%d VPLs) relMSE %.5f in %.2f s\n",
+              vrlErr, vrlTime, p.vplCount, vplErr, vplTime);
+  EXPECT_LT(vrlErr, vplErr);
+}
+
+}  // namespace
+}  // namespace vplab
