@@ -2,6 +2,7 @@
 
 #include "renderer/offline/direct_light.h"
 #include "renderer/offline/interaction.h"
+#include "renderer/offline/spectral_mis.h"
 #include "renderer/scene/brdf_params.h"
 
 #include <algorithm>
@@ -16,54 +17,6 @@ namespace {
 
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
-/// Spectral MIS over the whole path (docs/theory.md §16; Wilkie et al. 2014, "Hero wavelength spectral sampling";
-/// pbrt-v4's path-wide r_u). A path samples every free flight with one channel h picked once, uniformly; its weight is
-/// f(path) / mean_k p_k(path), p_k the product over the segments of the density channel k's free-flight sampling
-/// gives them (sigma_t,k T_k(t) for a scattering event, T_k(s) for passing to the surface). Per channel the ratio
-/// f_c / p_c is the product of single-scattering albedos (<= 1), so the weight stays <= 3 x that: bounded. Dividing
-/// each segment by its own channel mean instead (Segment::weight) is unbiased too, but along long paths in a
-/// chromatic medium the per-segment factors (up to 3 each) multiply into fireflies: the chromatic furnace of
-/// tests/media_reference_test.cpp then missed L = 2 by 20 % at 18k paths and by 15 % at 600k.
-struct PathSpectralMis {
-  /// The channel every free flight of the path samples, fixed by the first medium crossing's draw; -1 before.
-  int hero = -1;
-  /// prod_segments p_k, divided by its channel mean after every segment (so that it neither under- nor overflows).
-  glm::vec3 pdf{1.0f};
-
-  /// The free-flight draw for the path: the first crossing's u.x picks the hero channel, later crossings keep it
-  /// (u.x is still drawn, so the random stream is what traceSegment() would use).
-  glm::vec2 draw(Rng& rng) {
-    glm::vec2 u = rng.next2D();
-    if (hero < 0) hero = std::min(2, static_cast<int>(u.x * 3.0f));
-    u.x = (static_cast<float>(hero) + 0.5f) * (1.0f / 3.0f);
-    return u;
-  }
-
-  /// Multiplies throughput by f(segment) / mean_k(pdf_k p_k(segment)) for a segment that crossed a medium.
-  void apply(const EmbreeScene& embree, const glm::vec3& origin, const glm::vec3& dir, const Segment& segment,
-             glm::vec3& throughput) {
-    const std::vector<Medium>& media = embree.scene().media;
-    glm::vec3 f, p;
-    if (segment.scattered()) {
-      const glm::vec3 tr = embree.transmittance(origin, dir, segment.distance);
-      f = media[segment.medium].sigmaS * tr;
-      p = media[segment.medium].sigmaT() * tr;
-    } else {
-      // The surface or the end of the ray: T(s) / P(no event), P the path's channel mixture.
-      f = embree.transmittance(origin, dir, segment.distance);
-      p = f;
-    }
-    const glm::vec3 next = pdf * p;
-    const float mean = (next.x + next.y + next.z) * (1.0f / 3.0f);
-    if (!(mean > 0.0f)) {
-      throughput = glm::vec3(0.0f);
-      return;
-    }
-    throughput *= f / mean;
-    pdf = next / mean;
-  }
-};
-
 }  // namespace
 
 glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& lights, const glm::vec3& origin,
@@ -77,7 +30,7 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
   // Free flights draw their two numbers only on segments that cross a medium (EmbreeScene::traceSegment); every
   // flight of the path samples the same channel, weighted by spectral MIS over the whole path.
   PathSpectralMis spectral;
-  auto draw = [&rng, &spectral]() { return spectral.draw(rng); };
+  auto draw = [&rng, &spectral]() { return spectral.draw(rng.next2D()); };
   constexpr float kUnbounded = std::numeric_limits<float>::infinity();
 
   uint64_t shadowRays = 0, bounceRays = 0;

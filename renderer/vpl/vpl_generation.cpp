@@ -7,6 +7,7 @@
 #include <cmath>
 #include <optional>
 
+#include "renderer/offline/spectral_mis.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/vpl/generation_detail.h"
 #include "renderer/vpl/vpl_importance.h"
@@ -188,11 +189,14 @@ void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSa
                                                          : e.position;
   glm::vec3 dir = e.direction;
   // Free flights draw their two numbers only on segments that cross a medium (EmbreeScene::traceSegment), so paths
-  // in a scene without media draw exactly the numbers they always did.
-  auto draw = [&random]() {
+  // in a scene without media draw exactly the numbers they always did; through chromatic media every flight of the
+  // path samples one channel, weighted by spectral MIS over the whole path (bounded flux, no fireflies).
+  PathSpectralMis spectral;
+  auto next2D = [&random]() {
     float a = random.next();
     return glm::vec2(a, random.next());
   };
+  auto draw = [&]() { return spectral.draw(next2D()); };
   std::vector<MediumInterval> intervals;
 
   for (int bounce = 1; bounce <= maxBounces; ++bounce) {
@@ -208,7 +212,7 @@ void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSa
     }
     if (segment.end == Segment::End::Escape) return;
     // Free-flight weight: T sigma_s / pdf at a scattering event, T / P(no event) at a surface (docs/theory.md §16).
-    if (segment.crossedMedium) alpha *= segment.weight;
+    if (segment.crossedMedium) spectral.apply(embree, origin, dir, segment, alpha);
     glm::vec3 wIn = -dir;
 
     if (segment.scattered()) {
@@ -226,7 +230,7 @@ void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSa
       if (bounce == maxBounces) return;
       // Step 4': continue by phase-function sampling (f_p / pdf = 1: alpha is unchanged). HG is symmetric in its two
       // directions, so sampling "wi" around wIn draws the outgoing direction with density f_p(out, wIn).
-      glm::vec2 u = draw();
+      glm::vec2 u = next2D();
       dir = samplePhaseHG(wIn, scene.media[segment.medium].g, u).wi;
       origin = segment.position;
     } else {
