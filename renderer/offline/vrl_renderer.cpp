@@ -103,7 +103,13 @@ glm::vec3 discOffset(const glm::vec3& e, float r, glm::vec2 u) {
 bool finishVrlPoint(const Context& ctx, const Vrl& vrl, float v, float pdf, Rng& rng, VrlPoint& out) {
   const glm::vec2 uDisc = rng.next2D();
   if (!(pdf > 0.0f) || !std::isfinite(v) || !std::isfinite(pdf)) return false;
-  const glm::vec3 offset = discOffset(vrl.direction, ctx.beamRadius, uDisc);
+  glm::vec3 offset = discOffset(vrl.direction, ctx.beamRadius, uDisc);
+  // Near surfaces part of the disc lies behind them: an offset the beam's centre point cannot see falls back to the
+  // centre (the kernel renormalised to the open side, so walls do not swallow the beam's energy).
+  if (ctx.beamRadius > 0.0f) {
+    const float len = glm::length(offset);
+    if (len > 0.0f && ctx.embree.occluded(vrl.start + vrl.direction * v, offset / len, len)) offset = glm::vec3(0.0f);
+  }
   const glm::vec3 start = vrl.start + offset;
   out.position = start + vrl.direction * v;
   const glm::vec3 tr = ctx.embree.transmittance(start, vrl.direction, v);
