@@ -76,7 +76,8 @@ int cmdCompare(const Args& args) {
   Image image = readImage(imagePath);
   Image reference = readImage(referencePath);
   if (image.width != reference.width || image.height != reference.height)
-    throw std::runtime_error(imagePath + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
+    // Two images that cannot be compared are a usage error, like a --ref of the wrong size (comparison.cpp).
+    throw cli::CliError(imagePath + " is " + std::to_string(image.width) + "x" + std::to_string(image.height) +
                              " but reference " + referencePath + " is " + std::to_string(reference.width) + "x" +
                              std::to_string(reference.height));
   for (const std::string& line : cli::infoMismatches(readImageInfo(imagePath), readImageInfo(referencePath)))

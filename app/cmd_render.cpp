@@ -9,6 +9,7 @@
 #include "app/scene_summary.h"
 #include "app/settings_options.h"
 #include "renderer/image/image_io.h"
+#include "renderer/core/atomic_file.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/vpl_renderer.h"
@@ -70,7 +71,13 @@ int cmdRender(const Args& args) {
   genControl.onProgress = [&](float f) { genProgress.update(f); };
   VplSet vpls = generateVpls(offline, settings, &genControl);
   genProgress.finish();
-  if (vplPath) saveVplSet(*vplPath, vpls);
+  if (vplPath) {
+    try {
+      saveVplSet(*vplPath, vpls);
+    } catch (const VplJsonError& e) {
+      throw FileWriteError(e.what());  // a write that failed: main()'s exit status for outputs
+    }
+  }
 
   RenderControl control;
   cli::ProgressReporter progress("render");

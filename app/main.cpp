@@ -2,6 +2,12 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
+#include "renderer/core/atomic_file.h"
+#include "renderer/core/text.h"
+#include "renderer/image/image_io.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/lights_json.h"
+#include "renderer/settings_json.h"
 
 #include <csignal>
 #include <cstdio>
@@ -11,6 +17,15 @@
 #include <vector>
 
 namespace {
+
+// The exit statuses, one per kind of outcome.
+constexpr int kExitSuccess = 0;
+constexpr int kExitCheckFailed = 1;  // returned by compare, stability and the editor's expectations
+constexpr int kExitUsage = 2;
+constexpr int kExitInput = 3;
+constexpr int kExitWrite = 4;
+constexpr int kExitMemory = 5;
+constexpr int kExitOther = 6;
 
 const std::vector<vplab::cli::Command>& commands() {
   static const std::vector<vplab::cli::Command> list = {
@@ -39,6 +54,12 @@ void printUsage() {
       "usage: vplab <command> [arguments]   (vplab <command> --help for its options; vplab --version)\n\n"
       "commands:\n");
   for (const auto& c : commands()) std::printf("  %-12s %s\n", c.name.c_str(), c.summary.c_str());
+  std::printf(
+      "\nexit status: %d success; %d a check failed (compare thresholds, stability's bad pixels); %d a usage error (a flag,\n"
+      "a settings file or key, an output path refused before any work); %d an input (scene, image, sidecar) that cannot\n"
+      "be read or is invalid; %d an output that could not be written; %d out of memory; %d any other failure (no GL\n"
+      "context, ...)\n",
+      kExitSuccess, kExitCheckFailed, kExitUsage, kExitInput, kExitWrite, kExitMemory, kExitOther);
 }
 
 }  // namespace
@@ -62,17 +83,37 @@ int main(int argc, char** argv) {
   std::vector<std::string> args(argv + 2, argv + argc);
   for (const auto& c : commands()) {
     if (c.name != name) continue;
+    // One exit status per kind of failure (printed by vplab --help, listed in docs/guide.md), so that a script can
+    // tell a mistyped flag from a broken scene from a full disk.
+    auto error = [&](int status, const char* what) {
+      std::fprintf(stderr, "vplab %s: %s\n", name.c_str(), vplab::printable(what).c_str());
+      return status;
+    };
     try {
       return c.run(args);
     } catch (const vplab::cli::CliError& e) {
-      std::fprintf(stderr, "vplab %s: %s\n", name.c_str(), e.what());
-      return 2;
+      return error(kExitUsage, e.what());
+    } catch (const vplab::SettingsJsonError& e) {
+      return error(kExitUsage, e.what());
     } catch (const std::bad_alloc&) {
-      std::fprintf(stderr, "vplab %s: error: out of memory (try a smaller --size or fewer VPLs)\n", name.c_str());
-      return 1;
+      const bool sized = name != "info" && name != "compare";
+      std::fprintf(stderr, "vplab %s: error: out of memory (%s)\n", name.c_str(),
+                   sized ? "try a smaller --size or fewer lights and VPLs" : "the input is too large for this machine");
+      return kExitMemory;
+    } catch (const vplab::FileWriteError& e) {
+      return error(kExitWrite, ("error: " + std::string(e.what())).c_str());
+    } catch (const vplab::ImageWriteError& e) {
+      return error(kExitWrite, ("error: " + std::string(e.what())).c_str());
+    } catch (const vplab::FileReadError& e) {
+      return error(kExitInput, ("error: " + std::string(e.what())).c_str());
+    } catch (const vplab::SceneError& e) {
+      return error(kExitInput, ("error: " + std::string(e.what())).c_str());
+    } catch (const vplab::ImageIoError& e) {
+      return error(kExitInput, ("error: " + std::string(e.what())).c_str());
+    } catch (const vplab::LightsJsonError& e) {
+      return error(kExitInput, ("error: " + std::string(e.what())).c_str());
     } catch (const std::exception& e) {
-      std::fprintf(stderr, "vplab %s: error: %s\n", name.c_str(), e.what());
-      return 1;
+      return error(kExitOther, ("error: " + std::string(e.what())).c_str());
     }
   }
   std::fprintf(stderr, "vplab: unknown command '%s' (see vplab --help)\n", name.c_str());

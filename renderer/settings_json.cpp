@@ -1,6 +1,7 @@
 #include "renderer/settings_json.h"
 
 #include "renderer/core/atomic_file.h"
+#include "renderer/core/text.h"
 #include <nlohmann/json.hpp>
 
 #include <cmath>
@@ -157,8 +158,9 @@ void applySettingsJson(const std::string& json, Settings& settings, const std::s
   Json parsed;
   try {
     parsed = Json::parse(json);
-  } catch (const Json::parse_error& e) {
-    throw SettingsJsonError(source + ": not valid JSON: " + excerpt(std::string(e.what())));
+  } catch (const Json::exception& e) {
+    // Every JSON error (a number beyond a double's range included) is a settings error, exit 2, naming the key.
+    throw SettingsJsonError(source + ": " + describeJsonError(json, e));
   }
   if (!parsed.is_object()) throw SettingsJsonError(source + ": expected a JSON object of settings");
   Settings result = settings;
@@ -189,11 +191,14 @@ void setSettingFromText(Settings& settings, const std::string& key, const std::s
 }
 
 void loadSettingsFile(const std::string& path, Settings& settings) {
-  std::ifstream in(path);
-  if (!in) throw SettingsJsonError(path + ": cannot open");
-  std::stringstream text;
-  text << in.rdbuf();
-  applySettingsJson(text.str(), settings, path);
+  std::string text;
+  try {
+    // A settings file is a flat object of a few dozen keys; a megabyte is far more than any.
+    text = readInputFile(path, 1u << 20, "a settings file");
+  } catch (const FileReadError& e) {
+    throw SettingsJsonError(e.what());
+  }
+  applySettingsJson(text, settings, path);
 }
 
 void saveSettingsFile(const std::string& path, const Settings& settings) {

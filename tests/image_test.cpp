@@ -370,8 +370,8 @@ TEST(ImageCompareCli, PrintsMetricsAndFailsOnMismatch) {
   EXPECT_EQ(readImage(heatmap).height, 8 + kHeatmapLegendHeight);
 
   std::string ignored;
-  EXPECT_EQ(runVplab("compare " + small + " " + b, ignored), 1);
-  EXPECT_EQ(runVplab("compare " + test::tmpPath("missing.exr") + " " + b, ignored), 1);
+  EXPECT_EQ(runVplab("compare " + small + " " + b, ignored), 2);  // images that cannot be compared: usage
+  EXPECT_EQ(runVplab("compare " + test::tmpPath("missing.exr") + " " + b, ignored), 3);  // an unreadable input
   EXPECT_EQ(runVplab("compare " + a, ignored), 2);
 }
 

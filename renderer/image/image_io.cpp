@@ -39,17 +39,28 @@ std::string lowerExtension(const std::string& path) {
   return ext;
 }
 
+/// The most an image file may hold: a 16384x16384 RGBA float image and its header.
+constexpr std::uint64_t kMaxImageBytes = (std::uint64_t(4) << 30) + (1u << 20);
+/// The most a PFM sidecar (a flat JSON object of strings) may hold.
+constexpr std::uint64_t kMaxSidecarBytes = 16u << 20;
+
 std::vector<unsigned char> readWholeFile(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open file for reading");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) fail(path, "read error");
-  return bytes;
+  try {
+    std::string bytes = readInputFile(path, kMaxImageBytes, "an image");
+    return {bytes.begin(), bytes.end()};
+  } catch (const FileReadError& e) {
+    throw ImageIoError(e.what());
+  }
 }
 
+// The decoders that open the file themselves are given it only when it is a regular file of bounded size: a FIFO
+// would hang them, /dev/zero would fill the memory, a folder gives "basic_filebuf::underflow" without the path.
 void requireReadable(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) fail(path, "cannot open file for reading");
+  try {
+    requireInputFile(path, kMaxImageBytes, "an image");
+  } catch (const FileReadError& e) {
+    throw ImageIoError(e.what());
+  }
 }
 
 void requireWritable(const std::string& path, const Image& image) {
@@ -79,7 +90,7 @@ void writeBytes(const std::string& path, std::string_view bytes) {
   try {
     writeFileAtomically(path, bytes);
   } catch (const FileWriteError& e) {
-    throw ImageIoError(e.what());
+    throw ImageWriteError(e.what());
   }
 }
 
@@ -100,9 +111,16 @@ ImageInfo readImageInfo(const std::string& path) {
   switch (imageFormatFromPath(path)) {
     case ImageFormat::Png: return info;
     case ImageFormat::Pfm: {
-      std::ifstream in(pfmSidecarPath(path));
-      if (!in) return info;
-      nlohmann::json j = nlohmann::json::parse(in, nullptr, /*allow_exceptions=*/false);
+      const std::string sidecar = pfmSidecarPath(path);
+      std::error_code ec;
+      if (!std::filesystem::exists(sidecar, ec)) return info;
+      std::string text;
+      try {
+        text = readInputFile(sidecar, kMaxSidecarBytes, "a PFM sidecar");
+      } catch (const FileReadError& e) {
+        throw ImageIoError(e.what());
+      }
+      nlohmann::json j = nlohmann::json::parse(text, nullptr, /*allow_exceptions=*/false);
       if (!j.is_object()) fail(pfmSidecarPath(path), "not a JSON object of image information");
       for (const auto& [key, value] : j.items())
         if (value.is_string()) info[key] = value.get<std::string>();

@@ -19,6 +19,10 @@ namespace vplab {
 struct ImageIoError : std::runtime_error {
   using std::runtime_error::runtime_error;
 };
+/// An image (or its sidecar) that could not be written: the disk, the folder or the target, not the image data.
+struct ImageWriteError : ImageIoError {
+  using ImageIoError::ImageIoError;
+};
 
 enum class ImageFormat { Exr, Pfm, Png };
 

@@ -1,5 +1,6 @@
 #include "renderer/scene/gltf_loader.h"
 
+#include "renderer/core/atomic_file.h"
 #include "renderer/core/sampling.h"
 
 #include <nlohmann/json.hpp>
@@ -28,6 +29,9 @@ constexpr int kModePoints = 0;
 constexpr int kModeTriangles = 4;
 constexpr int kModeTriangleStrip = 5;
 constexpr int kModeTriangleFan = 6;
+
+/// The most a buffer or image referenced by a scene may hold (tinygltf keeps each whole in memory).
+constexpr std::uint64_t kMaxReferencedBytes = std::uint64_t(4) << 30;
 
 std::string firstLine(const std::string& text) {
   std::istringstream in(text);
@@ -1060,9 +1064,11 @@ void checkReferences(const std::string& file, const std::string& baseDir, const 
         throw SceneError(at + ": data URI holds " + std::to_string(actual) + " bytes, byteLength says " +
                          std::to_string(declared));
     } else if (uri.find('%') == std::string::npos && uri.find(':') == std::string::npos) {
-      std::ifstream in(baseDir + "/" + uri, std::ios::binary | std::ios::ate);
-      if (!in) throw SceneError(at + ".uri: cannot open '" + uri + "'");
-      actual = static_cast<uint64_t>(in.tellg());
+      try {
+        actual = requireInputFile(baseDir + "/" + uri, kMaxReferencedBytes, "a glTF buffer");
+      } catch (const FileReadError& e) {
+        throw SceneError(at + ".uri: " + e.what());
+      }
       if (actual < declared)
         throw SceneError(at + ": '" + uri + "' has " + std::to_string(actual) + " bytes, byteLength says " +
                          std::to_string(declared));
@@ -1074,14 +1080,29 @@ void checkReferences(const std::string& file, const std::string& baseDir, const 
         check(doc["bufferViews"][v]["buffer"], buffers, "bufferViews[" + std::to_string(v) + "].buffer", "buffer");
 }
 
+/// tinygltf's file reader for referenced buffers and images, through readInputFile().
+bool readReferencedFile(std::vector<unsigned char>* out, std::string* err, const std::string& path, void*) {
+  try {
+    std::string bytes = readInputFile(path, kMaxReferencedBytes, "a glTF buffer or image");
+    out->assign(bytes.begin(), bytes.end());
+    return true;
+  } catch (const FileReadError& e) {
+    if (err) *err += std::string(e.what()) + "\n";
+    return false;
+  }
+}
+
 }  // namespace
 
 Scene loadScene(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw SceneError(path + ": cannot open file");
-  std::vector<unsigned char> bytes((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  if (in.bad()) throw SceneError(path + ": read error");
-  if (bytes.size() > std::numeric_limits<uint32_t>::max()) throw SceneError(path + ": larger than 4 GiB");
+  std::vector<unsigned char> bytes;
+  try {
+    // tinygltf takes the length as 32 bits.
+    std::string text = readInputFile(path, std::numeric_limits<uint32_t>::max(), "a glTF scene");
+    bytes.assign(text.begin(), text.end());
+  } catch (const FileReadError& e) {
+    throw SceneError(e.what());
+  }
 
   bool binary = bytes.size() >= 4 && std::memcmp(bytes.data(), "glTF", 4) == 0;
   if (!binary && endsWith(path, ".glb")) throw SceneError(path + ": not a binary glTF file (no 'glTF' magic)");
@@ -1102,6 +1123,9 @@ Scene loadScene(const std::string& path) {
   }
 
   tinygltf::TinyGLTF gltf;
+  // Buffers and images the file refers to are read like the scene: regular files only, bounded in size.
+  gltf.SetFsCallbacks({&tinygltf::FileExists, &tinygltf::ExpandFilePath, &readReferencedFile, &tinygltf::WriteWholeFile,
+                       nullptr});
   CapturedImages images;
   gltf.SetImageLoader(&captureImage, &images);
   tinygltf::Model model;

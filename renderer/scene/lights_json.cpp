@@ -1,5 +1,7 @@
 #include "renderer/scene/lights_json.h"
 
+#include "renderer/core/atomic_file.h"
+#include "renderer/core/text.h"
 #include "renderer/scene/gltf_loader.h"
 
 #include <nlohmann/json.hpp>
@@ -94,30 +96,28 @@ std::string lightsToJson(const Scene& scene) {
 }
 
 void saveLightsFile(const std::string& path, const Scene& scene) {
-  const std::string text = lightsToJson(scene);
-  const std::string tmp = path + ".tmp";
-  {
-    std::ofstream out(tmp, std::ios::binary);
-    if (!out) throw LightsJsonError(path + ": cannot open for writing");
-    out << text;
-    out.flush();
-    if (!out) {
-      std::remove(tmp.c_str());
-      throw LightsJsonError(path + ": write failed");
-    }
-  }
-  if (std::rename(tmp.c_str(), path.c_str()) != 0) {
-    std::remove(tmp.c_str());
-    throw LightsJsonError(path + ": cannot replace the file");
+  try {
+    writeFileAtomically(path, lightsToJson(scene));
+  } catch (const FileWriteError& e) {
+    throw LightsJsonError(e.what());
   }
 }
 
 void applyLightsFile(const std::string& path, Scene& scene) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw LightsJsonError(path + ": cannot open");
-  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
-  Json doc = Json::parse(text, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object()) throw LightsJsonError(path + ": not a JSON object");
+  std::string text;
+  try {
+    // Area lights list their triangles: a big scene's sidecar is tens of megabytes, never gigabytes.
+    text = readInputFile(path, 512u << 20, "a lights sidecar");
+  } catch (const FileReadError& e) {
+    throw LightsJsonError(e.what());
+  }
+  Json doc;
+  try {
+    doc = Json::parse(text);
+  } catch (const Json::exception& e) {
+    throw LightsJsonError(path + ": " + describeJsonError(text, e));
+  }
+  if (!doc.is_object()) throw LightsJsonError(path + ": not a JSON object (expected {\"punctualLights\": [...], ...})");
   Reader r(path);
 
   // Everything is read into new values first: the scene changes only when the whole file is valid.
@@ -232,7 +232,7 @@ void applyLightsFile(const std::string& path, Scene& scene) {
 bool applyLightsSidecar(Scene& scene) {
   const std::string path = lightsSidecarPath(scene.sourcePath);
   std::error_code ec;
-  if (!std::filesystem::is_regular_file(path, ec)) return false;
+  if (!std::filesystem::exists(path, ec)) return false;  // one that exists but is no regular file is an error
   applyLightsFile(path, scene);
   scene.staging += std::string(scene.staging.empty() ? "" : "; ") + "lights from " + path;
   return true;

