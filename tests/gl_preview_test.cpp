@@ -493,7 +493,7 @@ TEST(GlPreviewFit, RefusesWhatTheLimitsCannotHold) {
 
   settings.shadowMapSize = 512;  // cube faces of 256^2: 768 KiB per VPL
   std::string cube = previewFitProblem(scene, 20000, settings, limits);
-  EXPECT_NE(cube.find("--vpls"), std::string::npos) << cube;
+  EXPECT_NE(cube.find("--vpl-count"), std::string::npos) << cube;
   EXPECT_NE(cube.find("--visibility ism"), std::string::npos) << cube;
   EXPECT_NE(cube.find("test budget"), std::string::npos) << cube;
   settings.visibility = VisibilityMethod::Ism;

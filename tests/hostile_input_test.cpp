@@ -17,6 +17,8 @@
 
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/text.h"
+#include "renderer/gl/gl_limits.h"
+#include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
 #include "tests/test_tmp.h"
 
@@ -184,6 +186,47 @@ TEST(HostileErrors, JsonErrorsNameTheFileAndKeyWithoutLibraryIds) {
   EXPECT_EQ(l.status, 3) << l.out;
   EXPECT_TRUE(contains(l.out, ".lights.json: \"intensity\": the number 1e999 is out of range")) << l.out;
   EXPECT_FALSE(contains(l.out, "not a JSON object")) << l.out;
+}
+
+TEST(HostileErrors, FlagErrorsNameTheFlagTypedAndItsRealRange) {
+  const std::string render = "render " + kScene + " -o " + test::tmpPath("o.pfm");
+  CliRun size = vplab("reference " + kScene + " -o " + test::tmpPath("o.pfm") + " --size 0x0");
+  EXPECT_EQ(size.status, 2);
+  EXPECT_TRUE(contains(size.out, "option --size: '0x0': width and height must each be in [1, 16384]")) << size.out;
+  EXPECT_FALSE(contains(size.out, "--width")) << size.out;
+  CliRun clamp = vplab(render + " --clamp-bound 1e300");
+  EXPECT_EQ(clamp.status, 2);
+  EXPECT_TRUE(contains(clamp.out, "'1e300': out of the range of a float")) << clamp.out;
+  CliRun count = vplab(render + " --vpl-count 1e9");
+  EXPECT_EQ(count.status, 2);
+  EXPECT_TRUE(contains(count.out, "option --vpl-count: '1e9': outside [0, 1048576]")) << count.out;
+  EXPECT_FALSE(contains(count.out, "2147483647")) << count.out;
+  CliRun word = vplab(render + " --vpl-count many");
+  EXPECT_TRUE(contains(word.out, "'many': expected an integer in [0, 1048576]")) << word.out;
+  std::string zeroWidth = test::tmpPath("w.json");
+  writeText(zeroWidth, "{\"width\": 0}");
+  CliRun file = vplab(render + " --settings " + zeroWidth);
+  EXPECT_EQ(file.status, 2);
+  EXPECT_FALSE(contains(file.out, "--width")) << file.out;
+  EXPECT_TRUE(contains(file.out, "width")) << file.out;
+}
+
+TEST(HostileErrors, ThePreviewSaysTenThousandLightsAreTheCause) {
+  Scene scene;
+  PunctualLight light;
+  light.type = PunctualLight::Type::Point;
+  scene.punctualLights.assign(10000, light);
+  GlLimits limits;
+  limits.maxTextureSize = limits.maxFramebufferSize = 16384;
+  limits.maxArrayLayers = 2048;
+  limits.memoryBytes = 4.0 * 1024 * 1024 * 1024;
+  limits.memorySource = "test budget";
+  Settings settings;
+  settings.width = settings.height = 64;
+  std::string why = previewFitProblem(scene, 16, settings, limits);
+  EXPECT_TRUE(contains(why, "the scene's 10000 lights need")) << why;
+  EXPECT_TRUE(contains(why, "the lights are the cause")) << why;
+  EXPECT_FALSE(contains(why, "--vpls")) << why;
 }
 
 }  // namespace

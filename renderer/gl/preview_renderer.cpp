@@ -232,11 +232,22 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   const double lightBytes = 4.0 * (6.0 * cubes * kLightShadowFaceSize * kLightShadowFaceSize +
                                    static_cast<double>(squares) * kDirectionalShadowSize * kDirectionalShadowSize);
   const double total = vplMaps.bytes + targetBytes + lightBytes;
+  // When the lights' own shadow maps are most of it, no VPL or image flag helps: say that the lights are the cause
+  // (10,000 point lights need 10,000 cubes).
+  if (total > limits.memoryBytes && lightBytes > 0.5 * total) {
+    why << "the scene's " << cubes + squares << " lights need " << formatBytes(lightBytes)
+        << " of light shadow maps (one R32F cube of 6x" << kLightShadowFaceSize << "^2 per point or spot light, a "
+        << kDirectionalShadowSize << "^2 map per directional light): the preview needs " << formatBytes(total)
+        << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
+        << limits.memorySource << "); the lights are the cause: use fewer lights, or vplab render, which has no "
+        << "light shadow maps";
+    return why.str();
+  }
   if (total > limits.memoryBytes)
     why << vplMaps.what << " need " << formatBytes(vplMaps.bytes) << "; with the " << settings.width << "x"
         << settings.height << " targets and up to " << cubes + squares << " light shadow map(s) the preview needs "
         << formatBytes(total) << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
-        << limits.memorySource << "): lower --vpls, --size or "
+        << limits.memorySource << "): lower --vpl-count, --size or "
         << (settings.visibility == VisibilityMethod::Ism ? "--ism-tile-size"
                                                          : "--shadow-map-size, or use --visibility ism");
   return why.str();

@@ -52,7 +52,7 @@ VisibilityFootprint visibilityFootprint(VisibilityMethod method, int casters, co
     fit.what = std::to_string(casters) + " VPLs with ISM tiles of " + std::to_string(settings.ismTileSize) + "^2";
     if (layout.layers > limits.maxArrayLayers) {
       why << fit.what << " need " << layout.layers << " atlas layers, over the " << limits.maxArrayLayers
-          << " this GL context allows: lower --vpls or --ism-tile-size";
+          << " this GL context allows: lower --vpl-count or --ism-tile-size";
       fit.problem = why.str();
     }
     return fit;
