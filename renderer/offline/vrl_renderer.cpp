@@ -30,6 +30,8 @@ struct Context {
   const std::vector<Vrl>& vrls;
   std::vector<BrdfParams> vplBrdfs;
   std::vector<uint32_t> surfaceVpls;  ///< indices of the surface VPLs (medium VPLs are replaced by the VRLs)
+  /// T(start, start + t0 e) of each VRL: inside its one homogeneous medium T(start, v) = that exp(-sigma_t (v - t0)).
+  std::vector<glm::vec3> vrlEntry;
   bool media = false;
   int vrlSamples = 1;
   float beamRadius = 0.0f;  ///< 0: VRLs; > 0: beams of this radius (Method::Vbl)
@@ -112,7 +114,11 @@ bool finishVrlPoint(const Context& ctx, const Vrl& vrl, float v, float pdf, Rng&
   }
   const glm::vec3 start = vrl.start + offset;
   out.position = start + vrl.direction * v;
-  const glm::vec3 tr = ctx.embree.transmittance(start, vrl.direction, v);
+  // A beam's offset line crosses the media on its own; a VRL's transmittance comes from its entry (precomputed).
+  const glm::vec3 tr = ctx.beamRadius > 0.0f
+                           ? ctx.embree.transmittance(start, vrl.direction, v)
+                           : ctx.vrlEntry[static_cast<std::size_t>(&vrl - ctx.vrls.data())] *
+                                 glm::exp(-ctx.scene.media[vrl.medium].sigmaT() * std::max(0.0f, v - vrl.t0));
   out.weight = vrl.flux * ctx.scene.media[vrl.medium].sigmaS * tr / pdf;
   return true;
 }
@@ -343,6 +349,8 @@ VplRenderResult renderWith(const OfflineScene& offline, const VplSet& set, const
     ctx.vplBrdfs.push_back(brdfParamsAt(scene, v.material, v.uv));
     if (!v.inMedium) ctx.surfaceVpls.push_back(static_cast<uint32_t>(i));
   }
+  ctx.vrlEntry.reserve(set.vrls.size());
+  for (const Vrl& r : set.vrls) ctx.vrlEntry.push_back(embree.transmittance(r.start, r.direction, r.t0));
   ctx.media = scene.hasMedia();
   ctx.vrlSamples = std::max(1, settings.vrlSamples);
   ctx.beamRadius = radius;
