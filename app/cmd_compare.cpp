@@ -11,6 +11,7 @@
 #include "app/commands.h"
 #include "app/comparison.h"
 #include "app/file_plan.h"
+#include "renderer/core/text.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -81,7 +82,7 @@ int cmdCompare(const Args& args) {
                              " but reference " + referencePath + " is " + std::to_string(reference.width) + "x" +
                              std::to_string(reference.height));
   for (const std::string& line : cli::infoMismatches(readImageInfo(imagePath), readImageInfo(referencePath)))
-    std::fprintf(stderr, "vplab compare: warning: %s\n", line.c_str());
+    std::fprintf(stderr, "vplab compare: warning: %s\n", printable(line).c_str());
 
   ImageMetrics m = compareImages(image, reference);
   print("width", static_cast<std::size_t>(image.width));

@@ -1,18 +1,19 @@
 // vplab info <scene>: what the loader made of a glTF file (counts, bounds, lights, media, materials, camera,
 // warnings).
 
-#include "app/cli.h"
-#include "app/commands.h"
-#include "renderer/core/sampling.h"
-#include "renderer/scene/gltf_loader.h"
-#include "renderer/scene/lights_json.h"
-#include "renderer/scene/staging.h"
-
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <limits>
 #include <map>
+
+#include "app/cli.h"
+#include "app/commands.h"
+#include "renderer/core/sampling.h"
+#include "renderer/core/text.h"
+#include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/lights_json.h"
+#include "renderer/scene/staging.h"
 
 namespace vplab::app {
 namespace {
@@ -40,7 +41,7 @@ void printMedia(const Scene& scene) {
   for (const Medium& m : scene.media) {
     const glm::vec3 sigmaT = m.sigmaT();
     if (m.fillsSpace) {
-      std::printf("  %-20s all space\n", m.name.c_str());
+      std::printf("  %-20s all space\n", printable(m.name).c_str());
     } else {
       // The box is [-1, 1]^3 under worldFromBox: its centre is the translation, its half sizes the axis lengths.
       const glm::vec3 half(glm::length(glm::vec3(m.worldFromBox[0])), glm::length(glm::vec3(m.worldFromBox[1])),
@@ -49,7 +50,7 @@ void printMedia(const Scene& scene) {
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
           if (i != j && std::abs(m.worldFromBox[i][j]) > 1e-6f * half[i]) aligned = false;
-      std::printf("  %-20s box centre %s, half sizes %s m%s\n", m.name.c_str(),
+      std::printf("  %-20s box centre %s, half sizes %s m%s\n", printable(m.name).c_str(),
                   vec(glm::vec3(m.worldFromBox[3])).c_str(), vec(half).c_str(), aligned ? "" : " (rotated)");
     }
     std::printf("  %-20s sigmaA %s, sigmaS %s, sigma_t %s 1/m%s\n", "", vec(m.sigmaA).c_str(), vec(m.sigmaS).c_str(),
@@ -85,8 +86,8 @@ int cmdInfo(const Args& args) {
   stageScene(scene, stage);
   applyLightsSidecar(scene);
 
-  std::printf("scene      %s\n", scene.sourcePath.c_str());
-  std::printf("staging    %s\n", scene.staging.empty() ? "none" : scene.staging.c_str());
+  std::printf("scene      %s\n", printable(scene.sourcePath).c_str());
+  std::printf("staging    %s\n", scene.staging.empty() ? "none" : printable(scene.staging).c_str());
   std::printf("vertices   %zu\n", scene.positions.size());
   std::printf("triangles  %zu\n", scene.triangles.size());
   std::printf("materials  %zu\n", scene.materials.size());
@@ -110,20 +111,20 @@ int cmdInfo(const Args& args) {
   if (emitters.empty()) std::printf("  none\n");
   for (const auto& [material, e] : emitters) {
     const Material& m = scene.materials[material];
-    std::printf("  %-20s %zu triangles, radiance %s%s, power %s\n", m.name.c_str(), e.first, vec(m.emission).c_str(),
-                m.emissiveTexture >= 0 ? " x emissive texture" : "", vec(e.second).c_str());
+    std::printf("  %-20s %zu triangles, radiance %s%s, power %s\n", printable(m.name).c_str(), e.first,
+                vec(m.emission).c_str(), m.emissiveTexture >= 0 ? " x emissive texture" : "", vec(e.second).c_str());
   }
   std::printf("punctual lights:\n");
   if (scene.punctualLights.empty()) std::printf("  none\n");
   for (const PunctualLight& l : scene.punctualLights) {
     if (l.isDirectional()) {
-      std::printf("  %-20s directional along %s, irradiance %s lx\n", l.name.c_str(), vec(l.direction).c_str(),
-                  vec(l.intensity).c_str());
+      std::printf("  %-20s directional along %s, irradiance %s lx\n", printable(l.name).c_str(),
+                  vec(l.direction).c_str(), vec(l.intensity).c_str());
       continue;
     }
     bool spot = l.type == PunctualLight::Type::Spot;
-    std::printf("  %-20s %s at %s, intensity %s cd", l.name.c_str(), spot ? "spot " : "point", vec(l.position).c_str(),
-                vec(l.intensity).c_str());
+    std::printf("  %-20s %s at %s, intensity %s cd", printable(l.name).c_str(), spot ? "spot " : "point",
+                vec(l.position).c_str(), vec(l.intensity).c_str());
     if (spot)
       std::printf(", direction %s, cone %.1f..%.1f deg", vec(l.direction).c_str(), l.innerConeAngle * 180.0f / kPi,
                   l.outerConeAngle * 180.0f / kPi);
@@ -134,13 +135,15 @@ int cmdInfo(const Args& args) {
 
   std::printf("materials:\n");
   for (const Material& m : scene.materials) {
-    std::printf("  %-20s base %s", m.name.c_str(), vec(m.baseColor).c_str());
+    std::printf("  %-20s base %s", printable(m.name).c_str(), vec(m.baseColor).c_str());
     if (m.baseColorTexture >= 0)
-      std::printf(" x texture '%s'", scene.textures[static_cast<std::size_t>(m.baseColorTexture)].name.c_str());
+      std::printf(" x texture '%s'",
+                  printable(scene.textures[static_cast<std::size_t>(m.baseColorTexture)].name).c_str());
     std::printf(", metallic %.3g, roughness %.3g, specular %.3g", m.metallic, m.roughness, m.specular);
     if (m.isEmissive()) std::printf(", emission %s", vec(m.emission).c_str());
     if (m.isEmissive() && m.emissiveTexture >= 0)
-      std::printf(" x texture '%s'", scene.textures[static_cast<std::size_t>(m.emissiveTexture)].name.c_str());
+      std::printf(" x texture '%s'",
+                  printable(scene.textures[static_cast<std::size_t>(m.emissiveTexture)].name).c_str());
     std::printf("\n");
   }
 
@@ -148,9 +151,10 @@ int cmdInfo(const Args& args) {
   std::printf("camera     %s: position %s, forward %s, up %s, yfov %.2f deg\n",
               c.fromFile ? "from file" : "automatic (framing the geometry)", vec(c.position).c_str(),
               vec(c.forward).c_str(), vec(c.up).c_str(), c.yfov * 180.0f / kPi);
-  for (const auto& [key, value] : scene.assetExtras) std::printf("extras     %s = %.6g\n", key.c_str(), value);
+  for (const auto& [key, value] : scene.assetExtras)
+    std::printf("extras     %s = %.6g\n", printable(key).c_str(), value);
   std::printf("warnings   %zu\n", scene.warnings.size());
-  for (const std::string& w : scene.warnings) std::printf("  %s\n", w.c_str());
+  for (const std::string& w : scene.warnings) std::printf("  %s\n", printable(w).c_str());
   return 0;
 }
 

@@ -3,6 +3,7 @@
 #include <cstdio>
 
 #include "app/cli.h"
+#include "renderer/core/text.h"
 
 namespace vplab::cli {
 
@@ -24,7 +25,7 @@ Image readReference(const std::string& path, const Settings& settings, const Ima
                    std::to_string(reference.height) + ", the render is " + std::to_string(settings.width) + "x" +
                    std::to_string(settings.height));
   for (const std::string& line : infoMismatches(render, readImageInfo(path)))
-    std::fprintf(stderr, "vplab %s: warning: %s\n", command, line.c_str());
+    std::fprintf(stderr, "vplab %s: warning: %s\n", command, printable(line).c_str());
   return reference;
 }
 

@@ -55,10 +55,10 @@ void printUsage() {
       "commands:\n");
   for (const auto& c : commands()) std::printf("  %-12s %s\n", c.name.c_str(), c.summary.c_str());
   std::printf(
-      "\nexit status: %d success; %d a check failed (compare thresholds, stability's bad pixels); %d a usage error (a flag,\n"
-      "a settings file or key, an output path refused before any work); %d an input (scene, image, sidecar) that cannot\n"
-      "be read or is invalid; %d an output that could not be written; %d out of memory; %d any other failure (no GL\n"
-      "context, ...)\n",
+      "\nexit status: %d success; %d a check failed (compare thresholds, stability's bad pixels); %d a usage error\n"
+      "(a flag, a settings file or key, an output path refused before any work); %d an input (scene, image,\n"
+      "sidecar) that cannot be read or is invalid; %d an output that could not be written; %d out of memory;\n"
+      "%d any other failure (no GL context, ...)\n",
       kExitSuccess, kExitCheckFailed, kExitUsage, kExitInput, kExitWrite, kExitMemory, kExitOther);
 }
 

@@ -78,7 +78,8 @@ void validateForCommandLine(const Settings& s) {
   std::string problem = problems.front();
   for (const char* key : {"width", "height"})
     if (problem.rfind(std::string("--") + key + " ", 0) == 0)
-      problem = std::string(key) + " (--size WxH or the settings key \"" + key + "\")" + problem.substr(2 + std::strlen(key));
+      problem = std::string(key) + " (--size WxH or the settings key \"" + key + "\")" +
+                problem.substr(2 + std::strlen(key));
   throw CliError(problem);
 }
 

@@ -11,6 +11,8 @@
 
 #include <cstdio>
 #include <filesystem>
+#include <functional>
+#include <nlohmann/json.hpp>
 #include <fstream>
 #include <sstream>
 #include <string>
@@ -20,6 +22,7 @@
 #include "renderer/gl/gl_limits.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
+#include "renderer/scene/gltf_loader.h"
 #include "tests/test_tmp.h"
 
 namespace vplab {
@@ -227,6 +230,102 @@ TEST(HostileErrors, ThePreviewSaysTenThousandLightsAreTheCause) {
   EXPECT_TRUE(contains(why, "the scene's 10000 lights need")) << why;
   EXPECT_TRUE(contains(why, "the lights are the cause")) << why;
   EXPECT_FALSE(contains(why, "--vpls")) << why;
+}
+
+// --- invalid glTF values -------------------------------------------------------------------------------------------
+
+/// The bundled Cornell box with one change, written to the test's folder.
+std::string mutatedScene(const std::string& name, const std::function<void(nlohmann::json&)>& change) {
+  nlohmann::json doc = nlohmann::json::parse(readText(kScene));
+  change(doc);
+  std::string path = test::tmpPath(name);
+  writeText(path, doc.dump());
+  return path;
+}
+
+std::string loadError(const std::string& path) {
+  try {
+    loadScene(path);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(loaded)";
+}
+
+TEST(HostileGltf, InvalidValuesAreErrorsNamingTheGltfPath) {
+  auto pbr = [](nlohmann::json& d) -> nlohmann::json& { return d["materials"][0]["pbrMetallicRoughness"]; };
+  const std::vector<std::pair<std::function<void(nlohmann::json&)>, std::string>> cases = {
+      {[&](nlohmann::json& d) { pbr(d)["baseColorFactor"] = "red"; },
+       "materials[0].pbrMetallicRoughness.baseColorFactor: expected 4 numbers in [0, 1], got a string"},
+      {[&](nlohmann::json& d) { pbr(d)["baseColorFactor"] = {1, 1}; },
+       "baseColorFactor: expected 4 numbers in [0, 1], got an array of 2"},
+      {[&](nlohmann::json& d) { pbr(d)["baseColorFactor"] = {1e30, 1, 1, 1}; }, "baseColorFactor[0]: expected"},
+      {[&](nlohmann::json& d) { pbr(d)["roughnessFactor"] = -1; },
+       "materials[0].pbrMetallicRoughness.roughnessFactor: expected a number in [0, 1], got the number -1"},
+      {[&](nlohmann::json& d) { pbr(d)["roughnessFactor"] = 2; }, "roughnessFactor: expected a number in [0, 1]"},
+      {[&](nlohmann::json& d) { pbr(d)["metallicFactor"] = "1"; }, "metallicFactor: expected a number in [0, 1]"},
+      {[&](nlohmann::json& d) { d["materials"][0]["emissiveFactor"] = {-1, 0, 0}; },
+       "materials[0].emissiveFactor[0]: expected 3 numbers >= 0, got the number -1"},
+      {[&](nlohmann::json& d) { d["extensionsRequired"] = "KHR_materials_volume"; },
+       "extensionsRequired: expected an array, got a string"},
+      {[&](nlohmann::json& d) { d["extensionsUsed"] = {7}; }, "extensionsUsed[0]: expected an extension name"},
+      {[&](nlohmann::json& d) {
+         d["nodes"][0]["matrix"] = {1, 0, 0, 0, 0, 1, 0, 0, 0, 0, 1, 0, 0, 0, 0, "NaN"};
+       },
+       "nodes[0].matrix[15]: expected 16 numbers, got a string"},
+      {[&](nlohmann::json& d) { d["nodes"][0]["translation"] = "up"; }, "nodes[0].translation: expected 3 numbers"},
+      {[&](nlohmann::json& d) { d["accessors"][0].erase("count"); },
+       "accessors[0]: the required property 'count' is missing"},
+      {[&](nlohmann::json& d) { d["accessors"][0]["type"] = "VEC2"; }, "accessor type VEC2, expected VEC3"},
+  };
+  for (std::size_t i = 0; i < cases.size(); ++i) {
+    std::string path = mutatedScene("case" + std::to_string(i) + ".gltf", cases[i].first);
+    std::string e = loadError(path);
+    EXPECT_TRUE(contains(e, path + ": ")) << e;
+    EXPECT_TRUE(contains(e, cases[i].second)) << "case " << i << ": " << e;
+  }
+}
+
+TEST(HostileGltf, GlbContainerVersionsOtherThanTwoAreRefused) {
+  std::string json = readText(kScene);
+  while (json.size() % 4) json += ' ';
+  for (uint32_t version : {1u, 2u, 3u}) {
+    std::string glb = "glTF";
+    auto u32 = [&](uint32_t v) { glb.append(reinterpret_cast<const char*>(&v), 4); };
+    u32(version);
+    u32(static_cast<uint32_t>(12 + 8 + json.size()));
+    u32(static_cast<uint32_t>(json.size()));
+    glb += "JSON";
+    glb += json;
+    std::string path = test::tmpPath("v" + std::to_string(version) + ".glb");
+    writeText(path, glb);
+    std::string e = loadError(path);
+    if (version == 2)
+      EXPECT_EQ(e, "(loaded)");
+    else
+      EXPECT_TRUE(contains(e, ".glb container version " + std::to_string(version) + " is not supported (expected 2)"))
+          << e;
+  }
+}
+
+// --- text from files is escaped ----------------------------------------------------------------------------------
+
+TEST(HostileText, ControlCharactersFromFilesArePrintedEscaped) {
+  EXPECT_EQ(printable("a\x1b[2Jb\n"), "a\\x1b[2Jb\\n");
+  EXPECT_EQ(printable(printable("a\x1b")), printable("a\x1b")) << "escaping twice changes nothing";
+  std::string scene =
+      mutatedScene("esc.gltf", [](nlohmann::json& d) { d["materials"][0]["name"] = "evil\x1b]0;owned\x07"; });
+  CliRun info = vplab("info " + scene);
+  EXPECT_EQ(info.status, 0) << info.out;
+  EXPECT_FALSE(contains(info.out, "\x1b")) << "an ESC byte reached the terminal";
+  EXPECT_TRUE(contains(info.out, "evil\\x1b]0;owned\\x07")) << info.out;
+
+  std::string pfm = test::tmpPath("esc.pfm");
+  writeText(pfm, "PF\n4\x1b[2J 4\n-1\n" + std::string(4 * 4 * 12, '\0'));
+  CliRun cmp = vplab("compare " + pfm + " " + pfm);
+  EXPECT_EQ(cmp.status, 3) << cmp.out;
+  EXPECT_FALSE(contains(cmp.out, "\x1b")) << cmp.out;
+  EXPECT_TRUE(contains(cmp.out, "invalid PFM dimension '4\\x1b[2J'")) << cmp.out;
 }
 
 }  // namespace

@@ -12,21 +12,24 @@
 
 namespace vplab {
 
-/// `text` with every control byte (below 0x20, and 0x7f) written as \n, \t, \r or \xNN, and a backslash as \\.
+/// `text` with every control byte (below 0x20, and 0x7f) written as \n, \t, \r or \xNN. Backslashes stay as they are,
+/// so that escaping twice (a message built from escaped text, escaped again when printed) changes nothing.
 inline std::string printable(std::string_view text) {
   std::string out;
   out.reserve(text.size());
   for (unsigned char c : text) {
-    if (c == '\n') out += "\\n";
-    else if (c == '\t') out += "\\t";
-    else if (c == '\r') out += "\\r";
-    else if (c == '\\') out += "\\\\";
-    else if (c < 0x20 || c == 0x7f) {
+    if (c >= 0x20 && c != 0x7f) {
+      out += static_cast<char>(c);
+    } else if (c == '\n') {
+      out += "\\n";
+    } else if (c == '\t') {
+      out += "\\t";
+    } else if (c == '\r') {
+      out += "\\r";
+    } else {
       char hex[8];
       std::snprintf(hex, sizeof hex, "\\x%02x", c);
       out += hex;
-    } else {
-      out += static_cast<char>(c);
     }
   }
   return out;

@@ -21,6 +21,7 @@
 #include <limits>
 
 #include "renderer/core/atomic_file.h"
+#include "renderer/core/text.h"
 
 namespace vplab {
 
@@ -81,7 +82,7 @@ std::string pfmToken(const std::vector<unsigned char>& bytes, std::size_t& pos, 
 int pfmDimension(const std::string& token, const std::string& path) {
   char* end = nullptr;
   long v = std::strtol(token.c_str(), &end, 10);
-  if (*end != '\0' || v <= 0 || v > (1 << 20)) fail(path, "invalid PFM dimension '" + token + "'");
+  if (*end != '\0' || v <= 0 || v > (1 << 20)) fail(path, "invalid PFM dimension '" + printable(token) + "'");
   return static_cast<int>(v);
 }
 
@@ -267,13 +268,14 @@ Image readPfm(const std::string& path) {
   std::size_t pos = 0;
   std::string magic = pfmToken(bytes, pos, path);
   int channels = magic == "PF" ? 3 : magic == "Pf" ? 1 : 0;
-  if (channels == 0) fail(path, "not a PFM file (magic '" + magic.substr(0, 8) + "', expected PF or Pf)");
+  if (channels == 0) fail(path, "not a PFM file (magic '" + printable(magic.substr(0, 8)) + "', expected PF or Pf)");
   int width = pfmDimension(pfmToken(bytes, pos, path), path);
   int height = pfmDimension(pfmToken(bytes, pos, path), path);
   std::string scaleToken = pfmToken(bytes, pos, path);
   char* end = nullptr;
   double scale = std::strtod(scaleToken.c_str(), &end);
-  if (*end != '\0' || scale == 0.0 || !std::isfinite(scale)) fail(path, "invalid PFM scale '" + scaleToken + "'");
+  if (*end != '\0' || scale == 0.0 || !std::isfinite(scale))
+    fail(path, "invalid PFM scale '" + printable(scaleToken) + "'");
   ++pos;  // the single whitespace byte after the scale
   // The sign of the scale is the byte order (negative: little-endian); its magnitude carries no radiance unit here.
   bool fileLittle = scale < 0.0;

@@ -30,6 +30,27 @@ constexpr int kModeTriangles = 4;
 constexpr int kModeTriangleStrip = 5;
 constexpr int kModeTriangleFan = 6;
 
+/// The glTF spelling of an accessor type ("VEC2"), not tinygltf's code.
+std::string accessorTypeName(int type) {
+  switch (type) {
+    case TINYGLTF_TYPE_SCALAR: return "SCALAR";
+    case TINYGLTF_TYPE_VEC2: return "VEC2";
+    case TINYGLTF_TYPE_VEC3: return "VEC3";
+    case TINYGLTF_TYPE_VEC4: return "VEC4";
+    case TINYGLTF_TYPE_MAT2: return "MAT2";
+    case TINYGLTF_TYPE_MAT3: return "MAT3";
+    case TINYGLTF_TYPE_MAT4: return "MAT4";
+  }
+  return "unknown (" + std::to_string(type) + ")";
+}
+
+std::string accessorTypeNames(const std::vector<int>& types) {
+  std::string out;
+  for (std::size_t i = 0; i < types.size(); ++i)
+    out += (i == 0 ? "" : i + 1 == types.size() ? " or " : ", ") + accessorTypeName(types[i]);
+  return out;
+}
+
 /// The most a buffer or image referenced by a scene may hold (tinygltf keeps each whole in memory).
 constexpr std::uint64_t kMaxReferencedBytes = std::uint64_t(4) << 30;
 
@@ -199,7 +220,7 @@ AccessorView Loader::view(int accessorIndex, const std::string& where, const std
   const tinygltf::Accessor& a = model_.accessors[static_cast<std::size_t>(accessorIndex)];
   std::string at = where + " (accessors[" + std::to_string(accessorIndex) + "])";
   if (std::find(types.begin(), types.end(), a.type) == types.end())
-    fail(at, "unexpected accessor type " + std::to_string(a.type));
+    fail(at, "accessor type " + accessorTypeName(a.type) + ", expected " + accessorTypeNames(types));
   if (a.sparse.isSparse) fail(at, "sparse accessors are not supported");
   AccessorView v;
   v.componentType = a.componentType;
@@ -964,6 +985,96 @@ void Loader::readAssetExtras() {
   }
 }
 
+/// tinygltf replaces a value of the wrong type by the default without a word (baseColorFactor "red" becomes white, a
+/// matrix holding "NaN" is ignored, extensionsRequired as a string is skipped) and the loader used to clamp
+/// out-of-range factors silently. The glTF schema's types and ranges are checked here on the raw JSON, naming the glTF
+/// path; the loader checks finiteness and its own bounds after.
+void checkValues(const std::string& file, const nlohmann::json& doc) {
+  auto fail = [&](const std::string& at, const std::string& what) { throw SceneError(file + ": " + at + ": " + what); };
+  auto describe = [](const nlohmann::json& v) -> std::string {
+    if (v.is_string()) return "a string";
+    if (v.is_object()) return "an object";
+    if (v.is_array()) return "an array of " + std::to_string(v.size());
+    if (v.is_boolean()) return "a boolean";
+    if (v.is_null()) return "null";
+    return "the number " + v.dump();
+  };
+  // An array of n numbers in [lo, hi] (n = 0: any length).
+  auto numbers = [&](const nlohmann::json& v, const std::string& at, std::size_t n, double lo, double hi) {
+    const double big = std::numeric_limits<double>::max();
+    std::string range =
+        hi >= big ? (lo <= -big ? "" : " >= " + boundText(lo)) : " in [" + boundText(lo) + ", " + boundText(hi) + "]";
+    std::string expected = "expected " + (n ? std::to_string(n) + " numbers" : std::string("numbers")) + range;
+    if (!v.is_array() || (n && v.size() != n)) fail(at, expected + ", got " + describe(v));
+    for (std::size_t i = 0; i < v.size(); ++i)
+      if (!v[i].is_number() || v[i].get<double>() < lo || v[i].get<double>() > hi)
+        fail(at + "[" + std::to_string(i) + "]", expected + ", got " + describe(v[i]));
+  };
+  auto number = [&](const nlohmann::json& v, const std::string& at, double lo, double hi) {
+    if (!v.is_number() || v.get<double>() < lo || v.get<double>() > hi)
+      fail(at, "expected a number in [" + boundText(lo) + ", " + boundText(hi) + "], got " + describe(v));
+  };
+  auto arrayAt = [&](const char* key) -> const nlohmann::json* {
+    auto it = doc.find(key);
+    if (it == doc.end()) return nullptr;
+    if (!it->is_array()) fail(key, "expected an array, got " + describe(*it));
+    return &*it;
+  };
+  for (const char* key : {"extensionsUsed", "extensionsRequired"})
+    if (const nlohmann::json* list = arrayAt(key))
+      for (std::size_t i = 0; i < list->size(); ++i)
+        if (!(*list)[i].is_string())
+          fail(std::string(key) + "[" + std::to_string(i) + "]",
+               "expected an extension name, got " + describe((*list)[i]));
+  if (const nlohmann::json* nodes = arrayAt("nodes"))
+    for (std::size_t n = 0; n < nodes->size(); ++n) {
+      const nlohmann::json& node = (*nodes)[n];
+      const std::string at = "nodes[" + std::to_string(n) + "]";
+      if (!node.is_object()) fail(at, "expected an object, got " + describe(node));
+      const double big = std::numeric_limits<double>::max();
+      if (node.contains("matrix")) numbers(node["matrix"], at + ".matrix", 16, -big, big);
+      if (node.contains("translation")) numbers(node["translation"], at + ".translation", 3, -big, big);
+      if (node.contains("rotation")) numbers(node["rotation"], at + ".rotation", 4, -1.0, 1.0);
+      if (node.contains("scale")) numbers(node["scale"], at + ".scale", 3, -big, big);
+    }
+  if (const nlohmann::json* materials = arrayAt("materials"))
+    for (std::size_t m = 0; m < materials->size(); ++m) {
+      const nlohmann::json& material = (*materials)[m];
+      const std::string at = "materials[" + std::to_string(m) + "]";
+      if (!material.is_object()) fail(at, "expected an object, got " + describe(material));
+      if (auto pbr = material.find("pbrMetallicRoughness"); pbr != material.end()) {
+        if (!pbr->is_object()) fail(at + ".pbrMetallicRoughness", "expected an object, got " + describe(*pbr));
+        if (pbr->contains("baseColorFactor"))
+          numbers((*pbr)["baseColorFactor"], at + ".pbrMetallicRoughness.baseColorFactor", 4, 0.0, 1.0);
+        for (const char* factor : {"metallicFactor", "roughnessFactor"})
+          if (pbr->contains(factor)) number((*pbr)[factor], at + ".pbrMetallicRoughness." + factor, 0.0, 1.0);
+      }
+      // The schema bounds emissiveFactor by 1; vplab takes larger factors (radiance in cd/m^2, bounded by the loader),
+      // but a negative one would make an emitter count as dark.
+      if (material.contains("emissiveFactor"))
+        numbers(material["emissiveFactor"], at + ".emissiveFactor", 3, 0.0, std::numeric_limits<double>::max());
+      if (auto ext = material.find("extensions"); ext != material.end() && ext->is_object())
+        if (auto spec = ext->find("KHR_materials_specular");
+            spec != ext->end() && spec->is_object() && spec->contains("specularFactor"))
+          number((*spec)["specularFactor"], at + ".extensions.KHR_materials_specular.specularFactor", 0.0, 1.0);
+    }
+  // Properties tinygltf requires but reports without saying which element ("'count' property is missing in
+  // Accessor").
+  const std::vector<std::pair<const char*, std::vector<const char*>>> required = {
+      {"accessors", {"componentType", "count", "type"}},
+      {"bufferViews", {"buffer", "byteLength"}},
+      {"buffers", {"byteLength"}},
+      {"meshes", {"primitives"}}};
+  for (const auto& [kind, keys] : required)
+    if (const nlohmann::json* list = arrayAt(kind))
+      for (std::size_t i = 0; i < list->size(); ++i) {
+        const std::string at = std::string(kind) + "[" + std::to_string(i) + "]";
+        if (!(*list)[i].is_object()) fail(at, "expected an object, got " + describe((*list)[i]));
+        for (const char* key : keys)
+          if (!(*list)[i].contains(key)) fail(at, std::string("the required property '") + key + "' is missing");
+      }
+}
+
 /// tinygltf rejects some broken references itself, with messages that do not say where ("primitive indices accessor
 /// out of bounds"). Checking the references first gives the glTF path instead. Unparsable JSON is left to tinygltf.
 void checkReferences(const std::string& file, const std::string& baseDir, const char* json, std::size_t size) {
@@ -971,6 +1082,7 @@ void checkReferences(const std::string& file, const std::string& baseDir, const 
     throw SceneError(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
   nlohmann::json doc = nlohmann::json::parse(json, json + size, nullptr, false);
   if (doc.is_discarded() || !doc.is_object()) return;
+  checkValues(file, doc);
   auto count = [&](const char* key) {
     auto it = doc.find(key);
     return it != doc.end() && it->is_array() ? it->size() : std::size_t{0};
@@ -1109,6 +1221,10 @@ Scene loadScene(const std::string& path) {
   if (binary) {
     // The GLB header's total length must match what is on disk (glTF 4.4.2): a short file is truncated.
     if (bytes.size() < 20) throw SceneError(path + ": truncated .glb (" + std::to_string(bytes.size()) + " bytes)");
+    uint32_t version = 0;
+    std::memcpy(&version, bytes.data() + 4, 4);
+    if (version != 2)
+      throw SceneError(path + ": .glb container version " + std::to_string(version) + " is not supported (expected 2)");
     uint32_t length = 0;
     std::memcpy(&length, bytes.data() + 8, 4);
     if (length > bytes.size())
