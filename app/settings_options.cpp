@@ -93,7 +93,9 @@ const SettingInfo& settingNamed(const std::string& key) {
 
 std::vector<OptionSpec> settingOptions(const Settings& defaults, unsigned use) {
   std::vector<OptionSpec> options = {
-      {"settings", "F.json", "settings file (keys as in --help's flags, camelCase); other options override it"}};
+      {"settings", "F.json",
+       "settings file: the flags marked (default ...) below as camelCase keys (\"clampBound\": 0.5) and \"size\": "
+       "\"WxH\"; command options (--method, --frames, -o) are not settings; flags override it"}};
   if (use & kUseImage)
     options.push_back({"size", "WxH",
                        "image size in pixels (default " + std::to_string(defaults.width) + "x" +

@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include <cmath>
+#include <cstdio>
 #include <fstream>
 #include <limits>
 #include <sstream>
@@ -165,8 +166,26 @@ void applySettingsJson(const std::string& json, Settings& settings, const std::s
   if (!parsed.is_object()) throw SettingsJsonError(source + ": expected a JSON object of settings");
   Settings result = settings;
   for (const auto& [key, value] : parsed.items()) {
+    // "size": "WxH", as the command line's --size, sets width and height.
+    if (key == "size") {
+      unsigned w = 0, h = 0;
+      char tail = 0;
+      if (!value.is_string() || std::sscanf(value.get<std::string>().c_str(), "%ux%u%c", &w, &h, &tail) != 2 ||
+          w > 1u << 20 || h > 1u << 20)
+        throw SettingsJsonError(source + ": 'size': expected \"WxH\" (for example \"256x256\"), got " + excerpt(value));
+      const SettingInfo& width = *findSetting("width");
+      if (w < width.min || w > width.max || h < width.min || h > width.max)
+        throw SettingsJsonError(source + ": 'size': \"" + value.get<std::string>() +
+                                "\": width and height must each be in [" + std::to_string(int(width.min)) + ", " +
+                                std::to_string(int(width.max)) + "]");
+      fromJson(result, width, Json(w), source + ": 'size' (its width)");
+      fromJson(result, *findSetting("height"), Json(h), source + ": 'size' (its height)");
+      continue;
+    }
     const SettingInfo* info = findSetting(key);
-    if (!info) throw SettingsJsonError(source + ": unknown key " + quoted(excerpt(key)));
+    if (!info)
+      throw SettingsJsonError(source + ": unknown key " + quoted(excerpt(key)) +
+                              " (not a setting; command options such as --method go on the command line)");
     fromJson(result, *info, value, source + ": " + quoted(key));
   }
   validateOrThrow(result, source);

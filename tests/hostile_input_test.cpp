@@ -232,6 +232,25 @@ TEST(HostileErrors, ThePreviewSaysTenThousandLightsAreTheCause) {
   EXPECT_FALSE(contains(why, "--vpls")) << why;
 }
 
+TEST(HostileErrors, SettingsKeysAreWhatHelpPromises) {
+  const std::string out = " -o " + test::tmpPath("o.pfm") + " --samples-per-pixel 1";
+  std::string sized = test::tmpPath("size.json"), zero = test::tmpPath("zero.json"), method = test::tmpPath("m.json");
+  writeText(sized, "{\"size\": \"8x6\"}");
+  writeText(zero, "{\"size\": \"0x8\"}");
+  writeText(method, "{\"method\": \"vpl\"}");
+  CliRun ok = vplab("reference " + kScene + out + " --settings " + sized);
+  EXPECT_EQ(ok.status, 0) << ok.out;
+  EXPECT_TRUE(contains(ok.out, "8x6")) << ok.out;
+  CliRun bad = vplab("reference " + kScene + out + " --settings " + zero);
+  EXPECT_EQ(bad.status, 2) << bad.out;
+  EXPECT_TRUE(contains(bad.out, zero + ": 'size': \"0x8\": width and height must each be in [1, 16384]")) << bad.out;
+  CliRun m = vplab("reference " + kScene + out + " --settings " + method);
+  EXPECT_EQ(m.status, 2) << m.out;
+  EXPECT_TRUE(contains(m.out, "unknown key 'method' (not a setting; command options such as --method go on the command line)")) << m.out;
+  CliRun help = vplab("reference --help");
+  EXPECT_TRUE(contains(help.out, "command options (--method, --frames, -o) are not settings")) << help.out;
+}
+
 // --- invalid glTF values -------------------------------------------------------------------------------------------
 
 /// The bundled Cornell box with one change, written to the test's folder.
