@@ -9,7 +9,12 @@
 #include <sys/wait.h>
 #include <unistd.h>
 
+#include <algorithm>
+#include <chrono>
+#include <cmath>
 #include <cstdio>
+#include <cstdlib>
+#include <random>
 #include <filesystem>
 #include <functional>
 #include <nlohmann/json.hpp>
@@ -23,6 +28,9 @@
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/lights_json.h"
+#include "renderer/settings.h"
+#include "renderer/settings_json.h"
 #include "tests/test_tmp.h"
 
 namespace vplab {
@@ -246,7 +254,9 @@ TEST(HostileErrors, SettingsKeysAreWhatHelpPromises) {
   EXPECT_TRUE(contains(bad.out, zero + ": 'size': \"0x8\": width and height must each be in [1, 16384]")) << bad.out;
   CliRun m = vplab("reference " + kScene + out + " --settings " + method);
   EXPECT_EQ(m.status, 2) << m.out;
-  EXPECT_TRUE(contains(m.out, "unknown key 'method' (not a setting; command options such as --method go on the command line)")) << m.out;
+  EXPECT_TRUE(contains(m.out, "unknown key 'method' (not a setting; command options such as --method go on the "
+                              "command line)"))
+      << m.out;
   CliRun help = vplab("reference --help");
   EXPECT_TRUE(contains(help.out, "command options (--method, --frames, -o) are not settings")) << help.out;
 }
@@ -345,6 +355,172 @@ TEST(HostileText, ControlCharactersFromFilesArePrintedEscaped) {
   EXPECT_EQ(cmp.status, 3) << cmp.out;
   EXPECT_FALSE(contains(cmp.out, "\x1b")) << cmp.out;
   EXPECT_TRUE(contains(cmp.out, "invalid PFM dimension '4\\x1b[2J'")) << cmp.out;
+}
+
+// --- fuzz ----------------------------------------------------------------------------------------------------------
+
+/// Values a hostile or careless user writes where a number, a string or an array belongs.
+nlohmann::json hostileValue(std::mt19937& rng) {
+  switch (std::uniform_int_distribution<int>(0, 15)(rng)) {
+    case 0: return "red";
+    case 1: return -1;
+    case 2: return 2;
+    case 3: return 1e30;
+    case 4: return -1e300;
+    case 5: return nullptr;
+    case 6: return nlohmann::json::array();
+    case 7: return nlohmann::json::object();
+    case 8: return true;
+    case 9: return "NaN";
+    case 10: return 4294967296.0;
+    case 11: return 0;
+    case 12: return {1, 1};
+    case 13: return "evil\x1b[2J";
+    case 14: return 0.5;
+    default: return 65536;
+  }
+}
+
+/// Every value in a JSON document, as pointers ("/materials/0/name").
+void collectPointers(const nlohmann::json& j, const std::string& at, std::vector<std::string>& out) {
+  out.push_back(at);
+  if (j.is_object())
+    for (const auto& [key, value] : j.items()) collectPointers(value, at + "/" + key, out);
+  else if (j.is_array())
+    for (std::size_t i = 0; i < j.size(); ++i) collectPointers(j[i], at + "/" + std::to_string(i), out);
+}
+
+/// One to three structural mutations: a value replaced by a hostile one, a member erased, a value wrapped in an array.
+std::string mutateJson(nlohmann::json doc, std::mt19937& rng) {
+  int edits = std::uniform_int_distribution<int>(1, 3)(rng);
+  for (int e = 0; e < edits; ++e) {
+    std::vector<std::string> pointers;
+    collectPointers(doc, "", pointers);
+    const std::string at = pointers[std::uniform_int_distribution<std::size_t>(1, pointers.size() - 1)(rng)];
+    const nlohmann::json::json_pointer p(at);
+    switch (std::uniform_int_distribution<int>(0, 3)(rng)) {
+      case 0:
+      case 1: doc[p] = hostileValue(rng); break;
+      case 2: {
+        nlohmann::json& parent = doc[p.parent_pointer()];
+        if (parent.is_object()) parent.erase(p.back());
+        else if (parent.is_array() && !parent.empty()) parent.erase(parent.size() - 1);
+        break;
+      }
+      default: doc[p] = nlohmann::json::array({doc[p]}); break;
+    }
+  }
+  return doc.dump();
+}
+
+/// Byte-level damage: a byte replaced (an ESC among them), the text cut short, a control sequence inserted.
+std::string mutateBytes(std::string text, std::mt19937& rng, std::size_t within = 0) {
+  std::uniform_int_distribution<std::size_t> where(0, (within ? std::min(within, text.size()) : text.size()) - 1);
+  switch (std::uniform_int_distribution<int>(0, 2)(rng)) {
+    case 0:
+      for (int i = 0; i < 4; ++i) text[where(rng)] = static_cast<char>(std::uniform_int_distribution<int>(0, 255)(rng));
+      break;
+    case 1: text.resize(where(rng)); break;
+    default: text.insert(where(rng), "\x1b[2J\"1e999"); break;
+  }
+  return text;
+}
+
+bool allFinite(const std::string& pfm) {
+  Image image = readImage(pfm);
+  for (const glm::vec3& p : image.pixels)
+    if (!std::isfinite(p.x) || !std::isfinite(p.y) || !std::isfinite(p.z)) return false;
+  return true;
+}
+
+// A small fixed-seed mutator over the bundled scenes and the default settings file, run through the binary as a user
+// would: every case must end with a documented exit status (0, 2 usage, 3 input), a failure with exactly one error
+// line naming the mutated file, a success with finite pixels and no temporary left behind. The counts are recorded in
+// docs/benchmarks.md ("Fuzzing the inputs").
+TEST(HostileFuzz, MutatedScenesAndSettingsEndCleanly) {
+  std::vector<std::string> scenes;
+  for (const auto& e : fs::directory_iterator(kAssets + "/scenes"))
+    if (e.path().extension() == ".gltf") scenes.push_back(e.path().string());
+  std::sort(scenes.begin(), scenes.end());
+  ASSERT_FALSE(scenes.empty());
+  const nlohmann::json defaults = nlohmann::json::parse(settingsToJson(Settings{}));
+  const std::string refPfm = test::tmpPath("ref.pfm"), litScene = test::tmpPath("lit.gltf");
+  writeImage(refPfm, Image(4, 4, glm::vec3(0.5f)));
+  const std::string pfmText = readText(refPfm);
+  fs::copy_file(kScene, litScene, fs::copy_options::overwrite_existing);
+  const nlohmann::json lights = nlohmann::json::parse(lightsToJson(loadScene(kScene)));
+  // The suite's seed is fixed; VPLAB_FUZZ_SEED explores others (a failure there is a finding for a test of its own).
+  const char* seedText = std::getenv("VPLAB_FUZZ_SEED");
+  std::mt19937 rng(seedText ? static_cast<unsigned>(std::strtoul(seedText, nullptr, 10)) : 27u);
+  const std::string out = test::tmpPath("out.pfm");
+  const auto start = std::chrono::steady_clock::now();
+  const int kCases = 400;
+  const double kSeconds = 60.0;
+  int cases = 0, successes = 0, statusCount[8] = {};
+  for (; cases < kCases; ++cases) {
+    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > kSeconds) break;
+    const int kind = std::uniform_int_distribution<int>(0, 11)(rng);
+    std::string input, command;
+    fs::remove(out);
+    fs::remove(out + ".json");
+    if (kind == 10) {  // an image to compare: the PFM header (and a little of the raster) damaged
+      input = test::tmpPath("case.pfm");
+      writeText(input, mutateBytes(pfmText, rng, 24));
+      command = "compare " + input + " " + refPfm;
+    } else if (kind == 11) {  // the lights sidecar the editor saves beside a scene
+      input = litScene + ".lights.json";
+      writeText(input, mutateJson(lights, rng));
+      command = std::uniform_int_distribution<int>(0, 1)(rng) == 0
+                    ? "info " + litScene
+                    : "render " + litScene + " --size 8x8 --vpl-count 16 -o " + out;
+    } else if (kind < 7) {  // a scene: 5 in 12 structural, 2 in 12 byte damage
+      const std::string& seed = scenes[std::uniform_int_distribution<std::size_t>(0, scenes.size() - 1)(rng)];
+      std::string text = readText(seed);
+      input = test::tmpPath("case.gltf");
+      writeText(input, kind < 5 ? mutateJson(nlohmann::json::parse(text), rng) : mutateBytes(text, rng));
+      const int verb = std::uniform_int_distribution<int>(0, 2)(rng);
+      command = verb == 0   ? "info " + input
+                : verb == 1 ? "reference " + input + " --size 8x8 --samples-per-pixel 1 -o " + out
+                            : "render " + input + " --size 8x8 --vpl-count 16 -o " + out;
+    } else {  // a settings file (3 in 12), the flags that bound the work given after it
+      input = test::tmpPath("case.json");
+      writeText(input, kind < 9 ? mutateJson(defaults, rng) : mutateBytes(defaults.dump(2), rng));
+      command = "render " + kScene + " --settings " + input + " --size 8x8 --vpl-count 16 -o " + out;
+    }
+    CliRun r = vplab(command);
+    const std::string where = "case " + std::to_string(cases) + ": vplab " + command + "\n" + r.out;
+    ASSERT_TRUE(r.status == 0 || r.status == 2 || r.status == 3) << "exit status " << r.status << "\n" << where;
+    ++statusCount[r.status];
+    EXPECT_FALSE(contains(r.out, "\x1b")) << where;
+    EXPECT_FALSE(contains(r.out, "json.exception")) << where;
+    EXPECT_FALSE(contains(r.out, "basic_filebuf")) << where;
+    if (r.status == 0) {
+      ++successes;
+      if (fs::exists(out)) {
+        EXPECT_TRUE(allFinite(out)) << "non-finite pixel\n" << where;
+      }
+    } else {
+      int errorLines = 0;
+      std::string line, errorLine;
+      std::istringstream lines(r.out);
+      while (std::getline(lines, line))
+        if (line.rfind("vplab ", 0) == 0 && !contains(line, ": warning: ") && !contains(line, ": staged ") &&
+            !contains(line, "zero power")) {
+          ++errorLines;
+          errorLine = line;
+        }
+      EXPECT_EQ(errorLines, 1) << where;
+      EXPECT_TRUE(contains(errorLine, input)) << "the error does not name the input\n" << where;
+    }
+    std::size_t temporaries = 0;
+    for (const auto& e : fs::directory_iterator(test::tmpDir()))
+      if (contains(e.path().filename().string(), ".tmp-")) ++temporaries;
+    EXPECT_EQ(temporaries, 0u) << where;
+  }
+  const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  std::printf("fuzz: %d cases in %.1f s: %d successes, %d usage errors (exit 2), %d input errors (exit 3)\n", cases,
+              seconds, successes, statusCount[2], statusCount[3]);
+  EXPECT_GE(cases, 100) << "the time bound cut the run short";
 }
 
 }  // namespace

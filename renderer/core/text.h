@@ -65,6 +65,12 @@ inline std::string describeJsonError(std::string_view text, const nlohmann::json
     return (key.empty() ? "" : "\"" + printable(key) + "\": ") + "the number " + printable(token) +
            " is out of range (beyond +-1.8e308)";
   }
+  // "; last read: '...'" quotes raw bytes of the file (invalid UTF-8 among them), saying nothing the position does
+  // not.
+  if (std::size_t last = what.find("; last read: '"); last != std::string::npos) {
+    std::size_t end = what.find("'; ", last + 14);
+    what.erase(last, end == std::string::npos ? std::string::npos : end + 1 - last);
+  }
   if (what.rfind("parse error", 0) == 0) what = "not valid JSON: " + what.substr(std::string("parse error ").size());
   if (what.size() > 200) what = what.substr(0, 200) + "...";
   return printable(what);

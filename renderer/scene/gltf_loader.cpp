@@ -2,6 +2,7 @@
 
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/sampling.h"
+#include "renderer/core/text.h"
 
 #include <nlohmann/json.hpp>
 #include <stb/stb_image.h>
@@ -1076,12 +1077,21 @@ void checkValues(const std::string& file, const nlohmann::json& doc) {
 }
 
 /// tinygltf rejects some broken references itself, with messages that do not say where ("primitive indices accessor
-/// out of bounds"). Checking the references first gives the glTF path instead. Unparsable JSON is left to tinygltf.
+/// out of bounds"). Checking the references first gives the glTF path instead. JSON that does not parse is reported
+/// here too, in the project's words.
 void checkReferences(const std::string& file, const std::string& baseDir, const char* json, std::size_t size) {
   if (jsonDepth(json, size) > kMaxJsonDepth)
     throw SceneError(file + ": JSON nested deeper than " + std::to_string(kMaxJsonDepth) + " levels");
-  nlohmann::json doc = nlohmann::json::parse(json, json + size, nullptr, false);
-  if (doc.is_discarded() || !doc.is_object()) return;
+  nlohmann::json doc;
+  try {
+    doc = nlohmann::json::parse(json, json + size);
+  } catch (const nlohmann::json::exception& e) {
+    // tinygltf would quote the JSON library's exception id ("[json.exception.parse_error.101]").
+    std::string why = describeJsonError(std::string_view(json, size), e);
+    if (why.rfind("not valid JSON: ", 0) == 0) why = "invalid JSON " + why.substr(16);
+    throw SceneError(file + ": not a valid glTF file: " + why);
+  }
+  if (!doc.is_object()) throw SceneError(file + ": not a valid glTF file: expected a JSON object");
   checkValues(file, doc);
   auto count = [&](const char* key) {
     auto it = doc.find(key);
