@@ -303,6 +303,19 @@ TEST(HostileGltf, InvalidValuesAreErrorsNamingTheGltfPath) {
        },
        "nodes[0].matrix[15]: expected 16 numbers, got a string"},
       {[&](nlohmann::json& d) { d["nodes"][0]["translation"] = "up"; }, "nodes[0].translation: expected 3 numbers"},
+      {[&](nlohmann::json& d) {
+         d["extensionsUsed"] = {"KHR_lights_punctual"};
+         d["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"color", "white"}}};
+       },
+       "extensions.KHR_lights_punctual.lights[0].color: expected 3 numbers >= 0, got a string"},
+      {[&](nlohmann::json& d) {
+         d["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "spot"}, {"spot", {{"outerConeAngle", 3}}}}};
+       },
+       "lights[0].spot.outerConeAngle: expected a number in [0, 1.5708], got the number 3"},
+      {[&](nlohmann::json& d) {
+         d["extensions"]["KHR_lights_punctual"]["lights"] = {{{"type", "point"}, {"intensity", -5}}};
+       },
+       "lights[0].intensity: expected a number >= 0, got the number -5"},
       {[&](nlohmann::json& d) { d["accessors"][0].erase("count"); },
        "accessors[0]: the required property 'count' is missing"},
       {[&](nlohmann::json& d) { d["accessors"][0]["type"] = "VEC2"; }, "accessor type VEC2, expected VEC3"},

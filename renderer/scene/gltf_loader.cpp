@@ -1001,10 +1001,12 @@ void checkValues(const std::string& file, const nlohmann::json& doc) {
     return "the number " + v.dump();
   };
   // An array of n numbers in [lo, hi] (n = 0: any length).
-  auto numbers = [&](const nlohmann::json& v, const std::string& at, std::size_t n, double lo, double hi) {
+  auto rangeText = [](double lo, double hi) -> std::string {
     const double big = std::numeric_limits<double>::max();
-    std::string range =
-        hi >= big ? (lo <= -big ? "" : " >= " + boundText(lo)) : " in [" + boundText(lo) + ", " + boundText(hi) + "]";
+    return hi >= big ? (lo <= -big ? "" : " >= " + boundText(lo)) : " in [" + boundText(lo) + ", " + boundText(hi) + "]";
+  };
+  auto numbers = [&](const nlohmann::json& v, const std::string& at, std::size_t n, double lo, double hi) {
+    std::string range = rangeText(lo, hi);
     std::string expected = "expected " + (n ? std::to_string(n) + " numbers" : std::string("numbers")) + range;
     if (!v.is_array() || (n && v.size() != n)) fail(at, expected + ", got " + describe(v));
     for (std::size_t i = 0; i < v.size(); ++i)
@@ -1013,7 +1015,7 @@ void checkValues(const std::string& file, const nlohmann::json& doc) {
   };
   auto number = [&](const nlohmann::json& v, const std::string& at, double lo, double hi) {
     if (!v.is_number() || v.get<double>() < lo || v.get<double>() > hi)
-      fail(at, "expected a number in [" + boundText(lo) + ", " + boundText(hi) + "], got " + describe(v));
+      fail(at, "expected a number" + rangeText(lo, hi) + ", got " + describe(v));
   };
   auto arrayAt = [&](const char* key) -> const nlohmann::json* {
     auto it = doc.find(key);
@@ -1059,6 +1061,28 @@ void checkValues(const std::string& file, const nlohmann::json& doc) {
             spec != ext->end() && spec->is_object() && spec->contains("specularFactor"))
           number((*spec)["specularFactor"], at + ".extensions.KHR_materials_specular.specularFactor", 0.0, 1.0);
     }
+  if (auto ext = doc.find("extensions"); ext != doc.end() && ext->is_object())
+    if (auto punctual = ext->find("KHR_lights_punctual"); punctual != ext->end() && punctual->is_object())
+      if (auto lights = punctual->find("lights"); lights != punctual->end()) {
+        const std::string listAt = "extensions.KHR_lights_punctual.lights";
+        if (!lights->is_array()) fail(listAt, "expected an array, got " + describe(*lights));
+        const double big = std::numeric_limits<double>::max();
+        for (std::size_t i = 0; i < lights->size(); ++i) {
+          const nlohmann::json& light = (*lights)[i];
+          const std::string at = listAt + "[" + std::to_string(i) + "]";
+          if (!light.is_object()) fail(at, "expected an object, got " + describe(light));
+          if (!light.contains("type") || !light["type"].is_string())
+            fail(at + ".type", "expected \"point\", \"spot\" or \"directional\"");
+          if (light.contains("color")) numbers(light["color"], at + ".color", 3, 0.0, big);
+          if (light.contains("intensity")) number(light["intensity"], at + ".intensity", 0.0, big);
+          if (light.contains("spot")) {
+            const nlohmann::json& spot = light["spot"];
+            if (!spot.is_object()) fail(at + ".spot", "expected an object, got " + describe(spot));
+            for (const char* angle : {"innerConeAngle", "outerConeAngle"})
+              if (spot.contains(angle)) number(spot[angle], at + ".spot." + angle, 0.0, 0.5 * kPi);
+          }
+        }
+      }
   // Properties tinygltf requires but reports without saying which element ("'count' property is missing in
   // Accessor").
   const std::vector<std::pair<const char*, std::vector<const char*>>> required = {
