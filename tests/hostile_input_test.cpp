@@ -120,6 +120,12 @@ TEST(HostileOutputs, AFifoWithAReaderGetsTheBytesOneWithoutIsRefused) {
     EXPECT_TRUE(contains(e.what(), fifo)) << e.what();
     EXPECT_TRUE(contains(e.what(), "no program reads")) << e.what();
   }
+  // Through the command line the refusal comes before the work (the FIFO is opened by the output check and held).
+  CliRun early = vplab("render " + kScene + " --size 8x8 --vpl-count 16 -o " + test::tmpPath("a.pfm") +
+                       " --save-vpls " + fifo);
+  EXPECT_EQ(early.status, 2) << early.out;
+  EXPECT_TRUE(contains(early.out, "option --save-vpls: " + fifo + ": is a FIFO that no program reads")) << early.out;
+  EXPECT_FALSE(contains(early.out, "%")) << "no progress: the check comes before the render\n" << early.out;
   std::string got = test::tmpPath("from-fifo.txt");
   FILE* reader = popen(("cat " + fifo + " > " + got).c_str(), "w");
   ASSERT_NE(reader, nullptr);
@@ -136,6 +142,19 @@ TEST(HostileOutputs, AFifoWithAReaderGetsTheBytesOneWithoutIsRefused) {
   pclose(reader);
   EXPECT_TRUE(written);
   EXPECT_EQ(readText(got), "through the fifo");
+  // The command line holds the FIFO open from the check to the write: the reader gets the whole VPL file.
+  FILE* vplReader = popen(("cat " + fifo + " > " + got).c_str(), "w");
+  ASSERT_NE(vplReader, nullptr);
+  CliRun piped;
+  for (int i = 0; i < 100; ++i) {
+    piped = vplab("render " + kScene + " --size 8x8 --vpl-count 16 -o " + test::tmpPath("b.pfm") + " --save-vpls " +
+                  fifo);
+    if (piped.status == 0) break;
+    ::usleep(20000);
+  }
+  pclose(vplReader);
+  EXPECT_EQ(piped.status, 0) << piped.out;
+  EXPECT_NO_THROW(nlohmann::json::parse(readText(got))) << "the reader got a cut file";
   struct stat st {};
   ASSERT_EQ(::stat(fifo.c_str(), &st), 0);
   EXPECT_TRUE(S_ISFIFO(st.st_mode));

@@ -8,6 +8,8 @@
 #include <cstdio>
 #include <cstring>
 #include <filesystem>
+#include <map>
+#include <mutex>
 #include <vector>
 
 namespace vplab {
@@ -53,16 +55,35 @@ std::string specialKind(const struct stat& st) {
   return {};
 }
 
-/// Writes into an existing character device or FIFO in place: no temporary, no rename, no truncation, no fsync
-/// (devices refuse it). A FIFO without a reader is refused rather than waited on.
-void writeInPlace(const std::string& path, const struct stat& st, std::string_view bytes) {
-  const bool fifo = S_ISFIFO(st.st_mode);
-  int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | (fifo ? O_NONBLOCK : 0));
+/// FIFOs opened by requireWritableFolder() before the work, kept open until written: closing one would send its
+/// reader an end of file before the output comes.
+std::mutex heldFifosMutex;
+std::map<std::string, int> heldFifos;
+
+/// Opens an existing FIFO for writing without waiting: a FIFO without a reader is refused rather than waited on.
+int openFifo(const std::string& path) {
+  int fd = ::open(path.c_str(), O_WRONLY | O_CLOEXEC | O_NONBLOCK);
   if (fd < 0) {
-    if (fifo && errno == ENXIO) throw FileWriteError(path + ": is a FIFO that no program reads; start the reader first");
-    fail(path, "cannot open " + specialKind(st) + " for writing", errno);
+    if (errno == ENXIO) throw FileWriteError(path + ": is a FIFO that no program reads; start the reader first");
+    fail(path, "cannot open a FIFO for writing", errno);
   }
-  if (fifo) ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  ::fcntl(fd, F_SETFL, ::fcntl(fd, F_GETFL) & ~O_NONBLOCK);
+  return fd;
+}
+
+/// Writes into an existing character device or FIFO in place: no temporary, no rename, no truncation, no fsync
+/// (devices refuse it).
+void writeInPlace(const std::string& path, const struct stat& st, std::string_view bytes) {
+  int fd = -1;
+  if (S_ISFIFO(st.st_mode)) {
+    std::lock_guard lock(heldFifosMutex);
+    if (auto it = heldFifos.find(path); it != heldFifos.end()) {
+      fd = it->second;
+      heldFifos.erase(it);
+    }
+  }
+  if (fd < 0) fd = S_ISFIFO(st.st_mode) ? openFifo(path) : ::open(path.c_str(), O_WRONLY | O_CLOEXEC);
+  if (fd < 0) fail(path, "cannot open " + specialKind(st) + " for writing", errno);
   std::size_t done = 0;
   while (done < bytes.size()) {
     ssize_t n = ::write(fd, bytes.data() + done, bytes.size() - done);
@@ -131,9 +152,13 @@ void requireWritableFolder(const std::string& path) {
   if (::stat(path.c_str(), &st) == 0) {
     refuseUnwritableKind(path, st);
     // A device or FIFO is written in place: what matters is the right to write it, not its folder (/dev). A FIFO is
-    // not opened here: opening and closing it would send its reader an end of file.
+    // opened now, so that one without a reader is refused before the work, and held open until it is written.
     if (!S_ISREG(st.st_mode)) {
       if (::access(path.c_str(), W_OK) != 0) fail(path, "cannot write " + specialKind(st), errno);
+      if (S_ISFIFO(st.st_mode)) {
+        std::lock_guard lock(heldFifosMutex);
+        if (!heldFifos.count(path)) heldFifos[path] = openFifo(path);
+      }
       return;
     }
   }
