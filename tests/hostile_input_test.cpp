@@ -104,6 +104,13 @@ TEST(HostileOutputs, ADeviceIsWrittenInPlaceNeverReplaced) {
   EXPECT_EQ(ref.status, 0) << ref.out;
   ASSERT_EQ(::stat(devPfm.c_str(), &st), 0);
   EXPECT_TRUE(S_ISCHR(st.st_mode));
+  // compare --heatmap into a device named like a PNG.
+  std::string devPng = makeNullDevice("heat.png");
+  const std::string refExr = kAssets + "/references/cornell-box-64.exr";
+  CliRun heat = vplab("compare " + refExr + " " + refExr + " --heatmap " + devPng);
+  EXPECT_EQ(heat.status, 0) << heat.out;
+  ASSERT_EQ(::stat(devPng.c_str(), &st), 0);
+  EXPECT_TRUE(S_ISCHR(st.st_mode));
   // Straight through the library too.
   writeFileAtomically(dev, "bytes");
   ASSERT_EQ(::stat(dev.c_str(), &st), 0);
