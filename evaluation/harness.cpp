@@ -1,5 +1,7 @@
 #include "evaluation/harness.h"
 
+#include "renderer/offline/render_methods.h"
+
 #include <glad/gl.h>
 
 #include <algorithm>
@@ -86,7 +88,7 @@ std::string fingerprintText(uint64_t fingerprint) {
 MeasuredImage renderCpu(const OfflineScene& offline, Method method, const VplSet& vpls, const Settings& settings) {
   assert(method != Method::Reference);
   MeasuredImage m;
-  VplRenderResult r = renderVpl(offline, vpls, method, settings);
+  VplRenderResult r = renderMethod(method).render(offline, vpls, settings, nullptr, {});
   m.image = std::move(r.image);
   m.generationMs = 1000.0 * vpls.stats.generationSeconds;
   m.renderMs = 1000.0 * r.seconds;

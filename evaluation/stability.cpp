@@ -110,6 +110,10 @@ std::vector<FlickerMethod> allFlickerMethods() {
     if (std::string(v.name) == "vpl") continue;
     all.push_back({v.name, Backend::Cpu, Method::Vpl, [&v](Settings& s, float) { applyGenerationVariant(v, s); }});
   }
+  // The media methods (meaningful on scenes with participating media).
+  all.push_back({"vpl-abc", Backend::Cpu, Method::VplAbc,
+                 [](Settings& s, float d) { s.clampBound = 1.0f / (0.01f * d * d); }});
+  all.push_back({"vrl", Backend::Cpu, Method::Vrl, [](Settings&, float) {}});
   all.push_back({"vpl-gl", Backend::Gl, Method::Vpl, [](Settings&, float) {}});
   all.push_back({"ssbc-gl", Backend::Gl, Method::Vpl, [](Settings& s, float d) {
                    s.clampBound = 1.0f / (0.01f * d * d);
@@ -358,6 +362,17 @@ std::vector<FailureRow> failureMaps(const OfflineScene& setup, const StabilityCo
   VplSet vslSet = generateVpls(setup, vsl);
   record("vsl (cpu)", "blurred sharp indirect features", renderCpu(setup, Method::Vsl, vslSet, vsl).image, ref,
          "reference", false);
+  if (setup.scene().hasMedia()) {
+    // The media half (docs/theory.md §17-§20): what the bound removes in fog, and the three remedies.
+    record("vpl-abc (cpu)", "the residual's later bounces and the medium-surface residual left out",
+           renderCpu(setup, Method::VplAbc, plain, clamp).image, ref, "reference", true);
+    record("vrl (cpu)", "noise along thin lines where ray lights pass close to camera rays",
+           renderCpu(setup, Method::Vrl, plain, base).image, ref, "reference", false);
+    Settings vbl = base;
+    vbl.beamPasses = 4;
+    record("vbl (cpu)", "blur of the first passes' thick beams", renderCpu(setup, Method::Vbl, plain, vbl).image, ref,
+           "reference", true);
+  }
   Settings rej = base;
   rej.rejection = true;
   rej.rejectionEpsilon = 0.0f;
@@ -412,6 +427,10 @@ std::vector<ExtremeRow> runExtremes(const OfflineScene& setup, const StabilityCo
   both("b", "inf", "vpl", [](Settings& s) { s.clampBound = kInfinity; });
   grid.push_back({"b", "0", "vpl-kk", Backend::Cpu, [](Settings& s) { s.clampBound = 0.0f; }});
   grid.push_back({"b", "inf", "vpl-kk", Backend::Cpu, [](Settings& s) { s.clampBound = kInfinity; }});
+  if (setup.scene().hasMedia()) {
+    grid.push_back({"b", "0", "vpl-abc", Backend::Cpu, [](Settings& s) { s.clampBound = 0.0f; }});
+    grid.push_back({"N", "1", "vrl", Backend::Cpu, [](Settings& s) { s.vplCount = 1; }});
+  }
   both("r", "0", "vsl", [](Settings& s) { s.vslRadius = 0.0f; });
   both("r", fmt(10.0 * diag), "vsl", [&](Settings& s) { s.vslRadius = 10.0f * diag; });
   for (float e : {0.0f, 1.0f})
@@ -447,7 +466,8 @@ std::vector<ExtremeRow> runExtremes(const OfflineScene& setup, const StabilityCo
     VplSet vpls = generateVpls(setup, s);
     MeasuredImage m;
     if (e.backend == Backend::Cpu) {
-      Method method = e.method == "vpl-kk" ? Method::VplKK : e.method == "vsl" ? Method::Vsl : Method::Vpl;
+      Method method = Method::Vpl;
+      if (!parseMethod(e.method, method)) method = Method::Vpl;
       m = renderCpu(setup, method, vpls, s);
     } else {
       m = gl->render(setup.scene(), vpls, s, setup.scene().camera);

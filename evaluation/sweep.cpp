@@ -14,6 +14,7 @@
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
+#include "renderer/offline/render_methods.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -118,7 +119,7 @@ int seriesRank(const std::string& method, const std::string& backend) {
 std::string describeRow(const CsvRow& r) {
   const std::string& m = r.at("method");
   std::string d = "N=" + r.at("vpls");
-  if (m == "clamp" || m == "ssbc" || m == "vpl-kk") d += " b=" + r.at("clamp_b");
+  if (m == "clamp" || m == "ssbc" || m == "vpl-kk" || m == "vpl-abc") d += " b=" + r.at("clamp_b");
   if (m == "ssbc") d += " s=" + r.at("ssbc");
   if (m == "vsl") d += " r=" + r.at("vsl_r");
   if (m == "reject") d += " eps=" + r.at("epsilon");
@@ -158,6 +159,9 @@ const std::vector<std::string>& benchMethodNames() {
     std::vector<std::string> n = {"vpl", "clamp", "ssbc", "vsl", "reject", "vpl-kk"};
     for (const GenerationVariant& v : generationVariants())
       if (std::find(n.begin(), n.end(), v.name) == n.end()) n.push_back(v.name);
+    // The media methods (renderer/offline/render_methods.h), rows only on scenes with participating media.
+    for (const RenderMethod& m : renderMethods())
+      if (m.forMedia) n.push_back(toString(m.id));
     return n;
   }();
   return names;
@@ -247,6 +251,13 @@ std::vector<BenchCase> benchCases(const Scene& scene, const BenchConfig& config)
     s.ssbcSteps = 1;
   });
   for (float b : bounds) add("vpl-kk", Backend::Cpu, [&](Settings& s) { s.clampBound = b; });
+  if (scene.hasMedia()) {
+    // The media methods (docs/methods.md, "Participating media"): the approximate compensation at the same bounds as
+    // Kollig-Keller, ray lights at the VPL counts of plain VPLs, beams at those counts per pass.
+    for (float b : bounds) add("vpl-abc", Backend::Cpu, [&](Settings& s) { s.clampBound = b; });
+    for (int count : counts) add("vrl", Backend::Cpu, [&](Settings& s) { s.vplCount = count; });
+    for (int count : counts) add("vbl", Backend::Cpu, [&](Settings& s) { s.vplCount = count; });
+  }
   return cases;
 }
 
@@ -326,7 +337,10 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
 
       MeasuredImage m;
       if (c.backend == Backend::Cpu) {
-        Method method = c.method == "vpl-kk" ? Method::VplKK : c.method == "vsl" ? Method::Vsl : Method::Vpl;
+        // Rows named after a render method use it; the others (clamp, reject, the generation variants) are VPL
+        // renders of their own VPLs and bound.
+        Method method = Method::Vpl;
+        if (!parseMethod(c.method, method)) method = Method::Vpl;
         m = renderCpu(setup, method, vpls, c.settings);
       } else {
         m = gl.render(setup.scene(), vpls, c.settings, setup.scene().camera);

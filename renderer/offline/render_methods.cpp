@@ -1,0 +1,81 @@
+#include "renderer/offline/render_methods.h"
+
+#include "renderer/offline/path_tracer.h"
+#include "renderer/offline/vrl_renderer.h"
+
+#include <cassert>
+#include <utility>
+
+namespace vplab {
+
+namespace {
+
+template <Method M>
+VplRenderResult renderWithVpls(const OfflineScene& offline, const VplSet& vpls, const Settings& settings,
+                               RenderControl* control, OnPass onPass) {
+  return renderVpl(offline, vpls, M, settings, control, std::move(onPass));
+}
+
+VplRenderResult renderReferenceMethod(const OfflineScene& offline, const VplSet&, const Settings& settings,
+                                      RenderControl* control, OnPass onPass) {
+  VplRenderResult r;
+  static_cast<ProgressiveResult&>(r) = renderReference(offline, settings, control, std::move(onPass));
+  return r;
+}
+
+VplRenderResult renderVrlMethod(const OfflineScene& offline, const VplSet& vpls, const Settings& settings,
+                                RenderControl* control, OnPass onPass) {
+  return renderVrl(offline, vpls, settings, control, std::move(onPass));
+}
+
+VplRenderResult renderVblMethod(const OfflineScene& offline, const VplSet&, const Settings& settings,
+                                RenderControl* control, OnPass onPass) {
+  return renderVbl(offline, settings, control, std::move(onPass));
+}
+
+}  // namespace
+
+const std::vector<RenderMethod>& renderMethods() {
+  static const std::vector<RenderMethod> methods = {
+      {Method::Reference, "path-traced reference", "Kajiya 1986; Veach 1997 (MIS)",
+       "unidirectional path tracing with next-event estimation: the ground truth", false, false, false,
+       renderReferenceMethod},
+      {Method::Vpl, "VPLs, bound b", "Keller 1997",
+       "every VPL with exact visibility and G_b = min(G, b): splotches without a bound, darkening with one", true, true,
+       false, renderWithVpls<Method::Vpl>},
+      {Method::VplKK, "VPLs + Kollig-Keller", "Kollig & Keller 2004; Raab et al. 2008 in media",
+       "the bound's residual path-traced back, recursively: unbiased, at a path tracer's cost", true, true, false,
+       renderWithVpls<Method::VplKK>},
+      {Method::Vsl, "virtual spherical lights", "Hasan et al. 2009",
+       "each VPL's flux spread over a sphere of radius r: no splotches, blurred sharp indirect light", true, false,
+       false, renderWithVpls<Method::Vsl>},
+      {Method::VplAbc, "VPLs + approximate compensation", "Engelhardt et al. 2012",
+       "one residual bounce in media, locally homogeneous, no local visibility: most of the energy, no recursion",
+       true, true, true, renderWithVpls<Method::VplAbc>},
+      {Method::Vrl, "virtual ray lights", "Novak et al. 2012a",
+       "the light paths' media segments light the media: no clamp, weak singularities, unbiased", true, false, true,
+       renderVrlMethod},
+      {Method::Vbl, "progressive virtual beam lights", "Novak et al. 2012b",
+       "VRLs thickened to beams that shrink pass after pass: smooth first, converging to the reference", false, false,
+       true, renderVblMethod},
+  };
+  return methods;
+}
+
+const RenderMethod& renderMethod(Method id) {
+  for (const RenderMethod& m : renderMethods())
+    if (m.id == id) return m;
+  assert(false && "every Method has a row");
+  return renderMethods().front();
+}
+
+std::string renderMethodNames(bool withReference) {
+  std::string names;
+  for (const RenderMethod& m : renderMethods()) {
+    if (m.id == Method::Reference && !withReference) continue;
+    names += (names.empty() ? "" : "|") + std::string(toString(m.id));
+  }
+  return names;
+}
+
+}  // namespace vplab
