@@ -12,8 +12,8 @@
 #include "renderer/core/atomic_file.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/offline_scene.h"
+#include "renderer/offline/render_methods.h"
 #include "renderer/offline/vpl_renderer.h"
-#include "renderer/offline/vrl_renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -26,8 +26,9 @@ namespace vplab::app {
 int cmdRender(const Args& args) {
   Settings settings;
   const unsigned use = kUseImage | kUseGeneration | kUseCpuVpl;
-  cli::CommandLine cl("vplab render <scene.gltf|scene.glb> --method vpl|vpl-kk|vpl-abc|vsl|vrl|vbl -o image.exr [options]",
-                      {{"method", "vpl|vpl-kk|vpl-abc|vsl|vrl|vbl", "many-light method (default vpl)"}});
+  const std::string methodNames = renderMethodNames(false);
+  cli::CommandLine cl("vplab render <scene.gltf|scene.glb> --method " + methodNames + " -o image.exr [options]",
+                      {{"method", methodNames, "many-light method (default vpl)"}});
   cl.addOptions(cli::imageOutputOptions());
   cl.addOptions({{"ref", "FILE", "reference image: print relMSE, RMSE and energy ratio against it"},
                  {"save-vpls", "FILE", "write the VPL set (accepted and rejected) as JSON"}});
@@ -39,14 +40,17 @@ int cmdRender(const Args& args) {
         "expected accepted count; bidirectional: exactly --vpl-count; metropolis: about --vpl-count), then sums\n"
         "them at every pixel sample with exact shadow rays. vrl lights the media with the light paths' media segments\n"
         "(virtual ray lights, --vrl-samples each); vbl averages --beam-passes passes of fresh VPL sets whose segments\n"
-        "are beams of shrinking radius (--beam-radius, --beam-shrink).\n");
+        "are beams of shrinking radius (--beam-radius, --beam-shrink).\nMethods:\n");
+    for (const RenderMethod& m : renderMethods())
+      if (m.id != Method::Reference)
+        std::printf("  %-8s %s (%s): %s\n", toString(m.id), m.label, m.citation, m.summary);
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
   Method method = Method::Vpl;
   std::string methodName = cl.getString("method", "vpl");
   if (!parseMethod(methodName, method) || method == Method::Reference)
-    throw cli::CliError("option --method: '" + methodName + "' is not vpl, vpl-kk, vpl-abc, vsl, vrl or vbl");
+    throw cli::CliError("option --method: '" + methodName + "' is not one of " + methodNames);
   cli::applySettingsOptions(cl, settings, use);
   cli::FilePlan files = cli::imageOutputPlan(cl);
   auto out = cl.value("out");
@@ -69,7 +73,8 @@ int cmdRender(const Args& args) {
   RenderControl genControl;
   cli::ProgressReporter genProgress("vpls");
   genControl.onProgress = [&](float f) { genProgress.update(f); };
-  VplSet vpls = generateVpls(offline, settings, &genControl);
+  // vbl makes its own VPL sets, one per pass.
+  VplSet vpls = renderMethod(method).usesVpls ? generateVpls(offline, settings, &genControl) : VplSet{};
   genProgress.finish();
   if (vplPath) {
     try {
@@ -83,9 +88,7 @@ int cmdRender(const Args& args) {
   cli::ProgressReporter progress("render");
   control.onProgress = [&](float f) { progress.update(f); };
   const Settings renderSettings = offlineRenderSettings(settings, method);
-  VplRenderResult result = method == Method::Vrl   ? renderVrl(offline, vpls, renderSettings, &control)
-                           : method == Method::Vbl ? renderVbl(offline, renderSettings, &control)
-                                                   : renderVpl(offline, vpls, method, renderSettings, &control);
+  VplRenderResult result = renderMethod(method).render(offline, vpls, renderSettings, &control, {});
   progress.finish();
 
   if (out)
