@@ -174,8 +174,9 @@ struct Settings {
 
   // --- virtual ray lights and progressive virtual beam lights, Novak et al. 2012a, 2012b (sections 19, 20) -----
   /// Samples per VRL and pixel sample of the exact CPU VRL/VBL render (each for the camera ray's media part and
-  /// for the surface point) [1, 256]. Default 4.
-  int vrlSamples = 4;
+  /// for the surface point) [1, 256]. Default 1: a VRL costs about as much as a VPL then, and more samples per VRL
+  /// lower the error less than more light paths in the same time (docs/benchmarks.md "Participating media").
+  int vrlSamples = 1;
   /// Radius r_1 of the first pass's virtual beams, in metres [0, inf); 0 = derive: 2 % of the scene diagonal.
   /// Default 0.
   float beamRadius = 0.0f;

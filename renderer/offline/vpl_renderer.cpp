@@ -112,6 +112,7 @@ glm::vec3 gatherVpls(const Context& ctx, const Interaction& x, Rng& rng, GatherT
   std::array<ShadowRay, kShadowBatch> rays;
   std::array<glm::vec3, kShadowBatch> clamped;
   std::array<float, kShadowBatch> unclampedLum;
+  std::array<glm::vec3, kShadowBatch> unclamped;  ///< the unclamped colour, for the transmittance (media scenes)
   std::array<uint8_t, kShadowBatch> blocked;
   std::size_t n = 0;
   glm::vec3 sum(0.0f);
@@ -123,9 +124,10 @@ glm::vec3 gatherVpls(const Context& ctx, const Interaction& x, Rng& rng, GatherT
       glm::vec3 c = clamped[i];
       float u = unclampedLum[i];
       if (ctx.media) {
+        // The luminance of the attenuated colour, not the product of luminances (chromatic media).
         const glm::vec3 tr = ctx.embree.transmittance(rays[i].origin, rays[i].direction, rays[i].tMax);
         c *= tr;
-        u *= luminance(tr);
+        u = luminance(unclamped[i] * tr);
       }
       sum += c;
       tally.clampedLum += luminance(c);
@@ -160,6 +162,7 @@ glm::vec3 gatherVpls(const Context& ctx, const Interaction& x, Rng& rng, GatherT
                                           vpl.inMedium ? glm::vec3(0.0f) : vpl.geometricNormal);
     clamped[n] = c;
     unclampedLum[n] = luminance(u);
+    unclamped[n] = u;
     if (++n == kShadowBatch) flush();
   }
   if (n > 0) flush();
@@ -344,7 +347,7 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
   if (!(b > a)) return radiance;
   std::array<ShadowRay, kShadowBatch> rays;
   std::array<glm::vec3, kShadowBatch> clamped;
-  std::array<float, kShadowBatch> unclampedLum;
+  std::array<glm::vec3, kShadowBatch> unclampedColour;
   std::array<uint8_t, kShadowBatch> blocked;
   std::size_t n = 0;
   auto flush = [&]() {
@@ -356,7 +359,7 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
       const glm::vec3 c = clamped[i] * tr;
       radiance += c;
       tally.clampedLum += luminance(c);
-      tally.unclampedLum += unclampedLum[i] * luminance(tr);
+      tally.unclampedLum += luminance(unclampedColour[i] * tr);
     }
     n = 0;
   };
@@ -385,7 +388,7 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
     rays[n] = ctx.embree.shadowRayBetween(x.position, glm::vec3(0.0f), vpl.position,
                                           vpl.inMedium ? glm::vec3(0.0f) : vpl.geometricNormal);
     clamped[n] = c * w;
-    unclampedLum[n] = luminance(uc * w);
+    unclampedColour[n] = uc * w;
     if (++n == kShadowBatch) flush();
   }
   if (n > 0) flush();
