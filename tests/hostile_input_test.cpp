@@ -1,4 +1,4 @@
-// What a hostile or careless user can type (issue 27): outputs that are devices or FIFOs are written in place, never
+// What a hostile or careless user can type: outputs that are devices or FIFOs are written in place, never
 // replaced; inputs are read only from regular files, bounded; every error names what was typed and what was expected,
 // in the project's words, with one exit status per kind of error; invalid glTF values are errors, not silent
 // defaults; text from files is printed escaped. HostileFuzz runs a small mutator over the bundled scenes and settings.

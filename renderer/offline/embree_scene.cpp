@@ -249,6 +249,7 @@ void EmbreeScene::sampleFreeFlight(Segment& s, const glm::vec3& origin, const gl
       s.position = origin + direction * t;
       s.medium = i.medium;
       s.weight = pdf > 0.0f ? media[i.medium].sigmaS * tr / pdf : glm::vec3(0.0f);
+      s.transmittance = tr;
       return;
     }
     tau -= channelDepth;
@@ -258,6 +259,7 @@ void EmbreeScene::sampleFreeFlight(Segment& s, const glm::vec3& origin, const gl
   const glm::vec3 tr = glm::exp(-depth);
   const float pass = channelMean(tr);
   s.weight = pass > 0.0f ? tr / pass : glm::vec3(0.0f);
+  s.transmittance = tr;
 }
 
 glm::vec3 EmbreeScene::transmittance(const glm::vec3& origin, const glm::vec3& direction, float tMax) const {

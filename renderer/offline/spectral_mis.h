@@ -35,17 +35,16 @@ struct PathSpectralMis {
   }
 
   /// Multiplies throughput by f(segment) / mean_k(pdf_k p_k(segment)) for a segment that crossed a medium.
-  void apply(const EmbreeScene& embree, const glm::vec3& origin, const glm::vec3& dir, const Segment& segment,
-             glm::vec3& throughput) {
+  void apply(const EmbreeScene& embree, const Segment& segment, glm::vec3& throughput) {
     const std::vector<Medium>& media = embree.scene().media;
     glm::vec3 f, p;
     if (segment.scattered()) {
-      const glm::vec3 tr = embree.transmittance(origin, dir, segment.distance);
+      const glm::vec3 tr = segment.transmittance;
       f = media[segment.medium].sigmaS * tr;
       p = media[segment.medium].sigmaT() * tr;
     } else {
       // The surface or the end of the ray: T(s) / P(no event), P the path's channel mixture.
-      f = embree.transmittance(origin, dir, segment.distance);
+      f = segment.transmittance;
       p = f;
     }
     const glm::vec3 next = pdf * p;
