@@ -4,9 +4,17 @@
 //   vplab_bench_media_bench [--size N] [--seconds S] [--ref-spp N] [--vpls N] [--threads T] [--csv out.csv]
 //                           [--images DIR] [--ref-cache DIR] [scene.gltf ...]
 // Default scenes: assets/scenes/cornell-fog.gltf and fog-shaft.gltf. Each method renders passes of fresh light paths
-// (one pixel sample each; vbl: a thinner beam every pass) until S seconds have passed, VPL generation included; the row reports the time actually spent, relMSE against the reference, and the energy ratio
-// mean(I)/mean(R) of the indirect light (emission and direct light are left out of both images: every method computes
-// them with the same estimator, and the emitters' pixels would dominate the mean).
+// (one pixel sample each; vbl: a thinner beam every pass) until S seconds have passed, VPL generation included; the row
+// reports the time actually spent, relMSE against the reference, and the energy ratio mean(I)/mean(R) of the indirect
+// light (emission and direct light are left out of both images: every method computes them with the same estimator, and
+// the emitters' pixels would dominate the mean).
+
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+#include <vector>
 
 #include "bench/bench_args.h"
 #include "evaluation/harness.h"
@@ -19,18 +27,13 @@
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
 
-#include <chrono>
-#include <cstdio>
-#include <cstdlib>
-#include <filesystem>
-#include <string>
-#include <vector>
-
 using namespace vplab;
 
 namespace {
 
-double now() { return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count(); }
+double now() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 struct Row {
   std::string scene, method, parameters;
@@ -56,15 +59,24 @@ int main(int argc, char** argv) {
   for (int i = 1; i < argc; ++i) {
     std::string a = argv[i];
     auto next = [&] { return benchOptionValue(argc, argv, i); };
-    if (a == "--size") size = std::atoi(next().c_str());
-    else if (a == "--seconds") seconds = std::atof(next().c_str());
-    else if (a == "--ref-spp") refSpp = std::atoi(next().c_str());
-    else if (a == "--vpls") vpls = std::atoi(next().c_str());
-    else if (a == "--threads") threads = std::atoi(next().c_str());
-    else if (a == "--csv") csvPath = next();
-    else if (a == "--images") imageDir = next();
-    else if (a == "--ref-cache") refDir = next();
-    else if (!a.empty() && a[0] != '-') scenes.push_back(a);
+    if (a == "--size")
+      size = std::atoi(next().c_str());
+    else if (a == "--seconds")
+      seconds = std::atof(next().c_str());
+    else if (a == "--ref-spp")
+      refSpp = std::atoi(next().c_str());
+    else if (a == "--vpls")
+      vpls = std::atoi(next().c_str());
+    else if (a == "--threads")
+      threads = std::atoi(next().c_str());
+    else if (a == "--csv")
+      csvPath = next();
+    else if (a == "--images")
+      imageDir = next();
+    else if (a == "--ref-cache")
+      refDir = next();
+    else if (!a.empty() && a[0] != '-')
+      scenes.push_back(a);
     else {
       std::fprintf(stderr,
                    "usage: %s [--size N] [--seconds S] [--ref-spp N] [--vpls N] [--threads T] [--csv F] [--images D] "
@@ -94,8 +106,8 @@ int main(int argc, char** argv) {
 
     // The reference of the indirect light, cached per scene and size.
     Image reference;
-    const std::string cache = refDir.empty() ? "" : refDir + "/" + name + "-" + std::to_string(size) + "-" +
-                                                        std::to_string(refSpp) + ".exr";
+    const std::string cache =
+        refDir.empty() ? "" : refDir + "/" + name + "-" + std::to_string(size) + "-" + std::to_string(refSpp) + ".exr";
     if (!cache.empty() && std::filesystem::exists(cache)) {
       reference = readImage(cache);
     } else {
@@ -119,7 +131,8 @@ int main(int argc, char** argv) {
         {"bias compensation (vpl-kk)", Method::VplKK, boundText, [&](Settings& s) { s.clampBound = bound; }},
         {"approximate compensation (vpl-abc)", Method::VplAbc, boundText, [&](Settings& s) { s.clampBound = bound; }},
         {"virtual ray lights (vrl)", Method::Vrl, "", [](Settings&) {}},
-        {"virtual beam lights (vbl)", Method::Vbl, "", [](Settings& s) {
+        {"virtual beam lights (vbl)", Method::Vbl, "",
+         [](Settings& s) {
            s.beamPasses = 4096;  // one pixel sample per pass: the time budget ends the passes
            s.samplesPerPixel = 1;
          }},
@@ -170,7 +183,8 @@ int main(int argc, char** argv) {
       std::fprintf(stderr, "%s: %-36s %6.2f s  relMSE %.4f  energy %.3f\n", name.c_str(), v.name.c_str(), row.seconds,
                    row.relMse, row.energy);
       if (!imageDir.empty()) {
-        std::string slug = toString(v.method) + std::string(v.method == Method::Vpl && s.clampBound < kInfinity ? "-bounded" : "");
+        std::string slug =
+            toString(v.method) + std::string(v.method == Method::Vpl && s.clampBound < kInfinity ? "-bounded" : "");
         writeImage(imageDir + "/" + name + "-" + slug + ".png", r.image, exposure);
       }
     }

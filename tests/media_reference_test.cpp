@@ -23,27 +23,8 @@
 namespace vplab {
 namespace {
 
-Medium boxMedium(const glm::vec3& center, const glm::vec3& half, const glm::vec3& sigmaA, const glm::vec3& sigmaS,
-                 float g) {
-  Medium m;
-  m.name = "box";
-  m.sigmaA = sigmaA;
-  m.sigmaS = sigmaS;
-  m.g = g;
-  m.worldFromBox = glm::scale(glm::translate(glm::mat4(1.0f), center), half);
-  m.boxFromWorld = glm::inverse(m.worldFromBox);
-  return m;
-}
-
-Medium spaceMedium(const glm::vec3& sigmaA, const glm::vec3& sigmaS, float g) {
-  Medium m;
-  m.name = "scene";
-  m.sigmaA = sigmaA;
-  m.sigmaS = sigmaS;
-  m.g = g;
-  m.fillsSpace = true;
-  return m;
-}
+using test::boxMedium;
+using test::spaceMedium;
 
 Settings smallSettings(int size, int spp) {
   Settings s;

@@ -2,6 +2,11 @@
 // media with the bound b, Kollig-Keller compensation in media (Raab et al. 2008) and the approximate compensation
 // (Engelhardt et al. 2012), against closed forms and the path-traced reference.
 
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <memory>
+
 #include "renderer/image/metrics.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
@@ -9,35 +14,11 @@
 #include "renderer/vpl/vpl_generation.h"
 #include "tests/test_scenes.h"
 
-#include <gtest/gtest.h>
-
-#include <cmath>
-#include <memory>
-
 namespace vplab {
 namespace {
 
-Medium globalMedium(glm::vec3 sigmaA, glm::vec3 sigmaS, float g) {
-  Medium m;
-  m.name = "scene";
-  m.sigmaA = sigmaA;
-  m.sigmaS = sigmaS;
-  m.g = g;
-  m.fillsSpace = true;
-  return m;
-}
-
-Medium boxMedium(glm::vec3 centre, glm::vec3 half, glm::vec3 sigmaA, glm::vec3 sigmaS, float g) {
-  Medium m;
-  m.name = "fog";
-  m.sigmaA = sigmaA;
-  m.sigmaS = sigmaS;
-  m.g = g;
-  m.worldFromBox = glm::mat4(glm::vec4(half.x, 0, 0, 0), glm::vec4(0, half.y, 0, 0), glm::vec4(0, 0, half.z, 0),
-                             glm::vec4(centre, 1));
-  m.boxFromWorld = glm::inverse(m.worldFromBox);
-  return m;
-}
+using test::boxMedium;
+using test::spaceMedium;
 
 /// The bundled Cornell box with a box of chromatic, forward-scattering fog filling the room.
 std::unique_ptr<OfflineScene> fogCornell() {
@@ -48,7 +29,9 @@ std::unique_ptr<OfflineScene> fogCornell() {
   return std::make_unique<OfflineScene>(std::move(scene));
 }
 
-double meanOf(const Image& image) { return meanLuminance(image); }
+double meanOf(const Image& image) {
+  return meanLuminance(image);
+}
 
 bool allFinite(const Image& image) {
   for (const glm::vec3& p : image.pixels)
@@ -75,8 +58,8 @@ TEST(MediaVpl, LightPathsStoreMediumVplsAndVrls) {
 TEST(MediaVpl, VacuumMediumChangesNothing) {
   auto base = test::loadAssetScene("cornell-box");
   Scene withVacuum = base->scene();
-  withVacuum.media.push_back(boxMedium(withVacuum.geometryBounds.center(), glm::vec3(0.2f), glm::vec3(0.0f),
-                                       glm::vec3(0.0f), 0.5f));
+  withVacuum.media.push_back(
+      boxMedium(withVacuum.geometryBounds.center(), glm::vec3(0.2f), glm::vec3(0.0f), glm::vec3(0.0f), 0.5f));
   OfflineScene vacuum(std::move(withVacuum));
   Settings s = test::smallVplSettings(24, 64);
   s.clampBound = 20.0f;
@@ -93,7 +76,7 @@ TEST(MediaVpl, VacuumMediumChangesNothing) {
 // in media (Raab et al. 2008) makes the bounded VPL render unbiased again.
 TEST(MediaVpl, FurnaceWithFogStaysAtTwoUnderCompensation) {
   Scene scene = test::makeFurnaceBox(0.5f);
-  scene.media.push_back(globalMedium(glm::vec3(0.0f), glm::vec3(0.4f, 0.7f, 1.0f), 0.5f));
+  scene.media.push_back(spaceMedium(glm::vec3(0.0f), glm::vec3(0.4f, 0.7f, 1.0f), 0.5f));
   OfflineScene offline(std::move(scene));
   // Medium VPLs have no cosines to tame 1/d^2: single VPL sets scatter by several percent, so average four.
   const int seeds = 4;
@@ -112,9 +95,10 @@ TEST(MediaVpl, FurnaceWithFogStaysAtTwoUnderCompensation) {
     ASSERT_TRUE(allFinite(k.image));
     kk += meanOf(k.image) / seeds;
   }
-  std::printf("[ measured ] fog furnace (sigma_s = 0.4/0.7/1, g = 0.5), 16^2, 1024 VPLs, 4 seeds: vpl %.4f, "
-              "b = 4: clamped %.4f (removed %.1f%%), vpl-kk %.4f (exact 2)\n",
-              unbounded, clamped, 100.0 * removed, kk);
+  std::printf(
+      "[ measured ] fog furnace (sigma_s = 0.4/0.7/1, g = 0.5), 16^2, 1024 VPLs, 4 seeds: vpl %.4f, "
+      "b = 4: clamped %.4f (removed %.1f%%), vpl-kk %.4f (exact 2)\n",
+      unbounded, clamped, 100.0 * removed, kk);
   EXPECT_NEAR(kk, 2.0, 0.04);
   // Unbounded medium VPLs are unbiased but splotchy: four sets measured 2.08 here (single sets 1.6-2.5 at sigma_s 2).
   EXPECT_NEAR(unbounded, 2.0, 0.12);
@@ -151,11 +135,11 @@ TEST(MediaVpl, FogCornellAgreesWithTheReference) {
     kk += meanOf(renderVpl(*scene, vpls, Method::VplKK, v).image) / seeds;
     abc += meanOf(renderVpl(*scene, vpls, Method::VplAbc, v).image) / seeds;
   }
-  std::printf("[ measured ] cornell-fog 12^2 indirect, 256 VPLs, 32 sets: reference %.5f; vpl %.4f, bounded %.4f "
-              "(reports %.1f%% removed: bounded / (1 - removed) = %.4f), vpl-kk %.4f, vpl-abc %.4f (ratios to the "
-              "reference)\n",
-              ref, unbounded / ref, bounded / ref, 100.0 * removed, bounded / (1.0 - removed) / ref, kk / ref,
-              abc / ref);
+  std::printf(
+      "[ measured ] cornell-fog 12^2 indirect, 256 VPLs, 32 sets: reference %.5f; vpl %.4f, bounded %.4f "
+      "(reports %.1f%% removed: bounded / (1 - removed) = %.4f), vpl-kk %.4f, vpl-abc %.4f (ratios to the "
+      "reference)\n",
+      ref, unbounded / ref, bounded / ref, 100.0 * removed, bounded / (1.0 - removed) / ref, kk / ref, abc / ref);
   // Two standard deviations of the 32-set mean.
   EXPECT_NEAR(unbounded / ref, 1.0, 0.05);
   EXPECT_NEAR(kk / ref, 1.0, 0.025);
@@ -171,13 +155,14 @@ TEST(MediaVpl, FogCornellAgreesWithTheReference) {
 TEST(MediaVpl, OpticallyHugeMediumIsFiniteAndDark) {
   auto base = test::loadAssetScene("cornell-box");
   Scene scene = base->scene();
-  scene.media.push_back(boxMedium(scene.geometryBounds.center(), 0.3f * scene.geometryBounds.extent(),
-                                  glm::vec3(1e6f), glm::vec3(1e6f), 0.9f));
+  scene.media.push_back(boxMedium(scene.geometryBounds.center(), 0.3f * scene.geometryBounds.extent(), glm::vec3(1e6f),
+                                  glm::vec3(1e6f), 0.9f));
   OfflineScene offline(std::move(scene));
   Settings s = test::smallVplSettings(16, 64);
   s.clampBound = 10.0f;
   VplSet vpls = generateVpls(offline, s);
-  for (Method m : {Method::Vpl, Method::VplKK, Method::VplAbc}) EXPECT_TRUE(allFinite(renderVpl(offline, vpls, m, s).image));
+  for (Method m : {Method::Vpl, Method::VplKK, Method::VplAbc})
+    EXPECT_TRUE(allFinite(renderVpl(offline, vpls, m, s).image));
   EXPECT_TRUE(allFinite(renderReference(offline, s).image));
 }
 

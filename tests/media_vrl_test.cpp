@@ -20,27 +20,8 @@
 namespace vplab {
 namespace {
 
-Medium globalMedium(glm::vec3 sigmaA, glm::vec3 sigmaS, float g) {
-  Medium m;
-  m.name = "scene";
-  m.sigmaA = sigmaA;
-  m.sigmaS = sigmaS;
-  m.g = g;
-  m.fillsSpace = true;
-  return m;
-}
-
-Medium boxMedium(glm::vec3 centre, glm::vec3 half, glm::vec3 sigmaA, glm::vec3 sigmaS, float g) {
-  Medium m;
-  m.name = "fog";
-  m.sigmaA = sigmaA;
-  m.sigmaS = sigmaS;
-  m.g = g;
-  m.worldFromBox = glm::mat4(glm::vec4(half.x, 0, 0, 0), glm::vec4(0, half.y, 0, 0), glm::vec4(0, 0, half.z, 0),
-                             glm::vec4(centre, 1));
-  m.boxFromWorld = glm::inverse(m.worldFromBox);
-  return m;
-}
+using test::boxMedium;
+using test::spaceMedium;
 
 bool allFinite(const Image& image) {
   for (const glm::vec3& p : image.pixels)
@@ -110,7 +91,7 @@ TEST(MediaVrl, FogCornellAgreesWithTheReference) {
 // A closed furnace (walls emit 1, albedo 0.5) in a non-absorbing medium keeps L = 2 everywhere (docs/theory.md §16).
 TEST(MediaVrl, FurnaceWithFogStaysAtTwo) {
   Scene scene = test::makeFurnaceBox(0.5f);
-  scene.media.push_back(globalMedium(glm::vec3(0.0f), glm::vec3(0.4f, 0.7f, 1.0f), 0.5f));
+  scene.media.push_back(spaceMedium(glm::vec3(0.0f), glm::vec3(0.4f, 0.7f, 1.0f), 0.5f));
   OfflineScene offline(std::move(scene));
   // Single sets of 2048 VPLs spread by about +-4 % (the surface VPLs' unbounded 1/d^2): average eight.
   Settings s = test::smallVplSettings(12, 2048);

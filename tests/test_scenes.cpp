@@ -15,6 +15,29 @@
 
 namespace vplab::test {
 
+Medium boxMedium(const glm::vec3& centre, const glm::vec3& half, const glm::vec3& sigmaA, const glm::vec3& sigmaS,
+                 float g) {
+  Medium m;
+  m.name = "box";
+  m.sigmaA = sigmaA;
+  m.sigmaS = sigmaS;
+  m.g = g;
+  m.worldFromBox = glm::mat4(glm::vec4(half.x, 0, 0, 0), glm::vec4(0, half.y, 0, 0), glm::vec4(0, 0, half.z, 0),
+                             glm::vec4(centre, 1));
+  m.boxFromWorld = glm::inverse(m.worldFromBox);
+  return m;
+}
+
+Medium spaceMedium(const glm::vec3& sigmaA, const glm::vec3& sigmaS, float g) {
+  Medium m;
+  m.name = "scene";
+  m.sigmaA = sigmaA;
+  m.sigmaS = sigmaS;
+  m.g = g;
+  m.fillsSpace = true;
+  return m;
+}
+
 Settings smallVplSettings(int size, int vpls) {
   Settings s;
   s.width = size;

@@ -15,6 +15,12 @@
 namespace vplab::test {
 
 
+/// A homogeneous medium filling the box centre +- half (axis-aligned), and one filling all space
+/// (renderer/scene/medium.h).
+Medium boxMedium(const glm::vec3& centre, const glm::vec3& half, const glm::vec3& sigmaA, const glm::vec3& sigmaS,
+                 float g);
+Medium spaceMedium(const glm::vec3& sigmaA, const glm::vec3& sigmaS, float g);
+
 /// Settings for a cheap VPL test: size x size pixels, `vpls` VPLs, 1 sample per pixel, 2 threads.
 Settings smallVplSettings(int size, int vpls);
 

@@ -4,16 +4,15 @@
 // cosine on a surface, the phase function in a medium), how it samples wi and with which pdf, and where rays leaving
 // it start. docs/theory.md §16-§17.
 
+#include <cstdint>
+#include <glm/glm.hpp>
+
 #include "renderer/core/brdf.h"
 #include "renderer/core/sampling.h"
 #include "renderer/offline/embree_scene.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/medium.h"
 #include "renderer/scene/scene.h"
-
-#include <glm/glm.hpp>
-
-#include <cstdint>
 
 namespace vplab {
 

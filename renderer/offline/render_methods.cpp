@@ -1,10 +1,10 @@
 #include "renderer/offline/render_methods.h"
 
-#include "renderer/offline/path_tracer.h"
-#include "renderer/offline/vrl_renderer.h"
-
 #include <cassert>
 #include <utility>
+
+#include "renderer/offline/path_tracer.h"
+#include "renderer/offline/vrl_renderer.h"
 
 namespace vplab {
 
@@ -50,8 +50,8 @@ const std::vector<RenderMethod>& renderMethods() {
        "each VPL's flux spread over a sphere of radius r: no splotches, blurred sharp indirect light", true, false,
        false, renderWithVpls<Method::Vsl>},
       {Method::VplAbc, "VPLs + approximate compensation", "Engelhardt et al. 2012",
-       "one residual bounce in media, locally homogeneous, no local visibility: most of the energy, no recursion",
-       true, true, true, renderWithVpls<Method::VplAbc>},
+       "one residual bounce in media, locally homogeneous, no local visibility: most of the energy, no recursion", true,
+       true, true, renderWithVpls<Method::VplAbc>},
       {Method::Vrl, "virtual ray lights", "Novak et al. 2012a",
        "the light paths' media segments light the media: no clamp, weak singularities, unbiased", true, false, true,
        renderVrlMethod},

@@ -5,14 +5,14 @@
 // methods. Adding a method: a Method value, its render function (same signature as renderVpl), one row in
 // renderMethods() (render_methods.cpp), and its bench rows in evaluation/sweep.cpp if it has parameters to sweep.
 
+#include <functional>
+#include <vector>
+
 #include "renderer/core/parallel.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/settings.h"
 #include "renderer/vpl/vpl.h"
-
-#include <functional>
-#include <vector>
 
 namespace vplab {
 

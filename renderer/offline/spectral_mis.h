@@ -2,13 +2,12 @@
 // Spectral MIS along a whole path through chromatic media (docs/theory.md §16), shared by the reference's camera
 // paths and the light paths that make VPLs and VRLs.
 
+#include <algorithm>
+#include <glm/glm.hpp>
+#include <vector>
+
 #include "renderer/offline/embree_scene.h"
 #include "renderer/scene/medium.h"
-
-#include <glm/glm.hpp>
-
-#include <algorithm>
-#include <vector>
 
 namespace vplab {
 

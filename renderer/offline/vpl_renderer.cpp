@@ -1,16 +1,17 @@
 #include "renderer/offline/vpl_renderer.h"
 
+#include <array>
+#include <cassert>
+#include <cmath>
+#include <optional>
+
 #include "renderer/core/sampling.h"
+#include "renderer/offline/camera_sample.h"
 #include "renderer/offline/direct_light.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/vpl/vpl_contribution.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vsl_integral.h"
-
-#include <array>
-#include <cassert>
-#include <cmath>
-#include <optional>
 
 namespace vplab {
 
@@ -32,8 +33,8 @@ struct Context {
   float clampBound;
   int vslSamples = 1;
   int maxDepth = 1;
-  bool media = false;             ///< the scene has media: every transfer carries their transmittance
-  std::vector<float> vplPhaseG;   ///< Henyey-Greenstein g of each medium VPL's medium (media scenes)
+  bool media = false;            ///< the scene has media: every transfer carries their transmittance
+  std::vector<float> vplPhaseG;  ///< Henyey-Greenstein g of each medium VPL's medium (media scenes)
   float sceneDiagonal = 1.0f;
 };
 
@@ -201,8 +202,8 @@ glm::vec3 compensation(const Context& ctx, const Interaction& x, Rng& rng, int d
 
   // Step 4: f(x1) (1 - b/G) cos1 L / p: G dA = cos1 dw turns the area integral into the solid-angle one (f_p / p = 1
   // in a medium); through media the free flight's weight (T sigma_s / pdf or T / P) carries the distance integral.
-  glm::vec3 result = x.inMedium ? l * (1.0f - ctx.clampBound / g)
-                                : bs.f * l * ((1.0f - ctx.clampBound / g) * cos1 / bs.pdf);
+  glm::vec3 result =
+      x.inMedium ? l * (1.0f - ctx.clampBound / g) : bs.f * l * ((1.0f - ctx.clampBound / g) * cos1 / bs.pdf);
   return next.crossedMedium ? result * next.weight : result;
 }
 
@@ -431,45 +432,23 @@ VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Met
   ProgressiveOptions options = progressiveOptions(settings, 1, std::move(onPass));
 
   PixelEstimator estimator = [&](int x, int y, uint32_t, Rng& rng) -> glm::vec3 {
-    // Step 1: primary ray through a jittered pixel position.
-    glm::vec2 jitter = rng.next2D();
-    glm::vec3 dir = cameraRayDirection(scene.camera, static_cast<float>(x) + jitter.x,
-                                       static_cast<float>(y) + jitter.y, settings.width, settings.height);
-    std::optional<SurfaceHit> hit = embree.intersect(scene.camera.position, dir);
     GatherTally& tally = tallies[static_cast<std::size_t>(y) * settings.width + x];
-    // Step 1': through media, the in-scattered light along the ray (docs/theory.md §16-§18), and the surface's
-    // light attenuated by the transmittance to it.
-    glm::vec3 radiance(0.0f);
-    glm::vec3 toSurface(1.0f);
-    if (ctx.media) {
-      static thread_local std::vector<MediumInterval> intervals;
-      const float end = hit ? hit->distance : kInfinity;
-      mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
-      if (!intervals.empty()) {
-        radiance += mediumAlongRay(ctx, scene.camera.position, dir, intervals, end, wantDirect, wantIndirect, rng,
-                                   tally);
-        toSurface = transmittanceOver(scene.media, intervals, end);
-      }
-    }
-    if (!hit) return radiance;
-    const Interaction sp = Interaction::onSurface(scene, *hit, -dir);
-    glm::vec3 surface(0.0f);
-    // Step 2: emission seen directly, as the reference counts it (one-sided emitters).
-    if (wantDirect) surface += lights.emittedRadiance(hit->triangle, hit->geometricNormal, hit->uv, sp.wo);
-    if (!sp.scatters()) return radiance + surface * toSurface;
-    // Step 3: direct light, the reference's estimator (next-event estimation + BRDF sampling, MIS).
-    if (wantDirect) surface += estimateDirectLight(embree, lights, sp.hit, sp.wo, sp.brdf, rng);
-    if (wantIndirect) {
-      // Step 4: indirect light from the VPLs (bounded, or spherical), then the residual's compensation.
-      GatherTally primary;
-      surface += gatherVpls(ctx, sp, rng, primary, true);
-      tally.clampedLum += primary.clampedLum;
-      tally.unclampedLum += primary.unclampedLum;
-      tally.shadowRays += primary.shadowRays;
-      tally.evaluations += primary.evaluations;
-      surface += compensationFor(ctx, sp, rng, tally);
-    }
-    return ctx.media ? radiance + surface * toSurface : surface;
+    const glm::vec3& camera = scene.camera.position;
+    return manyLightCameraSample(
+        embree, lights, settings, x, y, rng,
+        [&](const glm::vec3& dir, const std::vector<MediumInterval>& intervals, float end) {
+          return mediumAlongRay(ctx, camera, dir, intervals, end, wantDirect, wantIndirect, rng, tally);
+        },
+        [&](const Interaction& sp) {
+          // Indirect light from the VPLs (bounded, or spherical), then the residual's compensation.
+          GatherTally primary;
+          glm::vec3 l = gatherVpls(ctx, sp, rng, primary, true);
+          tally.clampedLum += primary.clampedLum;
+          tally.unclampedLum += primary.unclampedLum;
+          tally.shadowRays += primary.shadowRays;
+          tally.evaluations += primary.evaluations;
+          return l + compensationFor(ctx, sp, rng, tally);
+        });
   };
 
   VplRenderResult result;

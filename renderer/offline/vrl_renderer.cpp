@@ -1,17 +1,18 @@
 #include "renderer/offline/vrl_renderer.h"
 
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <optional>
+
 #include "renderer/core/sampling.h"
+#include "renderer/offline/camera_sample.h"
 #include "renderer/offline/direct_light.h"
 #include "renderer/offline/interaction.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/medium.h"
 #include "renderer/vpl/vpl_contribution.h"
 #include "renderer/vpl/vpl_generation.h"
-
-#include <algorithm>
-#include <array>
-#include <cmath>
-#include <optional>
 
 namespace vplab {
 
@@ -73,7 +74,9 @@ struct ShadowBatch {
   }
 };
 
-bool positive(const glm::vec3& c) { return c.r > 0.0f || c.g > 0.0f || c.b > 0.0f; }
+bool positive(const glm::vec3& c) {
+  return c.r > 0.0f || c.g > 0.0f || c.b > 0.0f;
+}
 
 /// A shadow ray between two medium points (no offsets).
 ShadowRay mediumRay(const glm::vec3& from, const glm::vec3& to) {
@@ -363,34 +366,18 @@ VplRenderResult renderWith(const OfflineScene& offline, const VplSet& set, const
   ProgressiveOptions options = progressiveOptions(settings, 1, std::move(onPass));
 
   PixelEstimator estimator = [&](int px, int py, uint32_t, Rng& rng) -> glm::vec3 {
-    // Step 1: primary ray through a jittered pixel position (the same numbers as renderVpl).
-    const glm::vec2 jitter = rng.next2D();
-    const glm::vec3 dir = cameraRayDirection(scene.camera, static_cast<float>(px) + jitter.x,
-                                             static_cast<float>(py) + jitter.y, settings.width, settings.height);
-    const std::optional<SurfaceHit> hit = embree.intersect(scene.camera.position, dir);
     Tally& tally = tallies[static_cast<std::size_t>(py) * settings.width + px];
-    // Step 2: the media part of the ray: single scattering, then surface VPLs and VRLs (docs/theory.md §16-§19).
-    glm::vec3 radiance(0.0f);
-    glm::vec3 toSurface(1.0f);
-    if (ctx.media) {
-      static thread_local std::vector<MediumInterval> intervals;
-      const float end = hit ? hit->distance : kInfinity;
-      mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
-      if (!intervals.empty()) {
-        if (wantDirect) radiance += singleScattering(ctx, scene.camera.position, dir, intervals, end, rng);
-        if (wantIndirect) radiance += indirectAlongRay(ctx, scene.camera.position, dir, intervals, end, rng, tally);
-        toSurface = transmittanceOver(scene.media, intervals, end);
-      }
-    }
-    if (!hit) return radiance;
-    const Interaction sp = Interaction::onSurface(scene, *hit, -dir);
-    glm::vec3 surface(0.0f);
-    // Step 3: emission, direct light (the reference's estimator), indirect light from surface VPLs and VRLs.
-    if (wantDirect) surface += lights.emittedRadiance(hit->triangle, hit->geometricNormal, hit->uv, sp.wo);
-    if (!sp.scatters()) return radiance + surface * toSurface;
-    if (wantDirect) surface += estimateDirectLight(embree, lights, sp.hit, sp.wo, sp.brdf, rng);
-    if (wantIndirect) surface += indirectAtSurface(ctx, sp, rng, tally);
-    return ctx.media ? radiance + surface * toSurface : surface;
+    const glm::vec3& camera = scene.camera.position;
+    return manyLightCameraSample(
+        embree, lights, settings, px, py, rng,
+        [&](const glm::vec3& dir, const std::vector<MediumInterval>& intervals, float end) {
+          // Single scattering, then surface VPLs and VRLs in-scattered along the ray (docs/theory.md §16-§19).
+          glm::vec3 l(0.0f);
+          if (wantDirect) l += singleScattering(ctx, camera, dir, intervals, end, rng);
+          if (wantIndirect) l += indirectAlongRay(ctx, camera, dir, intervals, end, rng, tally);
+          return l;
+        },
+        [&](const Interaction& sp) { return indirectAtSurface(ctx, sp, rng, tally); });
   };
 
   VplRenderResult result;
@@ -444,7 +431,8 @@ VplRenderResult renderVbl(const OfflineScene& offline, const Settings& settings,
       break;
     }
     if (sum.empty()) sum.assign(pass.image.pixels.size(), glm::dvec3(0.0));
-    for (std::size_t k = 0; k < sum.size(); ++k) sum[k] += glm::dvec3(pass.image.pixels[k]) * double(pass.samplesPerPixel);
+    for (std::size_t k = 0; k < sum.size(); ++k)
+      sum[k] += glm::dvec3(pass.image.pixels[k]) * double(pass.samplesPerPixel);
     samples += pass.samplesPerPixel;
     total.seconds += pass.seconds;
     total.nonFiniteSamples += pass.nonFiniteSamples;

@@ -1,11 +1,11 @@
 #include "renderer/scene/medium.h"
 
-#include "renderer/core/sampling.h"
-
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+
+#include "renderer/core/sampling.h"
 
 namespace vplab {
 

@@ -5,20 +5,19 @@
 // one medium and a ray crosses the media as disjoint intervals. Surfaces are not interfaces: light crosses them only
 // where it is not blocked, nothing refracts.
 
-#include <glm/glm.hpp>
-
 #include <cstdint>
+#include <glm/glm.hpp>
 #include <string>
 #include <vector>
 
 namespace vplab {
 
 struct Medium {
-  std::string name;             ///< the glTF node's name (or "scene" for a medium that fills all space)
-  glm::vec3 sigmaA{0.0f};       ///< absorption coefficient per channel, 1/m (scene units), >= 0
-  glm::vec3 sigmaS{0.0f};       ///< scattering coefficient per channel, 1/m, >= 0
-  float g = 0.0f;               ///< Henyey-Greenstein asymmetry in (-1, 1); > 0 scatters forward
-  bool fillsSpace = false;      ///< true: the medium is everywhere; false: inside the box below
+  std::string name;              ///< the glTF node's name (or "scene" for a medium that fills all space)
+  glm::vec3 sigmaA{0.0f};        ///< absorption coefficient per channel, 1/m (scene units), >= 0
+  glm::vec3 sigmaS{0.0f};        ///< scattering coefficient per channel, 1/m, >= 0
+  float g = 0.0f;                ///< Henyey-Greenstein asymmetry in (-1, 1); > 0 scatters forward
+  bool fillsSpace = false;       ///< true: the medium is everywhere; false: inside the box below
   glm::mat4 worldFromBox{1.0f};  ///< maps the cube [-1, 1]^3 onto the medium's box (the node's world transform)
   glm::mat4 boxFromWorld{1.0f};  ///< its inverse
 
@@ -51,8 +50,7 @@ int mediumAt(const std::vector<Medium>& media, const glm::vec3& p);
 bool boxesOverlap(const Medium& a, const Medium& b);
 
 /// Transmittance exp(-sum sigma_t length) over the intervals, clipped to [0, tMax).
-glm::vec3 transmittanceOver(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals,
-                            float tMax);
+glm::vec3 transmittanceOver(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals, float tMax);
 
 /// Henyey-Greenstein phase function (docs/theory.md §16), normalised over the sphere:
 ///   f_p(cos t) = (1 - g^2) / (4 pi (1 + g^2 - 2 g cos t)^(3/2)),
@@ -60,7 +58,9 @@ glm::vec3 transmittanceOver(const std::vector<Medium>& media, const std::vector<
 /// wi point away from the scattering point, as for a BRDF (wo toward the viewer, wi toward the light): light arrives
 /// travelling along -wi and leaves along wo, so cos t = -dot(wi, wo).
 float phaseHG(float cosTheta, float g);
-inline float phaseHG(const glm::vec3& wo, const glm::vec3& wi, float g) { return phaseHG(-glm::dot(wi, wo), g); }
+inline float phaseHG(const glm::vec3& wo, const glm::vec3& wi, float g) {
+  return phaseHG(-glm::dot(wi, wo), g);
+}
 
 struct PhaseSample {
   glm::vec3 wi{0.0f};  ///< unit, away from the scattering point (toward where the light comes from)

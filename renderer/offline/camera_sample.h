@@ -1,0 +1,61 @@
+#pragma once
+// One camera sample of an exact many-light render (docs/theory.md §1, §16), the skeleton every such method shares:
+// a primary ray through a jittered pixel position; through media, the light in-scattered along it and the surface's
+// light attenuated by the transmittance to it; at the surface, emission and the direct light (the reference's own
+// estimators) and the method's indirect light. The methods differ only in the two callbacks:
+//   alongRay(intervals, end) -> radiance the media send along the ray (direct and indirect, as the components ask);
+//   atSurface(interaction)   -> indirect light reflected at the surface toward the camera.
+// Random numbers are drawn in this order: jitter, alongRay's, the direct light's, atSurface's.
+
+#include <glm/glm.hpp>
+#include <optional>
+#include <vector>
+
+#include "renderer/offline/direct_light.h"
+#include "renderer/offline/embree_scene.h"
+#include "renderer/offline/interaction.h"
+#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/progressive.h"
+#include "renderer/scene/medium.h"
+#include "renderer/settings.h"
+
+namespace vplab {
+
+template <class AlongRay, class AtSurface>
+glm::vec3 manyLightCameraSample(const EmbreeScene& embree, const LightSampler& lights, const Settings& settings, int x,
+                                int y, Rng& rng, AlongRay&& alongRay, AtSurface&& atSurface) {
+  const Scene& scene = embree.scene();
+  const bool wantDirect = settings.components != Components::Indirect;
+  const bool wantIndirect = settings.components != Components::Direct;
+  // Step 1: primary ray through a jittered pixel position.
+  const glm::vec2 jitter = rng.next2D();
+  const glm::vec3 dir = cameraRayDirection(scene.camera, static_cast<float>(x) + jitter.x,
+                                           static_cast<float>(y) + jitter.y, settings.width, settings.height);
+  const std::optional<SurfaceHit> hit = embree.intersect(scene.camera.position, dir);
+  // Step 2: through media, the in-scattered light along the ray and the transmittance to the surface.
+  glm::vec3 radiance(0.0f);
+  glm::vec3 toSurface(1.0f);
+  const bool media = embree.hasMedia();
+  if (media) {
+    static thread_local std::vector<MediumInterval> intervals;
+    const float end = hit ? hit->distance : kInfinity;
+    mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
+    if (!intervals.empty()) {
+      radiance += alongRay(dir, intervals, end);
+      toSurface = transmittanceOver(scene.media, intervals, end);
+    }
+  }
+  if (!hit) return radiance;
+  const Interaction sp = Interaction::onSurface(scene, *hit, -dir);
+  glm::vec3 surface(0.0f);
+  // Step 3: emission seen directly, as the reference counts it (one-sided emitters).
+  if (wantDirect) surface += lights.emittedRadiance(hit->triangle, hit->geometricNormal, hit->uv, sp.wo);
+  if (!sp.scatters()) return radiance + surface * toSurface;
+  // Step 4: direct light, the reference's estimator (next-event estimation + BRDF sampling, MIS).
+  if (wantDirect) surface += estimateDirectLight(embree, lights, sp.hit, sp.wo, sp.brdf, rng);
+  // Step 5: the method's indirect light.
+  if (wantIndirect) surface += atSurface(sp);
+  return media ? radiance + surface * toSurface : surface;
+}
+
+}  // namespace vplab
