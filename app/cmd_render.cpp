@@ -19,7 +19,10 @@
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vpl_json.h"
 
+#include <cctype>
 #include <cstdio>
+#include <filesystem>
+#include <system_error>
 
 namespace vplab::app {
 
@@ -57,7 +60,18 @@ int cmdRender(const Args& args) {
   auto png = cl.value("png");
   auto refPath = cl.value("ref");
   auto vplPath = cl.value("save-vpls");
-  if (vplPath) files.output("--save-vpls", *vplPath, cli::OutputKind::Text);
+  if (vplPath) {
+    // A VPL set is JSON: a name without .json is more likely a mistyped image or scene path than a wish. Devices and
+    // FIFOs (an existing path that is not a regular file) are taken as they are.
+    std::error_code ec;
+    const auto status = std::filesystem::status(*vplPath, ec);
+    const bool special = !ec && std::filesystem::exists(status) && !std::filesystem::is_regular_file(status);
+    std::string ext = std::filesystem::path(*vplPath).extension().string();
+    for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
+    if (!special && ext != ".json")
+      throw cli::CliError("option --save-vpls: '" + *vplPath + "' is not .json (the VPL set is written as JSON)");
+    files.output("--save-vpls", *vplPath, cli::OutputKind::Text);
+  }
   files.check();
   cli::requireMemory(3.0 * 12.0 * settings.width * settings.height,
                      "the " + std::to_string(settings.width) + "x" + std::to_string(settings.height) + " render");

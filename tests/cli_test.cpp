@@ -216,8 +216,14 @@ TEST(CliRender, NoCommandWritesOverItsOwnInputs) {
   std::string sceneBefore = readFile(scene);
   CliRun r = vplab("render " + scene + " --size 8x8 -o " + test::tmpPath("x.exr") + " --save-vpls " + scene);
   EXPECT_EQ(r.status, 2);
-  EXPECT_TRUE(contains(r.out, "is an input")) << r.out;
+  // A VPL set is JSON: the scene's name is refused for its extension before anything is written.
+  EXPECT_TRUE(contains(r.out, "option --save-vpls: '" + scene + "' is not .json")) << r.out;
   EXPECT_EQ(readFile(scene), sceneBefore);
+  std::string json = test::tmpPath("input_vpls.json");
+  fs::copy_file(kScene, json, fs::copy_options::overwrite_existing);
+  r = vplab("render " + json + " --size 8x8 -o " + test::tmpPath("x.exr") + " --save-vpls " + json);
+  EXPECT_EQ(r.status, 2);
+  EXPECT_TRUE(contains(r.out, "is an input")) << r.out;
 
   std::string a = test::tmpPath("in_a.png"), b = test::tmpPath("in_b.png");
   writeImage(a, Image(4, 4, glm::vec3(0.2f)));
