@@ -257,62 +257,6 @@ glm::vec3 compensationFor(const Context& ctx, const Interaction& x, Rng& rng, Ga
   return glm::vec3(0.0f);
 }
 
-/// A distance along the camera ray, inside the media intervals before `end`, with density proportional to
-/// mean_c sigma_t,c T_c(t) (the free flight conditioned on scattering before `end`): returns false when no channel can
-/// scatter there. tOut, mediumOut, weightOut = T(t) sigma_s / pdf(t).
-bool sampleForcedFlight(const Context& ctx, const std::vector<MediumInterval>& intervals, float end, glm::vec2 u,
-                        float& tOut, uint32_t& mediumOut, glm::vec3& weightOut) {
-  // Optical depth of each channel over all intervals up to `end`.
-  glm::vec3 total(0.0f);
-  for (const MediumInterval& i : intervals) {
-    float len = std::min(i.t1, end) - i.t0;
-    if (len <= 0.0f) break;
-    const glm::vec3 st = ctx.scene.media[i.medium].sigmaT();
-    for (int c = 0; c < 3; ++c)
-      if (st[c] > 0.0f) total[c] += st[c] * len;
-  }
-  glm::vec3 mass(0.0f);  // probability of scattering before `end`, per channel
-  int usable = 0;
-  for (int c = 0; c < 3; ++c) {
-    mass[c] = std::isinf(total[c]) ? 1.0f : -std::expm1(-total[c]);
-    if (mass[c] > 0.0f) ++usable;
-  }
-  if (usable == 0) return false;
-  // Pick one of the channels that can scatter, uniformly.
-  int pick = std::min(usable - 1, static_cast<int>(u.x * static_cast<float>(usable)));
-  int channel = 0;
-  for (int c = 0, k = 0; c < 3; ++c)
-    if (mass[c] > 0.0f && k++ == pick) channel = c;
-  float tau = -std::log1p(-u.y * mass[channel]);
-  glm::vec3 depth(0.0f);
-  for (const MediumInterval& i : intervals) {
-    float len = std::min(i.t1, end) - i.t0;
-    if (len <= 0.0f) break;
-    const Medium& m = ctx.scene.media[i.medium];
-    const glm::vec3 st = m.sigmaT();
-    float channelDepth = st[channel] > 0.0f ? st[channel] * len : 0.0f;
-    if (channelDepth > tau || &i == &intervals.back()) {
-      float dt = st[channel] > 0.0f ? std::min(len, tau / st[channel]) : len;
-      for (int c = 0; c < 3; ++c)
-        if (st[c] > 0.0f) depth[c] += st[c] * dt;
-      const glm::vec3 tr = glm::exp(-depth);
-      float pdf = 0.0f;
-      for (int c = 0; c < 3; ++c)
-        if (mass[c] > 0.0f) pdf += st[c] * tr[c] / mass[c];
-      pdf /= static_cast<float>(usable);
-      if (!(pdf > 0.0f)) return false;
-      tOut = i.t0 + dt;
-      mediumOut = i.medium;
-      weightOut = m.sigmaS * tr / pdf;
-      return true;
-    }
-    tau -= channelDepth;
-    for (int c = 0; c < 3; ++c)
-      if (st[c] > 0.0f) depth[c] += st[c] * len;
-  }
-  return false;
-}
-
 /// The medium part of one camera sample (docs/theory.md §16-§18): integral over the media intervals of
 /// T(0, t) sigma_s L_s(x(t)). Direct light (single scattering) and the compensation at one forced-flight distance;
 /// each VPL's in-scattering at a distance of its own, drawn equiangularly around it (Kulla & Fajardo 2012), which
@@ -326,7 +270,7 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
   float t = 0.0f;
   uint32_t medium = 0;
   glm::vec3 weight(0.0f);
-  if (sampleForcedFlight(ctx, intervals, end, u, t, medium, weight)) {
+  if (sampleForcedFlight(ctx.scene.media, intervals, end, u, t, medium, weight)) {
     const Interaction x = Interaction::inMediumAt(ctx.scene, origin + dir * t, medium, -dir);
     glm::vec3 l(0.0f);
     if (wantDirect) l += estimateDirectLight(ctx.embree, ctx.lights, x, rng);

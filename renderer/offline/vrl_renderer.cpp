@@ -292,51 +292,12 @@ glm::vec3 indirectAlongRay(const Context& ctx, const glm::vec3& o, const glm::ve
 glm::vec3 singleScattering(const Context& ctx, const glm::vec3& o, const glm::vec3& d,
                            const std::vector<MediumInterval>& intervals, float end, Rng& rng) {
   const glm::vec2 u = rng.next2D();
-  glm::vec3 total(0.0f);
-  for (const MediumInterval& i : intervals) {
-    const float len = std::min(i.t1, end) - i.t0;
-    if (len <= 0.0f) break;
-    const glm::vec3 st = ctx.scene.media[i.medium].sigmaT();
-    for (int c = 0; c < 3; ++c)
-      if (st[c] > 0.0f) total[c] += st[c] * len;
-  }
-  glm::vec3 mass(0.0f);
-  int usable = 0;
-  for (int c = 0; c < 3; ++c) {
-    mass[c] = std::isinf(total[c]) ? 1.0f : -std::expm1(-total[c]);
-    if (mass[c] > 0.0f) ++usable;
-  }
-  if (usable == 0) return glm::vec3(0.0f);
-  const int pick = std::min(usable - 1, static_cast<int>(u.x * static_cast<float>(usable)));
-  int channel = 0;
-  for (int c = 0, k = 0; c < 3; ++c)
-    if (mass[c] > 0.0f && k++ == pick) channel = c;
-  float tau = -std::log1p(-u.y * mass[channel]);
-  glm::vec3 depth(0.0f);
-  for (const MediumInterval& i : intervals) {
-    const float len = std::min(i.t1, end) - i.t0;
-    if (len <= 0.0f) break;
-    const Medium& m = ctx.scene.media[i.medium];
-    const glm::vec3 st = m.sigmaT();
-    const float channelDepth = st[channel] > 0.0f ? st[channel] * len : 0.0f;
-    if (channelDepth > tau || &i == &intervals.back()) {
-      const float dt = st[channel] > 0.0f ? std::min(len, tau / st[channel]) : len;
-      for (int c = 0; c < 3; ++c)
-        if (st[c] > 0.0f) depth[c] += st[c] * dt;
-      const glm::vec3 tr = glm::exp(-depth);
-      float pdf = 0.0f;
-      for (int c = 0; c < 3; ++c)
-        if (mass[c] > 0.0f) pdf += st[c] * tr[c] / mass[c];
-      pdf /= static_cast<float>(usable);
-      if (!(pdf > 0.0f)) return glm::vec3(0.0f);
-      const Interaction x = Interaction::inMediumAt(ctx.scene, o + d * (i.t0 + dt), i.medium, -d);
-      return m.sigmaS * tr / pdf * estimateDirectLight(ctx.embree, ctx.lights, x, rng);
-    }
-    tau -= channelDepth;
-    for (int c = 0; c < 3; ++c)
-      if (st[c] > 0.0f) depth[c] += st[c] * len;
-  }
-  return glm::vec3(0.0f);
+  float t = 0.0f;
+  uint32_t medium = 0;
+  glm::vec3 weight(0.0f);
+  if (!sampleForcedFlight(ctx.scene.media, intervals, end, u, t, medium, weight)) return glm::vec3(0.0f);
+  const Interaction x = Interaction::inMediumAt(ctx.scene, o + d * t, medium, -d);
+  return weight * estimateDirectLight(ctx.embree, ctx.lights, x, rng);
 }
 
 /// One VRL (or beam) render of `set` with beam radius `radius` (0 = VRLs).
