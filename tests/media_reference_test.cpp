@@ -4,21 +4,21 @@
 // media leave images bit-identical, and extreme media (optically huge, one channel without interaction, a
 // directional light in a medium filling all space) render finite images.
 
-#include "renderer/offline/light_sampler.h"
-#include "renderer/offline/offline_scene.h"
-#include "renderer/offline/path_tracer.h"
-#include "renderer/offline/progressive.h"
-#include "renderer/scene/medium.h"
-#include "tests/test_scenes.h"
-
-#include <glm/gtc/matrix_transform.hpp>
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <functional>
+#include <glm/gtc/matrix_transform.hpp>
 #include <string>
+
+#include "renderer/offline/light_sampler.h"
+#include "renderer/offline/offline_scene.h"
+#include "renderer/offline/path_tracer.h"
+#include "renderer/offline/progressive.h"
+#include "renderer/scene/medium.h"
+#include "tests/test_scenes.h"
 
 namespace vplab {
 namespace {
@@ -27,12 +27,7 @@ using test::boxMedium;
 using test::spaceMedium;
 
 Settings smallSettings(int size, int spp) {
-  Settings s;
-  s.width = size;
-  s.height = size;
-  s.samplesPerPixel = spp;
-  s.threads = 2;
-  return s;
+  return test::smallReferenceSettings(size, spp);
 }
 
 glm::dvec3 imageMean(const Image& image) {
@@ -106,10 +101,11 @@ void expectMediumFurnace(const Medium& medium, const char* what) {
     }
   }
   EXPECT_EQ(outliers, 0) << what;
-  std::printf("%s: image mean (%.4f %.4f %.4f), axis (%.4f %.4f %.4f) +- (%.4f %.4f %.4f), worst pixel %.2f of its "
-              "6-sigma bound, %.2f s\n",
-              what, mean.x, mean.y, mean.z, axis.mean.x, axis.mean.y, axis.mean.z, axis.stderr_.x, axis.stderr_.y,
-              axis.stderr_.z, worst, r.seconds);
+  std::printf(
+      "%s: image mean (%.4f %.4f %.4f), axis (%.4f %.4f %.4f) +- (%.4f %.4f %.4f), worst pixel %.2f of its "
+      "6-sigma bound, %.2f s\n",
+      what, mean.x, mean.y, mean.z, axis.mean.x, axis.mean.y, axis.mean.z, axis.stderr_.x, axis.stderr_.y,
+      axis.stderr_.z, worst, r.seconds);
 }
 
 TEST(MediaReferenceFurnace, IsotropicMediumFillingSpaceKeepsTwo) {
@@ -131,8 +127,8 @@ TEST(MediaReferenceFurnace, ChromaticBoxInsideKeepsTwo) {
 
 TEST(MediaReferenceFurnace, BackwardBoxAroundTheCameraKeepsTwo) {
   // The camera (at the origin) inside a rotated box.
-  Medium m = boxMedium(glm::vec3(0.0f), glm::vec3(0.7f, 0.5f, 0.6f), glm::vec3(0.0f), glm::vec3(3.0f, 1.0f, 2.0f),
-                       -0.5f);
+  Medium m =
+      boxMedium(glm::vec3(0.0f), glm::vec3(0.7f, 0.5f, 0.6f), glm::vec3(0.0f), glm::vec3(3.0f, 1.0f, 2.0f), -0.5f);
   const glm::mat4 rot = glm::rotate(glm::mat4(1.0f), 0.6f, glm::normalize(glm::vec3(1.0f, 2.0f, 0.5f)));
   m.worldFromBox = rot * m.worldFromBox;
   m.boxFromWorld = glm::inverse(m.worldFromBox);
@@ -160,8 +156,8 @@ double integrate(const std::function<double(double)>& f, double a, double b, dou
 /// integral_0^inf exp(-sigma_t t) sigma_s f_p(cos) I exp(-sigma_t d(t)) / d(t)^2 dt for one channel, the camera ray
 /// o + t w, the light at p. cos is the cosine between the light's direction of travel before scattering, x - p, and
 /// after, -w: cos = dot(wi, w) with wi = (p - x) / d pointing toward the light.
-double singleScattering(const glm::dvec3& o, const glm::dvec3& w, const glm::dvec3& p, double intensity,
-                        double sigmaA, double sigmaS, double g) {
+double singleScattering(const glm::dvec3& o, const glm::dvec3& w, const glm::dvec3& p, double intensity, double sigmaA,
+                        double sigmaS, double g) {
   const double sigmaT = sigmaA + sigmaS;
   auto f = [&](double t) {
     const glm::dvec3 x = o + t * w;
@@ -184,8 +180,8 @@ Scene pointLightInMedium(const glm::vec3& lightPos, float intensity, const Mediu
   Scene s;
   s.sourcePath = "point-light-in-medium";
   uint32_t black = test::addLambertMaterial(s, glm::vec3(0.0f));
-  test::addQuad(s, {-0.01f, -30.0f, -0.01f}, {0.01f, -30.0f, -0.01f}, {0.01f, -30.0f, 0.01f},
-                {-0.01f, -30.0f, 0.01f}, black, {0, 1, 0});
+  test::addQuad(s, {-0.01f, -30.0f, -0.01f}, {0.01f, -30.0f, -0.01f}, {0.01f, -30.0f, 0.01f}, {-0.01f, -30.0f, 0.01f},
+                black, {0, 1, 0});
   PunctualLight l;
   l.name = "point";
   l.type = PunctualLight::Type::Point;
@@ -210,8 +206,8 @@ void expectSingleScattering(const Medium& medium, const char* what) {
   RayEstimate e = estimateRay(offline, o, w, n, Components::Direct, 8, 1234);
   EXPECT_EQ(e.nonFinite, 0) << what;
   for (int c = 0; c < 3; ++c) {
-    const double exact = singleScattering(glm::dvec3(o), glm::dvec3(w), glm::dvec3(light), intensity,
-                                          medium.sigmaA[c], medium.sigmaS[c], medium.g);
+    const double exact = singleScattering(glm::dvec3(o), glm::dvec3(w), glm::dvec3(light), intensity, medium.sigmaA[c],
+                                          medium.sigmaS[c], medium.g);
     EXPECT_NEAR(e.mean[c], exact, std::min(0.01 * exact, 4.0 * e.stderr_[c] + 1e-4 * exact))
         << what << " channel " << c << " stderr " << e.stderr_[c];
     // The estimate's own noise must be small enough for the 1 % test to mean something.
@@ -235,8 +231,8 @@ TEST(MediaReferenceSingleScattering, ChromaticMediumInALargeBox) {
 }
 
 TEST(MediaReferenceSingleScattering, RenderedPixelsAreFinite) {
-  Scene scene = pointLightInMedium(glm::vec3(0.0f, 1.0f, -2.0f), 10.0f,
-                                   spaceMedium(glm::vec3(0.2f), glm::vec3(0.3f), 0.6f));
+  Scene scene =
+      pointLightInMedium(glm::vec3(0.0f, 1.0f, -2.0f), 10.0f, spaceMedium(glm::vec3(0.2f), glm::vec3(0.3f), 0.6f));
   OfflineScene offline(scene);
   Settings s = smallSettings(16, 16);
   ProgressiveResult direct = renderReference(offline, s);
@@ -282,9 +278,9 @@ void expectAbsorption(const Medium& medium, float length, const char* what) {
 
 TEST(MediaReferenceAbsorption, CameraOutsideTheBox) {
   // z in [-3.5, -1.5]: 2 m of medium on the axis.
-  expectAbsorption(boxMedium(glm::vec3(0.0f, 0.0f, -2.5f), glm::vec3(1.0f), glm::vec3(0.2f, 0.5f, 1.0f),
-                             glm::vec3(0.0f), 0.0f),
-                   2.0f, "camera outside");
+  expectAbsorption(
+      boxMedium(glm::vec3(0.0f, 0.0f, -2.5f), glm::vec3(1.0f), glm::vec3(0.2f, 0.5f, 1.0f), glm::vec3(0.0f), 0.0f),
+      2.0f, "camera outside");
 }
 
 TEST(MediaReferenceAbsorption, CameraInsideTheBox) {
@@ -339,9 +335,9 @@ Medium aroundCornell(const glm::vec3& sigmaA, const glm::vec3& sigmaS, float g) 
 }
 
 TEST(MediaReferenceExtreme, OpticallyHugeMediumIsFiniteDarkAndQuick) {
-  for (const Medium& m : {aroundCornell(glm::vec3(1e6f), glm::vec3(0.0f), 0.0f),
-                          aroundCornell(glm::vec3(0.0f), glm::vec3(1e6f), 0.5f),
-                          spaceMedium(glm::vec3(1e6f), glm::vec3(1e6f), -0.3f)}) {
+  for (const Medium& m :
+       {aroundCornell(glm::vec3(1e6f), glm::vec3(0.0f), 0.0f), aroundCornell(glm::vec3(0.0f), glm::vec3(1e6f), 0.5f),
+        spaceMedium(glm::vec3(1e6f), glm::vec3(1e6f), -0.3f)}) {
     Scene scene = cornellWithMedium(m);
     OfflineScene offline(scene);
     ProgressiveResult r = renderReference(offline, smallSettings(16, 4));

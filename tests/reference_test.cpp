@@ -1,6 +1,12 @@
 // The path-traced reference checked against answers it cannot influence: the furnace, closed-form irradiance from a
 // polygon and a point light, its own split into components, determinism, and a stored high-spp image.
 
+#include <gtest/gtest.h>
+
+#include <cmath>
+#include <limits>
+#include <string>
+
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/direct_light.h"
@@ -10,12 +16,6 @@
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
 #include "tests/test_scenes.h"
-
-#include <gtest/gtest.h>
-
-#include <cmath>
-#include <limits>
-#include <string>
 
 namespace vplab {
 namespace {
@@ -34,12 +34,7 @@ ProgressiveResult render(const Scene& scene, Settings s) {
 }
 
 Settings smallSettings(int size, int spp) {
-  Settings s;
-  s.width = size;
-  s.height = size;
-  s.samplesPerPixel = spp;
-  s.threads = 2;
-  return s;
+  return test::smallReferenceSettings(size, spp);
 }
 
 // --- furnace: closed box, albedo a, emission 1 => radiance 1/(1-a) everywhere -----------------------------------
@@ -194,7 +189,9 @@ PunctualLight testSpot(float inner, float outer) {
   return l;
 }
 
-glm::vec3 atAngle(float theta) { return {std::sin(theta), 0.0f, -std::cos(theta)}; }
+glm::vec3 atAngle(float theta) {
+  return {std::sin(theta), 0.0f, -std::cos(theta)};
+}
 
 TEST(SpotLight, FalloffIsTheSpecificationsSquaredRamp) {
   PunctualLight l = testSpot(0.2f, 0.6f);
@@ -209,8 +206,8 @@ TEST(SpotLight, FalloffIsTheSpecificationsSquaredRamp) {
 
 TEST(SpotLight, FluxIsTheFalloffIntegratedOverTheSphere) {
   // Midpoint rule over theta (the falloff has no phi dependence): dw = 2 pi sin(theta) dtheta.
-  for (auto [inner, outer] : {std::pair{0.0f, 0.785f}, std::pair{0.3f, 0.5f}, std::pair{1.0f, 1.5707f},
-                              std::pair{0.4f, 0.4001f}}) {
+  for (auto [inner, outer] :
+       {std::pair{0.0f, 0.785f}, std::pair{0.3f, 0.5f}, std::pair{1.0f, 1.5707f}, std::pair{0.4f, 0.4001f}}) {
     PunctualLight l = testSpot(inner, outer);
     const int n = 200000;
     double sum = 0.0;

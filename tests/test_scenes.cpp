@@ -1,17 +1,17 @@
 #include "tests/test_scenes.h"
 
-#include "renderer/core/sampling.h"
-#include "renderer/image/metrics.h"
-#include "renderer/offline/progressive.h"
-#include "renderer/scene/gltf_loader.h"
-#include "tests/scene_test_util.h"
-
 #include <gtest/gtest.h>
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
 #include <string>
+
+#include "renderer/core/sampling.h"
+#include "renderer/image/metrics.h"
+#include "renderer/offline/progressive.h"
+#include "renderer/scene/gltf_loader.h"
+#include "tests/scene_test_util.h"
 
 namespace vplab::test {
 
@@ -38,6 +38,15 @@ Medium spaceMedium(const glm::vec3& sigmaA, const glm::vec3& sigmaS, float g) {
   return m;
 }
 
+Settings smallReferenceSettings(int size, int spp) {
+  Settings s;
+  s.width = size;
+  s.height = size;
+  s.samplesPerPixel = spp;
+  s.threads = 2;
+  return s;
+}
+
 Settings smallVplSettings(int size, int vpls) {
   Settings s;
   s.width = size;
@@ -56,7 +65,8 @@ void addBumpySphere(Scene& scene, const glm::vec3& centre, float radius, int tri
   const int rings = std::max(4, static_cast<int>(std::lround(std::sqrt(triangles / 4.0))));
   const int segments = std::max(8, static_cast<int>(std::lround(triangles / (2.0 * rings))));
   auto surface = [&](float theta, float phi) {
-    float bump = 1.0f + 0.06f * std::sin(9.0f * theta) * std::sin(7.0f * phi) + 0.03f * std::sin(23.0f * phi + 3.0f * theta);
+    float bump =
+        1.0f + 0.06f * std::sin(9.0f * theta) * std::sin(7.0f * phi) + 0.03f * std::sin(23.0f * phi + 3.0f * theta);
     glm::vec3 dir(std::sin(theta) * std::cos(phi), std::cos(theta), std::sin(theta) * std::sin(phi));
     return centre + radius * bump * dir;
   };
@@ -78,7 +88,8 @@ void addBumpySphere(Scene& scene, const glm::vec3& centre, float radius, int tri
   const uint32_t row = static_cast<uint32_t>(segments + 1);
   for (int r = 0; r < rings; ++r)
     for (int s = 0; s < segments; ++s) {
-      uint32_t a = base + static_cast<uint32_t>(r) * row + static_cast<uint32_t>(s), b = a + 1, c = a + row, d = b + row;
+      uint32_t a = base + static_cast<uint32_t>(r) * row + static_cast<uint32_t>(s), b = a + 1, c = a + row,
+               d = b + row;
       // Counter-clockwise seen from outside; the poles' degenerate triangles are left out.
       if (r != 0) {
         scene.triangles.emplace_back(a, b, c);
@@ -244,12 +255,13 @@ double polygonIrradiance(const glm::dvec3& x, const glm::dvec3& n, const glm::dv
 std::string TexturedPanel::write(const std::string& name) {
   GltfBuilder b;
   b.doc["extensionsUsed"] = {"KHR_materials_emissive_strength", "KHR_materials_specular"};
-  const int floorMaterial = b.push(
-      "materials", {{"name", "floor"},
-                    {"pbrMetallicRoughness",
-                     {{"baseColorFactor", {kFloorAlbedo, kFloorAlbedo, kFloorAlbedo, 1.0}}, {"metallicFactor", 0.0},
-                      {"roughnessFactor", 1.0}}},
-                    {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}});
+  const int floorMaterial =
+      b.push("materials", {{"name", "floor"},
+                           {"pbrMetallicRoughness",
+                            {{"baseColorFactor", {kFloorAlbedo, kFloorAlbedo, kFloorAlbedo, 1.0}},
+                             {"metallicFactor", 0.0},
+                             {"roughnessFactor", 1.0}}},
+                           {"extensions", {{"KHR_materials_specular", {{"specularFactor", 0.0}}}}}});
   // Strength 4 and factor (1, 0.5, 0.25): the product is kPanelRadiance.
   const float strength = kPanelRadiance.r;
   const glm::vec3 factor = kPanelRadiance / strength;
@@ -258,8 +270,9 @@ std::string TexturedPanel::write(const std::string& name) {
                     {"pbrMetallicRoughness", {{"baseColorFactor", {0.0, 0.0, 0.0, 1.0}}, {"metallicFactor", 0.0}}},
                     {"emissiveFactor", {factor.r, factor.g, factor.b}},
                     {"emissiveTexture", {{"index", 0}}},
-                    {"extensions", {{"KHR_materials_emissive_strength", {{"emissiveStrength", strength}}},
-                                    {"KHR_materials_specular", {{"specularFactor", 0.0}}}}}});
+                    {"extensions",
+                     {{"KHR_materials_emissive_strength", {{"emissiveStrength", strength}}},
+                      {"KHR_materials_specular", {{"specularFactor", 0.0}}}}}});
   const int texels = 256, rows = 4;
   std::vector<glm::u8vec3> image(static_cast<std::size_t>(texels * rows));
   for (int y = 0; y < rows; ++y)
@@ -284,14 +297,15 @@ std::string TexturedPanel::write(const std::string& name) {
       const float z = -kPanelHalf + 2.0f * kPanelHalf * static_cast<float>(j) / cells;
       pos.emplace_back(x, kPanelHeight, z);
       normal.emplace_back(0, -1, 0);
-      uv.emplace_back(0.25f + 0.5f * (x + kPanelHalf) / (2.0f * kPanelHalf), 0.25f + 0.5f * (z + kPanelHalf) / (2.0f * kPanelHalf));
+      uv.emplace_back(0.25f + 0.5f * (x + kPanelHalf) / (2.0f * kPanelHalf),
+                      0.25f + 0.5f * (z + kPanelHalf) / (2.0f * kPanelHalf));
     }
   for (int j = 0; j < cells; ++j)
     for (int i = 0; i < cells; ++i) {
       const auto a = static_cast<uint16_t>(j * (cells + 1) + i), c = static_cast<uint16_t>(a + cells + 1);
       // Counter-clockwise seen from below (the loader also turns triangles to their normals' side).
-      idx.insert(idx.end(), {a, static_cast<uint16_t>(a + 1), static_cast<uint16_t>(c + 1), a,
-                             static_cast<uint16_t>(c + 1), c});
+      idx.insert(idx.end(),
+                 {a, static_cast<uint16_t>(a + 1), static_cast<uint16_t>(c + 1), a, static_cast<uint16_t>(c + 1), c});
     }
   nlohmann::json panel = GltfBuilder::primitive(b.vec3(pos), b.indicesU16(idx), b.vec3(normal), panelMaterial);
   panel["attributes"]["TEXCOORD_0"] = b.vec2(uv);
@@ -384,9 +398,10 @@ void TexturedPanel::expectClosedForm(const Image& image, const Camera& camera, d
   const double panelRight = sum[1][1] / sumExpected[1][1];
   // The black half, relative to the white one (the closed form's is the texture's blend in the column at x = 0).
   const double panelLeft = sum[1][0] / sumExpected[1][1], expectedPanelLeft = sumExpected[1][0] / sumExpected[1][1];
-  std::printf("[ measured ] %s vs closed form: relMSE %.5f, energy %.4f; floor left half %.4f, right half %.4f; "
-              "panel white half %.4f, black half %.2g of the white (closed form %.2g)\n",
-              what, m.relMse, m.energyRatioOverall, floorLeft, floorRight, panelRight, panelLeft, expectedPanelLeft);
+  std::printf(
+      "[ measured ] %s vs closed form: relMSE %.5f, energy %.4f; floor left half %.4f, right half %.4f; "
+      "panel white half %.4f, black half %.2g of the white (closed form %.2g)\n",
+      what, m.relMse, m.energyRatioOverall, floorLeft, floorRight, panelRight, panelLeft, expectedPanelLeft);
   EXPECT_EQ(m.nonFinitePixels, 0u) << what;
   EXPECT_LE(m.relMse, relMseTolerance) << what;
   EXPECT_NEAR(m.energyRatioOverall, 1.0, energyTolerance) << what;

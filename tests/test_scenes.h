@@ -2,24 +2,25 @@
 // Scenes for the tests: built in code with a closed-form answer (independent of the glTF loader and the generated
 // assets), or loaded from assets/scenes/ together with their BVH and light sampler.
 
+#include <glm/glm.hpp>
+#include <memory>
+#include <string>
+
 #include "renderer/image/image.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 
-#include <glm/glm.hpp>
-
-#include <memory>
-#include <string>
-
 namespace vplab::test {
-
 
 /// A homogeneous medium filling the box centre +- half (axis-aligned), and one filling all space
 /// (renderer/scene/medium.h).
 Medium boxMedium(const glm::vec3& centre, const glm::vec3& half, const glm::vec3& sigmaA, const glm::vec3& sigmaS,
                  float g);
 Medium spaceMedium(const glm::vec3& sigmaA, const glm::vec3& sigmaS, float g);
+
+/// Settings for a cheap reference test: size x size pixels, `spp` samples per pixel, 2 threads.
+Settings smallReferenceSettings(int size, int spp);
 
 /// Settings for a cheap VPL test: size x size pixels, `vpls` VPLs, 1 sample per pixel, 2 threads.
 Settings smallVplSettings(int size, int vpls);
@@ -88,10 +89,11 @@ struct TexturedPanel {
   static Image closedForm(const Camera& camera, int size, int sub = 64);
   /// Expects (gtest) `image` (square, seen by `camera`) to match closedForm(): relMSE at most relMseTolerance, the
   /// energy of the whole image and of the panel's white half (pixels wholly on it) within energyTolerance, the black
-  /// half as dark as the closed form (within 1 % of the white half), and the floor's light under each half (pixels wholly on the floor, left and right of the image's
-  /// centre) within floorHalfTolerance. Prints the figures, labelled `what`.
-  static void expectClosedForm(const Image& image, const Camera& camera, double relMseTolerance,
-                               double energyTolerance, double floorHalfTolerance, const char* what);
+  /// half as dark as the closed form (within 1 % of the white half), and the floor's light under each half (pixels
+  /// wholly on the floor, left and right of the image's centre) within floorHalfTolerance. Prints the figures, labelled
+  /// `what`.
+  static void expectClosedForm(const Image& image, const Camera& camera, double relMseTolerance, double energyTolerance,
+                               double floorHalfTolerance, const char* what);
 };
 
 /// Irradiance at point x with unit normal n from a one-sided Lambertian polygon of uniform radiance le

@@ -79,6 +79,41 @@ inline bool sampleForcedFlight(const std::vector<Medium>& media, const std::vect
   return false;
 }
 
+/// The far end of a camera ray's media span before `end`: a span reaching infinity (a medium filling all space) is cut
+/// where the least attenuated channel's transmittance is 1e-6, or at 1000 scene diagonals for a channel that does not
+/// attenuate (the lights' 1/d^2 has faded long before).
+inline float mediaSpanEnd(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals, float end,
+                          float sceneDiagonal) {
+  float b = std::min(intervals.back().t1, end);
+  if (!std::isfinite(b)) {
+    const glm::vec3 st = media[intervals.back().medium].sigmaT();
+    const float least = std::min({st.x, st.y, st.z});
+    b = intervals.back().t0 + (least > 0.0f ? 14.0f / least : 1000.0f * sceneDiagonal);
+  }
+  return b;
+}
+
+/// A distance t along o + t d in [a, b), drawn equiangularly around the point p (Kulla & Fajardo 2012):
+/// t = delta + h tan(theta), theta uniform between the span's angles, pdf h / ((thetaB - thetaA)(h^2 + (t - delta)^2)),
+/// which cancels a 1/d^2 toward p. h is at least minH. Returns the interval holding t (null between boxes or when the
+/// sample is degenerate), with tOut and pdfOut.
+inline const MediumInterval* sampleEquiangular(const std::vector<MediumInterval>& intervals, const glm::vec3& o,
+                                               const glm::vec3& d, float a, float b, const glm::vec3& p, float u,
+                                               float minH, float& tOut, float& pdfOut) {
+  const float delta = glm::dot(p - o, d);
+  const float h = std::max(minH, glm::length(o + d * delta - p));
+  const float thetaA = std::atan2(a - delta, h), thetaB = std::atan2(b - delta, h);
+  const float t = delta + h * std::tan(thetaA + u * (thetaB - thetaA));
+  const float pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
+  if (!(pdf > 0.0f) || !std::isfinite(t) || !std::isfinite(pdf)) return nullptr;
+  const MediumInterval* in = nullptr;
+  for (const MediumInterval& iv : intervals)
+    if (t >= iv.t0 && t < iv.t1) in = &iv;
+  tOut = t;
+  pdfOut = pdf;
+  return in;
+}
+
 template <class AlongRay, class AtSurface>
 glm::vec3 manyLightCameraSample(const EmbreeScene& embree, const LightSampler& lights, const Settings& settings, int x,
                                 int y, Rng& rng, AlongRay&& alongRay, AtSurface&& atSurface) {

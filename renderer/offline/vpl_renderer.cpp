@@ -283,12 +283,7 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
   // reaches infinity (a medium filling all space) is cut where the least attenuated channel's transmittance is 1e-6,
   // or at 1000 scene diagonals for a channel that does not attenuate (the VPLs' 1/d^2 has faded long before).
   const float a = intervals.front().t0;
-  float b = std::min(intervals.back().t1, end);
-  if (!std::isfinite(b)) {
-    const glm::vec3 st = ctx.scene.media[intervals.back().medium].sigmaT();
-    float least = std::min({st.x, st.y, st.z});
-    b = intervals.back().t0 + (least > 0.0f ? 14.0f / least : 1000.0f * ctx.sceneDiagonal);
-  }
+  const float b = mediaSpanEnd(ctx.scene.media, intervals, end, ctx.sceneDiagonal);
   if (!(b > a)) return radiance;
   std::array<ShadowRay, kShadowBatch> rays;
   std::array<glm::vec3, kShadowBatch> clamped;
@@ -311,19 +306,11 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
   const float minH = 1e-6f * ctx.sceneDiagonal;
   for (std::size_t i = 0; i < ctx.vpls.size(); ++i) {
     const Vpl& vpl = ctx.vpls[i];
-    float uT = rng.next1D();
-    // Equiangular sampling (Kulla & Fajardo 2012): t = delta + h tan(theta), theta uniform in [thetaA, thetaB].
-    const float delta = glm::dot(vpl.position - origin, dir);
-    const float h = std::max(minH, glm::length(origin + dir * delta - vpl.position));
-    const float thetaA = std::atan2(a - delta, h), thetaB = std::atan2(b - delta, h);
-    const float tv = delta + h * std::tan(thetaA + uT * (thetaB - thetaA));
-    const float pdf = h / ((thetaB - thetaA) * (h * h + (tv - delta) * (tv - delta)));
-    if (!(pdf > 0.0f) || !std::isfinite(tv)) continue;
-    // The medium at tv (between boxes there is none) and the transmittance from the camera to it.
-    const MediumInterval* in = nullptr;
-    for (const MediumInterval& iv : intervals)
-      if (tv >= iv.t0 && tv < iv.t1) in = &iv;
+    const float uT = rng.next1D();
     ++tally.evaluations;
+    // A distance of its own, equiangular around the VPL; the medium there (between boxes there is none).
+    float tv = 0.0f, pdf = 0.0f;
+    const MediumInterval* in = sampleEquiangular(intervals, origin, dir, a, b, vpl.position, uT, minH, tv, pdf);
     if (!in) continue;
     const Interaction x = Interaction::inMediumAt(ctx.scene, origin + dir * tv, in->medium, -dir);
     glm::vec3 uc;

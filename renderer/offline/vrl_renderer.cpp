@@ -164,35 +164,15 @@ bool sampleVrlTowardLine(const Context& ctx, const Vrl& vrl, const glm::vec3& o,
   return finishVrlPoint(ctx, vrl, v, pdf, rng, out);
 }
 
-/// The far end of the camera ray's media span: a span reaching infinity is cut where the least attenuated channel's
-/// transmittance is 1e-6, or at 1000 scene diagonals for a channel that does not attenuate (as in the VPL render).
-float spanEnd(const Context& ctx, const std::vector<MediumInterval>& intervals, float end) {
-  float b = std::min(intervals.back().t1, end);
-  if (!std::isfinite(b)) {
-    const glm::vec3 st = ctx.scene.media[intervals.back().medium].sigmaT();
-    float least = std::min({st.x, st.y, st.z});
-    b = intervals.back().t0 + (least > 0.0f ? 14.0f / least : 1000.0f * ctx.sceneDiagonal);
-  }
-  return b;
-}
-
 /// u along the camera ray equiangularly around p over [a, b); returns the medium interval holding it (or null) and
 /// the weight sigma_s(u) T(o, u) / p(u).
 const MediumInterval* sampleRayAroundPoint(const Context& ctx, const glm::vec3& o, const glm::vec3& d,
                                            const std::vector<MediumInterval>& intervals, float a, float b,
                                            const glm::vec3& p, float uT, float& tOut, glm::vec3& weightOut) {
-  const float delta = glm::dot(p - o, d);
-  const float h = std::max(1e-6f * ctx.sceneDiagonal, glm::length(o + d * delta - p));
-  const float thetaA = std::atan2(a - delta, h), thetaB = std::atan2(b - delta, h);
-  const float t = delta + h * std::tan(thetaA + uT * (thetaB - thetaA));
-  const float pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
-  if (!(pdf > 0.0f) || !std::isfinite(t) || !std::isfinite(pdf)) return nullptr;
-  const MediumInterval* in = nullptr;
-  for (const MediumInterval& iv : intervals)
-    if (t >= iv.t0 && t < iv.t1) in = &iv;
+  float pdf = 0.0f;
+  const MediumInterval* in = sampleEquiangular(intervals, o, d, a, b, p, uT, 1e-6f * ctx.sceneDiagonal, tOut, pdf);
   if (!in) return nullptr;
-  tOut = t;
-  weightOut = ctx.scene.media[in->medium].sigmaS * transmittanceOver(ctx.scene.media, intervals, t) / pdf;
+  weightOut = ctx.scene.media[in->medium].sigmaS * transmittanceOver(ctx.scene.media, intervals, tOut) / pdf;
   return in;
 }
 
@@ -241,7 +221,7 @@ glm::vec3 indirectAtSurface(const Context& ctx, const Interaction& x, Rng& rng, 
 glm::vec3 indirectAlongRay(const Context& ctx, const glm::vec3& o, const glm::vec3& d,
                            const std::vector<MediumInterval>& intervals, float end, Rng& rng, Tally& tally) {
   const float a = intervals.front().t0;
-  const float b = spanEnd(ctx, intervals, end);
+  const float b = mediaSpanEnd(ctx.scene.media, intervals, end, ctx.sceneDiagonal);
   if (!(b > a)) return glm::vec3(0.0f);
   ShadowBatch batch{ctx.embree, true, tally};
   // Surface VPLs: one distance each, equiangular around the VPL.
