@@ -46,11 +46,6 @@ struct Against {
   ImageMetrics perPixel, downscaled;
 };
 
-Image scaled(Image image, double factor) {
-  for (glm::vec3& p : image.pixels) p *= static_cast<float>(factor);
-  return image;
-}
-
 // The preview's gather per pixel and on the grid of `downscale`, each against the exact render of the same VPLs. The
 // three images are scaled so that the exact one has mean luminance 1: relMSE's 0.01 in the denominator would otherwise
 // hide every error of a scene's dim indirect light.

@@ -12,10 +12,14 @@
 #include <sstream>
 #include <string>
 
+#include "renderer/core/sampling.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/image/tonemap.h"
+#include "renderer/offline/emitter_mask.h"
+#include "renderer/offline/path_tracer.h"
+#include "tests/test_scenes.h"
 #include "tests/test_tmp.h"
 
 namespace vplab {
@@ -373,6 +377,46 @@ TEST(ImageCompareCli, PrintsMetricsAndFailsOnMismatch) {
   EXPECT_EQ(runVplab("compare " + small + " " + b, ignored), 2);  // images that cannot be compared: usage
   EXPECT_EQ(runVplab("compare " + test::tmpPath("missing.exr") + " " + b, ignored), 3);  // an unreadable input
   EXPECT_EQ(runVplab("compare " + a, ignored), 2);
+}
+
+
+TEST(ImageMetrics, EmitterMaskLeavesTheEmitterOutOfTheMeanRatio) {
+  // A lit surface 5 % too dark, next to an emitter 100x brighter, scaled like the rest: over all pixels the ratio
+  // is dominated by the emitter; with the emitter excluded it is the surface's 0.95.
+  Image ref(4, 1, glm::vec3(1.0f));
+  ref.at(0, 0) = glm::vec3(300.0f);
+  Image img = ref;
+  for (int x = 1; x < 4; ++x) img.at(x, 0) *= 0.95f;
+  PixelMask emitter(4, 1);
+  emitter.at(0, 0) = 1;
+  EXPECT_GT(compareImages(img, ref).energyRatioOverall, 0.999);
+  EXPECT_NEAR(meanRatioExcludingEmitters(img, ref, emitter), 0.95, 1e-6);
+  EXPECT_EQ(compareImagesExcluding(img, ref, emitter).comparedPixels, 3u);
+  EXPECT_EQ(dilateMask(emitter, 1).count(), 2u);
+  EXPECT_EQ(blockMask(dilateMask(emitter, 1), 2).count(), 1u);
+  EXPECT_THROW(compareImagesExcluding(img, ref, PixelMask(2, 2)), std::invalid_argument);
+  EXPECT_NEAR(unitMeanScale(ref, emitter), 1.0, 1e-6);
+}
+
+TEST(ImageMetrics, EmitterMaskCoversTheCornellLightAndItsEdge) {
+  auto cornell = test::loadAssetScene("cornell-box");
+  const int size = 32;
+  PixelMask bare = emitterMask(cornell->embree(), size, size, 0);
+  PixelMask mask = emitterMask(cornell->embree(), size, size);
+  EXPECT_GT(bare.count(), 0u) << "the ceiling light is in view";
+  EXPECT_LT(bare.count(), std::size_t(size * size / 10));
+  EXPECT_GT(mask.count(), bare.count());
+  Settings s = test::smallReferenceSettings(size, 16);
+  Image direct = renderReference(*cornell, s).image;
+  // The pixels the mask keeps are lit surfaces, far dimmer than the emitter (the brightest pixel of the image).
+  double brightest = 0.0, brightestKept = 0.0;
+  for (int y = 0; y < size; ++y)
+    for (int x = 0; x < size; ++x) {
+      const double l = luminance(direct.at(x, y));
+      brightest = std::max(brightest, l);
+      if (!mask.at(x, y)) brightestKept = std::max(brightestKept, l);
+    }
+  EXPECT_LT(brightestKept, 0.2 * brightest);
 }
 
 }  // namespace vplab

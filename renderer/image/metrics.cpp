@@ -41,12 +41,21 @@ double meanLuminance(const Image& image) {
 }
 
 ImageMetrics compareImages(const Image& image, const Image& reference) {
+  return compareImagesExcluding(image, reference, PixelMask(image.width, image.height));
+}
+
+ImageMetrics compareImagesExcluding(const Image& image, const Image& reference, const PixelMask& excluded) {
   requireSameSize(image, reference);
+  if (excluded.width != image.width || excluded.height != image.height)
+    throw std::invalid_argument("mask size " + std::to_string(excluded.width) + "x" + std::to_string(excluded.height) +
+                                " differs from image size " + std::to_string(image.width) + "x" +
+                                std::to_string(image.height));
   ImageMetrics m;
   // Sums in double: a 1080p image has 6M terms, and float accumulation would lose the small relMSE contributions.
   double squared = 0.0, relative = 0.0;
   glm::dvec3 sumImage(0.0), sumReference(0.0);
   for (std::size_t i = 0; i < image.size(); ++i) {
+    if (excluded.excluded[i]) continue;
     glm::vec3 a = image.pixels[i], r = reference.pixels[i];
     bool finiteA = isFinite(a), finiteR = isFinite(r);
     if (!finiteA) ++m.nonFinitePixels;
@@ -74,6 +83,51 @@ ImageMetrics compareImages(const Image& image, const Image& reference) {
   m.energyRatioOverall =
       ratio(m.meanImage.x + m.meanImage.y + m.meanImage.z, m.meanReference.x + m.meanReference.y + m.meanReference.z);
   return m;
+}
+
+double meanRatioExcludingEmitters(const Image& image, const Image& reference, const PixelMask& emitters) {
+  return compareImagesExcluding(image, reference, emitters).energyRatioOverall;
+}
+
+std::size_t PixelMask::count() const {
+  std::size_t n = 0;
+  for (uint8_t e : excluded) n += e != 0;
+  return n;
+}
+
+PixelMask dilateMask(const PixelMask& mask, int radius) {
+  PixelMask out(mask.width, mask.height);
+  for (int y = 0; y < mask.height; ++y)
+    for (int x = 0; x < mask.width; ++x) {
+      if (!mask.at(x, y)) continue;
+      for (int dy = -radius; dy <= radius; ++dy)
+        for (int dx = -radius; dx <= radius; ++dx) {
+          int nx = x + dx, ny = y + dy;
+          if (nx >= 0 && ny >= 0 && nx < mask.width && ny < mask.height) out.at(nx, ny) = 1;
+        }
+    }
+  return out;
+}
+
+PixelMask blockMask(const PixelMask& mask, int block) {
+  if (block < 1) throw std::invalid_argument("blockMask: block must be >= 1");
+  PixelMask out((mask.width + block - 1) / block, (mask.height + block - 1) / block);
+  for (int y = 0; y < mask.height; ++y)
+    for (int x = 0; x < mask.width; ++x)
+      if (mask.at(x, y)) out.at(x / block, y / block) = 1;
+  return out;
+}
+
+double unitMeanScale(const Image& reference, const PixelMask& excluded) {
+  const ImageMetrics m = compareImagesExcluding(reference, reference, excluded);
+  const double mean = luminance(glm::vec3(m.meanReference));
+  return mean > 0.0 ? 1.0 / mean : 1.0;
+}
+
+Image scaled(const Image& image, double factor) {
+  Image out = image;
+  for (glm::vec3& p : out.pixels) p *= static_cast<float>(factor);
+  return out;
 }
 
 Image relativeErrorImage(const Image& image, const Image& reference) {

@@ -4,7 +4,9 @@
 // number: NaN/Inf pixels and negative pixels.
 
 #include <cstddef>
+#include <cstdint>
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "renderer/image/image.h"
 
@@ -48,6 +50,41 @@ Image signedDifferenceImage(const Image& image, const Image& reference);
 /// its per-pixel noise: the "4x4-block relMSE" of docs/methods.md is compareImages(blockAverage(I, 4),
 /// blockAverage(R, 4)).relMse. block must be >= 1.
 Image blockAverage(const Image& image, int block);
+
+/// Pixels a comparison leaves out (row-major like Image, 1 = left out). The emitters' mask (emitterMask in
+/// renderer/offline/emitter_mask.h) is the usual one: a visible emitter is so much brighter than the lit surfaces
+/// that it dominates an image's sum, so a mean ratio over all pixels hides a 5 % error on every lit surface.
+struct PixelMask {
+  int width = 0;
+  int height = 0;
+  std::vector<uint8_t> excluded;
+
+  PixelMask() = default;
+  PixelMask(int w, int h) : width(w), height(h), excluded(static_cast<std::size_t>(w) * static_cast<std::size_t>(h), 0) {}
+  uint8_t& at(int x, int y) { return excluded[static_cast<std::size_t>(y) * width + x]; }
+  uint8_t at(int x, int y) const { return excluded[static_cast<std::size_t>(y) * width + x]; }
+  std::size_t count() const;
+};
+
+/// The mask grown by `radius` pixels in each direction (a 3x3 neighbourhood for radius 1): pixels at an emitter's
+/// edge mix emitter and surface, and filters (downscaling, deinterleaving) spread the emitter into them.
+PixelMask dilateMask(const PixelMask& mask, int radius);
+
+/// The mask for blockAverage(image, block): a block is left out when any of its pixels is.
+PixelMask blockMask(const PixelMask& mask, int block);
+
+/// compareImages over the pixels the mask keeps; throws std::invalid_argument when the three sizes differ.
+ImageMetrics compareImagesExcluding(const Image& image, const Image& reference, const PixelMask& excluded);
+
+/// mean(image) / mean(reference) (channel sums, as ImageMetrics::energyRatioOverall) over the pixels that are not
+/// emitters nor their edges: the energy check of every image test. `emitters` is emitterMask's (already dilated).
+double meanRatioExcludingEmitters(const Image& image, const Image& reference, const PixelMask& emitters);
+
+/// The image times 1 / (its mean luminance over the pixels the mask keeps), so that relMSE's +0.01 in the
+/// denominator weighs errors alike on dim and bright images (an indirect image of mean 0.03 would otherwise admit a
+/// uniform 33 % error at relMSE 0.01). Scale both images by the reference's factor: unitMeanScale(reference, mask).
+double unitMeanScale(const Image& reference, const PixelMask& excluded);
+Image scaled(const Image& image, double factor);
 
 /// True when all three channels are finite.
 bool isFinite(glm::vec3 v);
