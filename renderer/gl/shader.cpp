@@ -4,6 +4,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <cstdlib>
 #include <fstream>
 #include <regex>
 #include <set>
@@ -122,7 +123,11 @@ std::string rewriteLog(const std::string& log, const std::vector<std::string>& n
 
 }  // namespace
 
-std::string defaultShaderDir() { return VPLAB_SHADER_DIR; }
+std::string defaultShaderDir() {
+  // VPLAB_SHADER_DIR in the environment: shaders edited in a copy are tried without rebuilding.
+  const char* fromEnvironment = std::getenv("VPLAB_SHADER_DIR");
+  return fromEnvironment && *fromEnvironment ? fromEnvironment : VPLAB_SHADER_DIR;
+}
 
 std::string preprocessShader(const std::string& shaderDir, const std::string& file,
                              std::vector<std::string>& fileNames) {

@@ -23,7 +23,7 @@ struct ShaderError : GlError {
   int line = 0;      ///< its line, 0 when unknown
 };
 
-/// The absolute shaders/ folder of the source tree (compile definition VPLAB_SHADER_DIR).
+/// The shaders/ folder: $VPLAB_SHADER_DIR when set, else the source tree's (compile definition VPLAB_SHADER_DIR).
 std::string defaultShaderDir();
 
 /// Reads `file` (relative to shaderDir) and resolves its #include directives. fileNames[i] receives the file whose
