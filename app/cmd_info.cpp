@@ -24,14 +24,6 @@ std::string vec(const glm::vec3& v) {
   return buf;
 }
 
-/// Per channel 1 / sigma_t: the mean distance light travels before it is absorbed or scattered (inf where the
-/// channel does not interact).
-glm::vec3 meanFreePath(const glm::vec3& sigmaT) {
-  const float inf = std::numeric_limits<float>::infinity();
-  return {sigmaT.x > 0.0f ? 1.0f / sigmaT.x : inf, sigmaT.y > 0.0f ? 1.0f / sigmaT.y : inf,
-          sigmaT.z > 0.0f ? 1.0f / sigmaT.z : inf};
-}
-
 /// The media, one block each: where, the coefficients, and optical depths that say how foggy the scene will look
 /// (exp(-depth) of the light gets straight through).
 void printMedia(const Scene& scene) {
@@ -44,24 +36,23 @@ void printMedia(const Scene& scene) {
       std::printf("  %-20s all space\n", printable(m.name).c_str());
     } else {
       // The box is [-1, 1]^3 under worldFromBox: its centre is the translation, its half sizes the axis lengths.
-      const glm::vec3 half(glm::length(glm::vec3(m.worldFromBox[0])), glm::length(glm::vec3(m.worldFromBox[1])),
-                           glm::length(glm::vec3(m.worldFromBox[2])));
+      const glm::vec3 half = m.halfSizes();
       bool aligned = true;
       for (int i = 0; i < 3; ++i)
         for (int j = 0; j < 3; ++j)
           if (i != j && std::abs(m.worldFromBox[i][j]) > 1e-6f * half[i]) aligned = false;
       std::printf("  %-20s box centre %s, half sizes %s m%s\n", printable(m.name).c_str(),
-                  vec(glm::vec3(m.worldFromBox[3])).c_str(), vec(half).c_str(), aligned ? "" : " (rotated)");
+                  vec(m.centre()).c_str(), vec(half).c_str(), aligned ? "" : " (rotated)");
     }
     std::printf("  %-20s sigmaA %s, sigmaS %s, sigma_t %s 1/m%s\n", "", vec(m.sigmaA).c_str(), vec(m.sigmaS).c_str(),
                 vec(sigmaT).c_str(), m.isVacuum() ? " (vacuum)" : "");
     std::printf("  %-20s albedo %s, g %.3g, mean free path %s m\n", "", vec(m.albedo()).c_str(), m.g,
-                vec(meanFreePath(sigmaT)).c_str());
+                vec(m.meanFreePath()).c_str());
     std::printf("  %-20s optical depth across the scene (%.4g m) %s", "", sceneDiagonal,
                 vec(sigmaT * sceneDiagonal).c_str());
     if (!m.fillsSpace) {
-      float longest = 0.0f;
-      for (int i = 0; i < 3; ++i) longest = std::max(longest, 2.0f * glm::length(glm::vec3(m.worldFromBox[i])));
+      const glm::vec3 half = m.halfSizes();
+      const float longest = 2.0f * std::max({half.x, half.y, half.z});
       std::printf(", along the box's longest edge (%.4g m) %s", longest, vec(sigmaT * longest).c_str());
     }
     std::printf("\n");

@@ -135,4 +135,23 @@ Staleness staleAfterLightEdit() {
   return s.propagated();
 }
 
+Staleness staleAfterMediumEdit(const std::vector<Medium>& before, const std::vector<Medium>& after) {
+  // Only what light meets counts: the interacting media, in order, with their coefficients, phase and region.
+  auto interacting = [](const std::vector<Medium>& media) {
+    std::vector<const Medium*> out;
+    for (const Medium& m : media)
+      if (!m.isVacuum()) out.push_back(&m);
+    return out;
+  };
+  const std::vector<const Medium*> a = interacting(before), b = interacting(after);
+  bool same = a.size() == b.size();
+  for (std::size_t i = 0; same && i < a.size(); ++i)
+    same = a[i]->sigmaA == b[i]->sigmaA && a[i]->sigmaS == b[i]->sigmaS && a[i]->g == b[i]->g &&
+           a[i]->fillsSpace == b[i]->fillsSpace && (a[i]->fillsSpace || a[i]->worldFromBox == b[i]->worldFromBox);
+  Staleness s;
+  if (same) return s;
+  s.vpls = s.direct = s.offline = true;
+  return s.propagated();
+}
+
 }  // namespace vplab

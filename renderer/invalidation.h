@@ -17,13 +17,18 @@
 //                        shadowBias, components
 //   SSBC              <- the direct light, the gather, ssbcSteps, ssbcCoarseRings
 //   tonemap           <- SSBC, exposure
+//   (media)           <- a scene's media (coefficients, g, boxes) act on the light paths: VPL generation (where
+//                        paths scatter, their attenuation) and the offline result; the clamp bound b and the camera
+//                        do not touch the VPLs, in media as elsewhere
 //   offline result    <- scene, lights, camera, image size, seed, and the parameters of the offline method: the
 //                        reference ignores every VPL parameter; the VPL methods read the VPLs and clampBound; the VSL
 //                        method reads the VSL parameters (the radius and the CPU's cone samples). Exposure, threads and
 //                        the preview-only parameters never touch it (results do not depend on the thread count).
 
 #include <string>
+#include <vector>
 
+#include "renderer/scene/medium.h"
 #include "renderer/settings.h"
 
 namespace vplab {
@@ -70,5 +75,11 @@ Staleness staleAfterCameraMove();
 /// A punctual light moved or changed intensity: the VPLs are regenerated (same seed, so they move coherently), and
 /// so is everything downstream, and the light shadow maps; the G-buffer stays.
 Staleness staleAfterLightEdit();
+
+/// A scene's media edited (a box added, removed, moved or resized; sigma_a, sigma_s or g changed): the light paths
+/// scatter and attenuate elsewhere, so the VPLs are regenerated (same seed) with everything downstream, the direct
+/// light (its transmittance) and the offline result; the G-buffer and the shadow maps of surfaces stay. Media that
+/// neither absorb nor scatter before and after (vacuum, a renamed medium) change nothing.
+Staleness staleAfterMediumEdit(const std::vector<Medium>& before, const std::vector<Medium>& after);
 
 }  // namespace vplab

@@ -1,6 +1,12 @@
 #include "ui/change_timer.h"
 
+#include <chrono>
+
 namespace vplab::ui {
+
+double steadySeconds() {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+}
 
 void ChangeTimer::changed(double seconds) {
   if (pending_) return;

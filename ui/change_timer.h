@@ -8,6 +8,9 @@
 
 namespace vplab::ui {
 
+/// The editor's clock: seconds on the steady clock (what ChangeTimer is fed with).
+double steadySeconds();
+
 class ChangeTimer {
  public:
   /// A change made the preview stale at `seconds`. One that arrives before the previous change converged extends it:

@@ -1,8 +1,7 @@
 #include "ui/offline_job.h"
 
 #include "renderer/offline/offline_scene.h"
-#include "renderer/offline/path_tracer.h"
-#include "renderer/offline/vpl_renderer.h"
+#include "renderer/offline/render_methods.h"
 
 #include <chrono>
 
@@ -30,17 +29,20 @@ double estimateSecondsLeft(double elapsedSeconds, float progress) {
 double OfflineTimeEstimate::work(Method method, const Settings& s, std::size_t vplCount) {
   const double samples = static_cast<double>(s.width) * s.height * s.samplesPerPixel;
   if (method == Method::Reference) return samples;
-  return samples * static_cast<double>(vplCount) * (method == Method::Vsl ? s.vslSamples : 1);
+  // Progressive virtual beams make their own light paths, vplCount per pass, beamPasses passes.
+  if (method == Method::Vbl) return samples * s.vplCount * s.beamPasses;
+  const int perLight = method == Method::Vsl ? s.vslSamples : method == Method::Vrl ? s.vrlSamples : 1;
+  return samples * static_cast<double>(vplCount) * perLight;
 }
 
 void OfflineTimeEstimate::record(Method method, const Settings& settings, std::size_t vplCount, double seconds) {
   const double units = work(method, settings, vplCount);
-  if (units > 0.0 && seconds > 0.0) secondsPerUnit_[static_cast<int>(method)] = seconds / units;
+  if (units > 0.0 && seconds > 0.0) secondsPerUnit_[method] = seconds / units;
 }
 
 double OfflineTimeEstimate::estimate(Method method, const Settings& settings, std::size_t vplCount) const {
-  const double perUnit = secondsPerUnit_[static_cast<int>(method)];
-  return perUnit < 0.0 ? -1.0 : perUnit * work(method, settings, vplCount);
+  auto it = secondsPerUnit_.find(method);
+  return it == secondsPerUnit_.end() ? -1.0 : it->second * work(method, settings, vplCount);
 }
 
 OfflineJob::~OfflineJob() {
@@ -85,7 +87,7 @@ void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& v
   // Copies: the worker must not see the editor's later edits (a moved light, a new scene) half-way through.
   Scene sceneCopy = scene;
   sceneCopy.camera = camera;
-  VplSet vplCopy = method == Method::Reference ? VplSet{} : vpls;
+  VplSet vplCopy = renderMethod(method).usesVpls ? vpls : VplSet{};
   thread_ = std::thread([this, sceneCopy = std::move(sceneCopy), vplCopy = std::move(vplCopy),
                          settings = offlineRenderSettings(settings, method), method] {
     auto onPass = [this](const Image& mean, int) {
@@ -95,14 +97,8 @@ void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& v
     };
     try {
       OfflineScene offline(sceneCopy);
-      ProgressiveResult result;
-      if (method == Method::Reference) {
-        result = renderReference(offline, settings, &control_, onPass);
-      } else {
-        VplRenderResult vr = renderVpl(offline, vplCopy, method, settings, &control_, onPass);
-        clampEnergyRemoved_ = vr.clampEnergyRemoved;
-        result = std::move(vr);
-      }
+      VplRenderResult result = renderMethod(method).render(offline, vplCopy, settings, &control_, onPass);
+      clampEnergyRemoved_ = result.clampEnergyRemoved;
       cancelled_ = result.cancelled;
       samples_ = result.samplesPerPixel;
       nonFiniteSamples_ = result.nonFiniteSamples;

@@ -1,6 +1,8 @@
 #pragma once
-// The editor's offline pass: the Embree reference or the exact VPL render of the same scene, camera,
-// settings and VPLs, on a worker thread with progress, cancellation and the running mean, while the UI stays
+// The editor's offline pass: any row of the render-method table (renderer/offline/render_methods.h): the Embree
+// reference, the exact VPL render of the same scene, camera, settings and VPLs, or a media method (approximate
+// compensation, virtual ray lights, progressive virtual beam lights, whose running mean arrives pass by pass), on a
+// worker thread with progress, cancellation and the running mean, while the UI stays
 // responsive. The job owns copies of everything it reads, so the editor may edit its own scene meanwhile.
 
 #include "renderer/core/parallel.h"
@@ -10,6 +12,7 @@
 #include "renderer/vpl/vpl.h"
 
 #include <atomic>
+#include <map>
 #include <mutex>
 #include <optional>
 #include <string>
@@ -27,7 +30,8 @@ double estimateSecondsLeft(double elapsedSeconds, float progress);
 
 /// Estimates how long an offline render will take before it starts, from the throughput of the last completed
 /// render of the same method on this machine: its seconds per unit of work, where a unit is one pixel sample of the
-/// reference (pixels x spp), or one VPL evaluation of an exact render (pixels x spp x VPLs, x VSL samples for VSLs).
+/// reference (pixels x spp), or one VPL evaluation of an exact render (pixels x spp x VPLs, x VSL or VRL samples;
+/// progressive virtual beams: x vplCount x beamPasses).
 class OfflineTimeEstimate {
  public:
   /// A render of `method` with these settings (offlineRenderSettings) and `vplCount` VPLs took `seconds`.
@@ -39,7 +43,7 @@ class OfflineTimeEstimate {
   static double work(Method method, const Settings& settings, std::size_t vplCount);
 
  private:
-  double secondsPerUnit_[4] = {-1.0, -1.0, -1.0, -1.0};  // by Method
+  std::map<Method, double> secondsPerUnit_;
 };
 
 class OfflineJob {
@@ -49,8 +53,8 @@ class OfflineJob {
   OfflineJob(const OfflineJob&) = delete;
   OfflineJob& operator=(const OfflineJob&) = delete;
 
-  /// Starts a render of `scene` seen from `camera`; a running job is cancelled first. `vpls` is ignored for
-  /// Method::Reference.
+  /// Starts a render of `scene` seen from `camera`; a running job is cancelled first. `vpls` is ignored by the
+  /// methods that do not use VPLs (the reference, vbl, which makes a set per pass).
   void start(const Scene& scene, const Camera& camera, const VplSet& vpls, const Settings& settings, Method method);
   void cancel();
   bool running() const { return running_.load(); }

@@ -20,6 +20,7 @@ enum class PresetOffline {
   None,
   Reference,  ///< the path-traced reference
   ExactVpl,   ///< the exact CPU render of the same VPLs (exactCounterpartOf)
+  Chosen,     ///< TeachingPreset::offlineMethod (a media method: vpl-abc, vrl, vbl)
 };
 
 struct TeachingPreset {
@@ -30,6 +31,8 @@ struct TeachingPreset {
   bool signedDifference = false;  ///< the difference view shows preview - offline instead of the relative error
   bool showRejected = false;      ///< the VPL view also marks the candidates rejection dropped
   PresetOffline offline = PresetOffline::None;
+  /// The offline panel's method choice the preset sets; rendered at once when offline is Chosen.
+  Method offlineMethod = Method::Vrl;
   bool animateLight = false;      ///< moves the first light on a small circle every frame
   bool reseedEveryFrame = false;  ///< draws a new VPL seed every frame (the flicker demonstration)
   std::string explanation;        ///< what to look at and why it happens

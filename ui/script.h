@@ -10,13 +10,22 @@
 //   reset-camera                   back to the scene camera
 //   light <index> move <dx> <dy> <dz>      move a punctual light (scene units)
 //   light <index> intensity <scale>        scale a punctual light's intensity
+//   medium add box|space           add a grey fog box over the geometry, or fog filling all space (ui/media_panel.h)
+//   medium <i> remove              remove medium i
+//   medium <i> sigmaA|sigmaS <r> <g> <b>   set an absorption or scattering coefficient (1/m, per channel)
+//   medium <i> g <value>           set the Henyey-Greenstein asymmetry
+//   medium <i> move <dx> <dy> <dz> move a box; medium <i> size <hx> <hy> <hz> gives it these half sizes
+//                                  (an edit the loader would refuse fails with its message)
+//   save-sidecar                   write the scene's lights and media next to the scene file (lights_json.h)
 //   view <mode>                    preview | reference | split | difference | ssbc-residual | vpls
 //   preset <name>                  a teaching preset by its name (the rest of the line; an unknown name fails at
 //                                  parse time, listing the presets); prints the preset's description
 //   frames <n>                     render n frames (the UI needs >= 2 before a screenshot)
 //   screenshot <path.png>          the whole window as PNG
 //   save-view <path>               the linear image of the preview (.exr, .pfm or .png)
-//   offline <reference|vpl>        start the offline pass with the current settings and camera
+//   offline <reference|vpl|method> start the offline pass with the current settings and camera: the path-traced
+//                                  reference, the exact counterpart of the preview, or a method of the render-method
+//                                  table (vpl-kk, vsl, vpl-abc, vrl, vbl)
 //   wait-offline                   render frames until the offline pass is done
 //   load-settings <f.json>         apply a settings file
 //   save-settings <f.json>         write the current settings
@@ -25,8 +34,9 @@
 //   expect-no-shadow-map-render    fail unless no VPL shadow map was rendered since the mark
 //   expect-vpl-regeneration        fail unless VPLs were generated since the mark
 //   counters                       print the work counters on stdout
-//   time-frames <n> [light <i>]    render n frames while the camera orbits (or light i is dragged) and print the mean,
-//                                  median, p95 and largest frame time, the UI's share and the updates finished
+//   time-frames <n> [light|medium <i>]  render n frames while the camera orbits (or light i is dragged, or medium i's
+//                                  sigmaS is dragged) and print the mean, median, p95 and largest frame time, the
+//                                  UI's share and the updates finished
 //   preview-scale <s>              fit the preview to the view at s preview pixels per window pixel (0.05 to 1)
 //   change-cost                    print what the last change cost: ms from the change to the final image, frames
 //   preset-state                   print a fingerprint of everything a preset sets (settings, scene file, lights,
@@ -37,6 +47,8 @@
 #include <vector>
 
 namespace vplab::ui {
+
+class EditorState;
 
 struct ScriptError : std::runtime_error {
   using std::runtime_error::runtime_error;
@@ -52,6 +64,10 @@ struct ScriptCommand {
 std::vector<ScriptCommand> parseScript(const std::string& text, const std::string& source);
 /// Reads and parses a script file. Throws ScriptError naming the file.
 std::vector<ScriptCommand> loadScript(const std::string& path);
+
+/// Runs a command on the editor's state through the functions the panels call. Returns false for the verbs that need
+/// the window's frame loop (frames, screenshot, wait-offline, time-frames). Throws ScriptError naming the line.
+bool runStateCommand(EditorState& state, const ScriptCommand& command, const std::string& source);
 
 /// Numeric argument i of a command, with the command's location in the message when it is not a number.
 double scriptNumber(const ScriptCommand& command, std::size_t i, const std::string& source);

@@ -95,12 +95,6 @@ std::string boundText(double bound) {
 }
 
 constexpr const char* kMediaExtension = "VPLAB_participating_media";
-/// Largest absorption or scattering coefficient accepted, 1/m: a mean free path of 0.1 um. Anything denser is a unit
-/// mistake, and keeping sigma_t * length finite in float over scenes up to kMaxCoordinate needs a bound anyway.
-constexpr double kMaxSigma = 1e7;
-/// A medium box whose axes span less than this fraction of the volume their lengths allow (|det| over the product
-/// of the column lengths, the box's "squareness") is treated as flat: its inverse would not be trustworthy in float.
-constexpr double kMinBoxSquareness = 1e-6;
 
 /// Extensions the loader implements, and what it does with some it does not (used in the warning).
 bool isSupportedExtension(const std::string& name) {
@@ -902,9 +896,9 @@ Medium Loader::readMedium(const tinygltf::Value& ext, const std::string& at) con
       const tinygltf::Value& x = v.Get(c);
       if (!x.IsNumber()) fail(where + "[" + std::to_string(c) + "]", "is not a number");
       double d = x.GetNumberAsDouble();
-      if (!(d >= 0.0 && d <= kMaxSigma))
+      if (!(d >= 0.0 && d <= kMaxMediumSigma))
         fail(where + "[" + std::to_string(c) + "]",
-             "must lie in [0, " + boundText(kMaxSigma) + "] 1/m (got " + boundText(d) + ")");
+             "must lie in [0, " + boundText(kMaxMediumSigma) + "] 1/m (got " + boundText(d) + ")");
       out[c] = static_cast<float>(d);
     }
     return out;
@@ -933,7 +927,7 @@ void Loader::addMediumBox(int nodeIndex, const glm::mat4& world) {
   double lengths = 1.0;
   for (int i = 0; i < 3; ++i) lengths *= glm::length(glm::dvec3(glm::vec3(world[i])));
   double det = glm::determinant(glm::dmat3(glm::mat3(world)));
-  if (!(lengths > 0.0) || !std::isfinite(lengths) || !(std::abs(det) > kMinBoxSquareness * lengths))
+  if (!(lengths > 0.0) || !std::isfinite(lengths) || !(std::abs(det) > kMinMediumBoxSquareness * lengths))
     fail(at, "singular transform for a medium box (a zero scale, or axes in one plane): the box has no volume");
   m.worldFromBox = world;
   m.boxFromWorld = glm::inverse(world);

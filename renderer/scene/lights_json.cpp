@@ -11,6 +11,7 @@
 #include <filesystem>
 #include <fstream>
 #include <iterator>
+#include <optional>
 
 namespace vplab {
 namespace {
@@ -92,7 +93,21 @@ std::string lightsToJson(const Scene& scene) {
     entry["triangles"].push_back({vec(scene.positions[tri.x]), vec(scene.positions[tri.y]), vec(scene.positions[tri.z])});
     if (textured) entry["uvs"].push_back({vec(scene.uvs[tri.x]), vec(scene.uvs[tri.y]), vec(scene.uvs[tri.z])});
   }
-  return Json({{"punctualLights", punctual}, {"areaLights", area}}).dump(2) + "\n";
+  Json media = Json::array();
+  for (const Medium& m : scene.media) {
+    Json j = {{"name", m.name}, {"sigmaA", vec(m.sigmaA)}, {"sigmaS", vec(m.sigmaS)}, {"g", m.g}};
+    if (m.fillsSpace) {
+      j["fillsSpace"] = true;
+    } else {
+      // Column-major, as glTF writes a node matrix.
+      Json world = Json::array();
+      for (int c = 0; c < 4; ++c)
+        for (int r = 0; r < 4; ++r) world.push_back(m.worldFromBox[c][r]);
+      j["worldFromBox"] = world;
+    }
+    media.push_back(j);
+  }
+  return Json({{"punctualLights", punctual}, {"areaLights", area}, {"media", media}}).dump(2) + "\n";
 }
 
 void saveLightsFile(const std::string& path, const Scene& scene) {
@@ -189,7 +204,44 @@ void applyLightsFile(const std::string& path, Scene& scene) {
     areas.push_back(std::move(a));
   }
 
+  // Media: optional (a sidecar saved before the editor edited media keeps the scene's), checked as the loader checks
+  // the glTF extension's.
+  std::optional<std::vector<Medium>> media;
+  if (doc.contains("media")) {
+    const Json& list = doc["media"];
+    if (!list.is_array()) r.fail("media", "expected an array");
+    media.emplace();
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const std::string at = "media[" + std::to_string(i) + "]";
+      const Json& j = list[i];
+      Medium m;
+      const Json& name = r.member(j, "name", at);
+      if (!name.is_string()) r.fail(at + ".name", "expected a string");
+      m.name = name.get<std::string>();
+      m.sigmaA = r.vec3(r.member(j, "sigmaA", at), at + ".sigmaA", kMaxMediumSigma);
+      m.sigmaS = r.vec3(r.member(j, "sigmaS", at), at + ".sigmaS", kMaxMediumSigma);
+      m.g = r.number(r.member(j, "g", at), at + ".g", 1.0);
+      if (j.contains("fillsSpace")) {
+        if (!j["fillsSpace"].is_boolean()) r.fail(at + ".fillsSpace", "expected true or false");
+        m.fillsSpace = j["fillsSpace"].get<bool>();
+      }
+      if (!m.fillsSpace) {
+        const Json& world = r.member(j, "worldFromBox", at);
+        if (!world.is_array() || world.size() != 16) r.fail(at + ".worldFromBox", "expected 16 numbers (column-major)");
+        glm::mat4 w;
+        for (int c = 0; c < 4; ++c)
+          for (int k = 0; k < 4; ++k)
+            w[c][k] = r.number(world[static_cast<std::size_t>(4 * c + k)], at + ".worldFromBox", kMaxCoordinate);
+        m.setBox(w);
+      }
+      if (std::string problem = mediumProblem(m); !problem.empty()) r.fail(at, problem);
+      media->push_back(m);
+    }
+    if (std::string problem = mediaProblem(*media); !problem.empty()) r.fail("media", problem);
+  }
+
   // Apply: the scene's own area lights go, the file's come in.
+  if (media) scene.media = std::move(*media);
   scene.punctualLights = std::move(punctual);
   std::size_t kept = 0;
   for (std::size_t t = 0; t < scene.triangles.size(); ++t)

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 
 #include "renderer/core/sampling.h"
@@ -27,6 +28,67 @@ std::vector<glm::vec3> Medium::corners() const {
     out.push_back(glm::vec3(worldFromBox * c));
   }
   return out;
+}
+
+glm::vec3 Medium::meanFreePath() const {
+  const glm::vec3 t = sigmaT();
+  const float inf = std::numeric_limits<float>::infinity();
+  return {t.x > 0.0f ? 1.0f / t.x : inf, t.y > 0.0f ? 1.0f / t.y : inf, t.z > 0.0f ? 1.0f / t.z : inf};
+}
+
+glm::vec3 Medium::halfSizes() const {
+  return {glm::length(glm::vec3(worldFromBox[0])), glm::length(glm::vec3(worldFromBox[1])),
+          glm::length(glm::vec3(worldFromBox[2]))};
+}
+
+void Medium::setBox(const glm::mat4& world) {
+  worldFromBox = world;
+  boxFromWorld = glm::inverse(world);
+}
+
+std::string mediumProblem(const Medium& m) {
+  auto number = [](double v) {
+    char text[32];
+    std::snprintf(text, sizeof text, "%g", v);
+    return std::string(text);
+  };
+  const std::string who = "medium '" + m.name + "': ";
+  const char* channel[3] = {"r", "g", "b"};
+  for (int c = 0; c < 3; ++c) {
+    if (!(m.sigmaA[c] >= 0.0f && m.sigmaA[c] <= kMaxMediumSigma))
+      return who + "sigmaA." + channel[c] + " must lie in [0, " + number(kMaxMediumSigma) + "] 1/m (got " +
+             number(m.sigmaA[c]) + ")";
+    if (!(m.sigmaS[c] >= 0.0f && m.sigmaS[c] <= kMaxMediumSigma))
+      return who + "sigmaS." + channel[c] + " must lie in [0, " + number(kMaxMediumSigma) + "] 1/m (got " +
+             number(m.sigmaS[c]) + ")";
+  }
+  // |g| = 1 is a delta phase function, which no sampler here can evaluate.
+  if (!(std::abs(m.g) < 1.0f)) return who + "g must lie in (-1, 1) (got " + number(m.g) + ")";
+  if (m.fillsSpace) return {};
+  double lengths = 1.0;
+  for (int i = 0; i < 3; ++i) lengths *= glm::length(glm::dvec3(glm::vec3(m.worldFromBox[i])));
+  const double det = glm::determinant(glm::dmat3(glm::mat3(m.worldFromBox)));
+  if (!(lengths > 0.0) || !std::isfinite(lengths) || !(std::abs(det) > kMinMediumBoxSquareness * lengths))
+    return who + "the box has no volume (a zero size, or axes in one plane)";
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      if (!std::isfinite(m.boxFromWorld[i][j]) || !std::isfinite(m.worldFromBox[i][j]))
+        return who + "the box is too small or too large to invert in float";
+  return {};
+}
+
+std::string mediaProblem(const std::vector<Medium>& media) {
+  for (const Medium& m : media)
+    if (std::string problem = mediumProblem(m); !problem.empty()) return problem;
+  for (std::size_t a = 0; a < media.size(); ++a)
+    for (std::size_t b = a + 1; b < media.size(); ++b)
+      if (boxesOverlap(media[a], media[b]))
+        return "'" + media[b].name + "' and '" + media[a].name + "': " +
+               (media[a].fillsSpace || media[b].fillsSpace
+                    ? "a medium box cannot lie inside the medium that fills all space"
+                    : "medium boxes overlap") +
+               "; media must be disjoint";
+  return {};
 }
 
 void mediumIntervals(const std::vector<Medium>& media, const glm::vec3& origin, const glm::vec3& direction, float tMax,

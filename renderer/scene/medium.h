@@ -12,6 +12,13 @@
 
 namespace vplab {
 
+/// Largest absorption or scattering coefficient accepted, 1/m: a mean free path of 0.1 um. Anything denser is a unit
+/// mistake, and keeping sigma_t * length finite in float over scenes up to kMaxCoordinate needs a bound anyway.
+inline constexpr double kMaxMediumSigma = 1e7;
+/// A medium box whose axes span less than this fraction of the volume their lengths allow (|det| over the product
+/// of the column lengths, the box's "squareness") is treated as flat: its inverse would not be trustworthy in float.
+inline constexpr double kMinMediumBoxSquareness = 1e-6;
+
 struct Medium {
   std::string name;              ///< the glTF node's name (or "scene" for a medium that fills all space)
   glm::vec3 sigmaA{0.0f};        ///< absorption coefficient per channel, 1/m (scene units), >= 0
@@ -28,7 +35,22 @@ struct Medium {
   bool isVacuum() const;
   /// World-space corners of the box (fillsSpace: none).
   std::vector<glm::vec3> corners() const;
+  /// Per channel 1 / sigma_t: the mean distance light travels before it is absorbed or scattered (inf where the
+  /// channel does not interact).
+  glm::vec3 meanFreePath() const;
+  /// The box's centre and half sizes along its own axes (the cube [-1, 1]^3 under worldFromBox).
+  glm::vec3 centre() const { return glm::vec3(worldFromBox[3]); }
+  glm::vec3 halfSizes() const;
+  /// Sets worldFromBox and its inverse.
+  void setBox(const glm::mat4& world);
 };
+
+/// What is wrong with one medium, as the loader judges it (coefficients finite in [0, kMaxMediumSigma], |g| < 1, a
+/// box with volume and a finite inverse), or empty. Names the medium.
+std::string mediumProblem(const Medium& medium);
+/// mediumProblem of each medium, then whether two of them share points (media must be disjoint: boxes that do not
+/// overlap, or one medium filling all space alone), or empty.
+std::string mediaProblem(const std::vector<Medium>& media);
 
 /// The part [t0, t1) of a ray that lies inside media[medium].
 struct MediumInterval {
