@@ -97,6 +97,10 @@ const std::vector<SettingInfo>& settingsTable() {
        "each VSL radius from the local VPL density, scaled by the VSL radius", kUseGeneration},
       {"vslSamples", &Settings::vslSamples, 1, 256, "N", "samples per VSL of the exact CPU render (one-sample MIS)",
        kUseCpuVpl},
+      {"lvlTileSize", &Settings::lvlTileSize, 1, 64, "T", "local virtual lights: side of the pixel tiles sharing them",
+       kUseCpuVpl},
+      {"lvlLightsPerTile", &Settings::lvlLightsPerTile, 1, 4096, "K",
+       "local virtual lights per tile and camera sample", kUseCpuVpl},
       {"vrlSamples", &Settings::vrlSamples, 1, 256, "N", "samples per VRL and pixel sample", kUseCpuVpl},
       {"beamRadius", &Settings::beamRadius, 0, kMaxFloat, "r",
        "first virtual beam radius in metres, 0 = 2 % of the scene diagonal", kUseCpuVpl},
@@ -248,6 +252,7 @@ const char* toString(Method method) {
     case Method::VplAbc: return "vpl-abc";
     case Method::Vrl: return "vrl";
     case Method::Vbl: return "vbl";
+    case Method::Lvl: return "lvl";
   }
   return "?";
 }
@@ -294,7 +299,8 @@ bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out) {
 }
 
 bool parseMethod(const std::string& text, Method& out) {
-  for (Method m : {Method::Reference, Method::Vpl, Method::VplKK, Method::Vsl, Method::VplAbc, Method::Vrl, Method::Vbl})
+  for (Method m : {Method::Reference, Method::Vpl, Method::VplKK, Method::Vsl, Method::VplAbc, Method::Vrl, Method::Vbl,
+                   Method::Lvl})
     if (text == toString(m)) {
       out = m;
       return true;

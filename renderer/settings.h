@@ -20,6 +20,8 @@ enum class Method {
               ///< the medium taken as homogeneous and unoccluded inside the bound's ball
   Vrl,        ///< virtual ray lights (Novak et al. 2012a): the light paths' media segments light the media
   Vbl,        ///< progressive virtual beam lights (Novak et al. 2012b): VRLs of shrinking radius, pass after pass
+  Lvl,        ///< bounded global VPLs plus local virtual lights per pixel tile carrying the residual (Davidovic et
+              ///< al. 2010): Kollig-Keller's compensation vertices shared by the pixels of a tile
 };
 
 /// How the GL preview answers the visibility between a VPL and a shading point (docs/methods.md "VPL visibility").
@@ -171,6 +173,16 @@ struct Settings {
   /// evaluates the integral without samples. Default 2: one sample from the cone and one from a glossy end's BRDF,
   /// on average, keeps the exact VSL render within 3x the point-VPL render (docs/benchmarks.md).
   int vslSamples = 2;
+
+  // --- local virtual lights, Davidovic et al. 2010 (section 21) --------------------------------------------------
+  /// Side of the square pixel tiles whose pixels share local lights [1, 64]; each tile is split further into groups
+  /// of pixels with the same material and similar normals. 1 = one pixel per tile: Kollig-Keller's compensation.
+  /// Default 8 (docs/benchmarks.md "Local virtual lights").
+  int lvlTileSize = 8;
+  /// Local lights per tile and camera sample, shared among the tile's groups by their pixel counts (at least one
+  /// each) [1, 4096]. Each costs one gather of the global VPLs at its vertex and one shadow ray per pixel of its
+  /// group. Default 16 (docs/benchmarks.md "Local virtual lights").
+  int lvlLightsPerTile = 16;
 
   // --- virtual ray lights and progressive virtual beam lights, Novak et al. 2012a, 2012b (sections 19, 20) -----
   /// Samples per VRL and pixel sample of the exact CPU VRL/VBL render (each for the camera ray's media part and

@@ -498,6 +498,67 @@ def fog_shaft():
     return g
 
 
+# --- glossy counter ---------------------------------------------------------------------------------------------------
+
+# A closed white room, 1.6 m wide, 1 m high, 1.6 m deep, with a brushed-metal counter for a floor (metallic GGX,
+# roughness 0.2) and three boxes standing on it: contact reflections, the glossy transport at short distances that the
+# bound removes, virtual spherical lights blur and local virtual lights bring back.
+COUNTER_ROOM = ((-0.8, 0.0, -1.0), (0.8, 1.0, 0.6))
+COUNTER_METAL = (0.9, 0.88, 0.85)
+COUNTER_ROUGHNESS = 0.2
+COUNTER_LIGHT_RADIANCE = (20.0, 19.0, 17.0)
+COUNTER_LIGHT_HALF = 0.15
+COUNTER_BOXES = [  # name, lower corner, upper corner, colour
+    ("red-box", (-0.45, 0.0, -0.05), (-0.2, 0.3, 0.2), RED),
+    ("white-tower", (-0.05, 0.0, 0.05), (0.13, 0.5, 0.23), WHITE),
+    ("green-cube", (0.25, 0.0, -0.2), (0.42, 0.17, -0.03), GREEN),
+]
+
+
+def box_faces(lower, upper):
+    """The five faces of an axis-aligned box standing on y = lower.y (no bottom), oriented outward."""
+    (x0, y0, z0), (x1, y1, z1) = lower, upper
+    faces = [
+        [(x0, y1, z0), (x1, y1, z0), (x1, y1, z1), (x0, y1, z1)],
+        [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0)],
+        [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)],
+        [(x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)],
+        [(x1, y0, z0), (x1, y0, z1), (x1, y1, z1), (x1, y1, z0)],
+    ]
+    centre = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
+    return [orient(f, sub(centroid(f), centre)) for f in faces]
+
+
+def glossy_counter():
+    (x0, y0, z0), (x1, y1, z1) = COUNTER_ROOM
+    extras = {"units": "metres", "counterMetallic": 1.0, "counterRoughness": COUNTER_ROUGHNESS,
+              "lightRadianceR": COUNTER_LIGHT_RADIANCE[0], "lightRadianceG": COUNTER_LIGHT_RADIANCE[1],
+              "lightRadianceB": COUNTER_LIGHT_RADIANCE[2]}
+    g = Gltf("glossy-counter", extras)
+    white = g.material("white", WHITE, 0.0, 1.0, specular=0.0)
+    metal = g.material("brushed-metal", COUNTER_METAL, 1.0, COUNTER_ROUGHNESS)
+    light = g.material("light", (0.78, 0.78, 0.78), 0.0, 1.0, specular=0.0, emission=COUNTER_LIGHT_RADIANCE)
+    centre = ((x0 + x1) / 2, (y0 + y1) / 2, (z0 + z1) / 2)
+    room = {
+        "walls": [
+            [(x0, y1, z0), (x1, y1, z0), (x1, y1, z1), (x0, y1, z1)],
+            [(x0, y0, z1), (x1, y0, z1), (x1, y1, z1), (x0, y1, z1)],
+            [(x0, y0, z0), (x1, y0, z0), (x1, y1, z0), (x0, y1, z0)],
+            [(x0, y0, z0), (x0, y0, z1), (x0, y1, z1), (x0, y1, z0)],
+            [(x1, y0, z0), (x1, y0, z1), (x1, y1, z1), (x1, y1, z0)],
+        ],
+    }
+    g.mesh_node("walls", [orient(q, sub(centre, centroid(q))) for q in room["walls"]], white)
+    g.mesh_node("counter", [orient([(x0, y0, z0), (x1, y0, z0), (x1, y0, z1), (x0, y0, z1)], (0.0, 1.0, 0.0))], metal)
+    for name, lower, upper, colour in COUNTER_BOXES:
+        g.mesh_node(name, box_faces(lower, upper), g.material(name, colour, 0.0, 1.0, specular=0.0))
+    h, ly = COUNTER_LIGHT_HALF, y1 - 0.0005
+    g.mesh_node("light", [orient([(-h, ly, -h), (h, ly, -h), (h, ly, h), (-h, ly, h)], (0.0, -1.0, 0.0))], light)
+    # From near the front wall, above the counter, looking down at the boxes' feet and their reflections.
+    g.camera_node("camera", (0.0, 0.6, -0.95), (-0.05, 0.08, 0.05), math.radians(50.0))
+    return g
+
+
 def main():
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     root = os.path.dirname(os.path.dirname(os.path.abspath(__file__)))
@@ -512,6 +573,7 @@ def main():
         "two-rooms": two_rooms(),
         "cornell-fog": cornell_fog(),
         "fog-shaft": fog_shaft(),
+        "glossy-counter": glossy_counter(),
     }
     for name, g in scenes.items():
         text = g.to_json()

@@ -5,7 +5,8 @@
 namespace vplab {
 
 glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& lights, const SurfaceHit& hit,
-                            const glm::vec3& wo, const BrdfParams& brdf, Rng& rng, uint64_t* shadowRays) {
+                            const glm::vec3& wo, const BrdfParams& brdf, Rng& rng, uint64_t* shadowRays,
+                            IncidentSample* incident) {
   // Draw the random numbers first so the stream advances by the same amount whatever happens below.
   float uLight = rng.next1D();
   glm::vec2 uPoint = rng.next2D();
@@ -18,7 +19,8 @@ glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& light
   float cosI = glm::dot(n, ls.wi);
   if (cosI <= 0.0f) return glm::vec3(0.0f);
   glm::vec3 f = evaluateBrdf(brdf, n, wo, ls.wi);
-  if (f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return glm::vec3(0.0f);
+  // Nothing to reflect toward wo: no shadow ray, unless the sample is kept for other viewers.
+  if (!incident && f.r <= 0.0f && f.g <= 0.0f && f.b <= 0.0f) return glm::vec3(0.0f);
 
   // Exact visibility between the shading point and the light point (both ends nudged off their surfaces); toward a
   // directional light, along wi to infinity.
@@ -36,6 +38,7 @@ glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& light
   // sampling, so its weight is 1.
   float weight = ls.isDelta ? 1.0f : powerHeuristic(ls.pdf, brdfPdf(brdf, n, wo, ls.wi));
   glm::vec3 result = f * ls.radiance * (cosI * weight / ls.pdf);
+  if (incident) *incident = {ls.wi, ls.radiance * (cosI * weight / ls.pdf) * tr};
   return embree.hasMedia() ? result * tr : result;
 }
 
@@ -71,9 +74,11 @@ glm::vec3 misWeightedEmission(const LightSampler& lights, const glm::vec3& from,
 }
 
 glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const SurfaceHit& hit,
-                              const glm::vec3& wo, const BrdfParams& brdf, Rng& rng) {
+                              const glm::vec3& wo, const BrdfParams& brdf, Rng& rng,
+                              std::array<IncidentSample, 2>* incident) {
+  if (incident) *incident = {};
   // Strategy 1: sample the lights (next-event estimation).
-  glm::vec3 result = sampleLightDirect(embree, lights, hit, wo, brdf, rng);
+  glm::vec3 result = sampleLightDirect(embree, lights, hit, wo, brdf, rng, nullptr, incident ? &(*incident)[0] : nullptr);
 
   // Strategy 2: sample the BRDF and trace the ray; it counts only if it lands on an emitter.
   glm::vec3 u(rng.next1D(), rng.next1D(), rng.next1D());
@@ -88,6 +93,7 @@ glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lig
   // Light from the emitter crosses the media on the way (their transmittance, not a free flight: this estimator
   // counts only light that comes straight from the emitter).
   if (embree.hasMedia()) le *= embree.transmittance(origin, bs.wi, next->distance);
+  if (incident) (*incident)[1] = {bs.wi, le * (cosI / bs.pdf)};
   return result + bs.f * le * (cosI / bs.pdf);
 }
 

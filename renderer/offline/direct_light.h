@@ -12,6 +12,7 @@
 
 #include <glm/glm.hpp>
 
+#include <array>
 #include <cstdint>
 
 namespace vplab {
@@ -25,8 +26,10 @@ inline bool facesDirection(const SurfaceHit& hit, const glm::vec3& w) { return g
 /// the surface (toward the previous vertex).
 /// shadowRays, when given, is incremented by the number of shadow rays traced (0 or 1). Always draws exactly three
 /// random numbers (one for the light, two for the point), whatever the outcome.
+/// incident, when given, receives the sample as an IncidentSample (zero weight when it carries nothing).
 glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& lights, const SurfaceHit& hit,
-                            const glm::vec3& wo, const BrdfParams& brdf, Rng& rng, uint64_t* shadowRays = nullptr);
+                            const glm::vec3& wo, const BrdfParams& brdf, Rng& rng, uint64_t* shadowRays = nullptr,
+                            IncidentSample* incident = nullptr);
 
 /// BRDF-sampling half: the emitted radiance Le seen at `emitterHit` along wi (unit, from `from` toward the hit),
 /// times its MIS weight against sampleLightDirect()'s light pdf. The caller multiplies by f cos / brdfPdf (its path
@@ -35,9 +38,12 @@ glm::vec3 misWeightedEmission(const LightSampler& lights, const glm::vec3& from,
                               const glm::vec3& wi, float brdfPdf);
 
 /// Radiance reflected at `hit` toward wo from light arriving straight from the emitters (one reflection):
-/// sampleLightDirect() plus one BRDF-sampled ray traced here and counted by misWeightedEmission().
+/// sampleLightDirect() plus one BRDF-sampled ray traced here and counted by misWeightedEmission(). incident, when
+/// given, receives both samples (the estimate toward another wo' is sum f(wo', wi) weight: the MIS weights keep the
+/// pdfs of wo, so it stays unbiased).
 glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const SurfaceHit& hit,
-                              const glm::vec3& wo, const BrdfParams& brdf, Rng& rng);
+                              const glm::vec3& wo, const BrdfParams& brdf, Rng& rng,
+                              std::array<IncidentSample, 2>* incident = nullptr);
 
 /// sampleLightDirect() at any path vertex: on a surface exactly the function above; in a medium the phase function
 /// replaces f cos (MIS against phase sampling), and the shadow ray starts at the point itself. With media, every

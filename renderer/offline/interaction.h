@@ -16,6 +16,15 @@
 
 namespace vplab {
 
+/// One sample of the light arriving at a surface point, kept so that the point's reflection can be re-evaluated
+/// toward another viewer: the estimate reflected toward any wo is f(wo, wi) * weight, with the incident radiance, the
+/// cosine at the point, 1 / pdf and any MIS weight folded into `weight` (the pdfs those weights use stay the ones the
+/// sample was drawn with, so the estimate stays unbiased for every wo where they cover f).
+struct IncidentSample {
+  glm::vec3 wi{0.0f};
+  glm::vec3 weight{0.0f};
+};
+
 struct Interaction {
   bool inMedium = false;
   glm::vec3 position{0.0f};

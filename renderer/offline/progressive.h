@@ -47,6 +47,27 @@ ProgressiveOptions progressiveOptions(const Settings& settings, int samplesPerPa
 ProgressiveResult renderProgressive(const ProgressiveOptions& options, const PixelEstimator& estimator,
                                     RenderControl* control = nullptr);
 
+/// A rectangle of pixels [x0, x1) x [y0, y1), the work item of a tiled render; `index` numbers it in row-major
+/// order over the image's tiles.
+struct PixelTile {
+  uint64_t index = 0;
+  int x0 = 0, y0 = 0, x1 = 0, y1 = 0;
+  int width() const { return x1 - x0; }
+  std::size_t pixelCount() const { return static_cast<std::size_t>(x1 - x0) * (y1 - y0); }
+  /// Row-major position of pixel (x, y) inside the tile.
+  std::size_t local(int x, int y) const { return static_cast<std::size_t>(y - y0) * (x1 - x0) + (x - x0); }
+};
+
+/// One camera sample for every pixel of a tile at once, for estimators that share work among neighbouring pixels:
+/// rngs[i] is private to the tile's pixel i (row-major) and this sample, the same stream a PixelEstimator gets for it;
+/// out[i] receives that pixel's estimate.
+using TileEstimator = std::function<void(const PixelTile& tile, uint32_t sampleIndex, Rng* rngs, glm::vec3* out)>;
+
+/// renderProgressive over square tiles of tileSize pixels (smaller at the right and bottom edges), one tile per work
+/// item: the image does not depend on the thread count either.
+ProgressiveResult renderProgressiveTiles(const ProgressiveOptions& options, int tileSize,
+                                         const TileEstimator& estimator, RenderControl* control = nullptr);
+
 /// Primary ray direction through a film position (x, y) in pixels, (0,0) the top-left corner of the image.
 glm::vec3 cameraRayDirection(const Camera& camera, float x, float y, int width, int height);
 

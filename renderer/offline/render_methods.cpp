@@ -3,6 +3,7 @@
 #include <cassert>
 #include <utility>
 
+#include "renderer/offline/lvl_renderer.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vrl_renderer.h"
 
@@ -33,6 +34,11 @@ VplRenderResult renderVblMethod(const OfflineScene& offline, const VplSet&, cons
   return renderVbl(offline, settings, control, std::move(onPass));
 }
 
+VplRenderResult renderLvlMethod(const OfflineScene& offline, const VplSet& vpls, const Settings& settings,
+                                RenderControl* control, OnPass onPass) {
+  return renderLvl(offline, vpls, settings, control, std::move(onPass));
+}
+
 }  // namespace
 
 const std::vector<RenderMethod>& renderMethods() {
@@ -58,6 +64,9 @@ const std::vector<RenderMethod>& renderMethods() {
       {Method::Vbl, "progressive virtual beam lights", "Novak et al. 2012b",
        "VRLs thickened to beams that shrink pass after pass: smooth first, converging to the reference", false, false,
        true, renderVblMethod},
+      {Method::Lvl, "global + local virtual lights", "Davidovic et al. 2010",
+       "bounded VPLs plus local lights per pixel tile carrying the residual: Kollig-Keller's vertices shared by a tile",
+       true, true, false, renderLvlMethod},
   };
   return methods;
 }

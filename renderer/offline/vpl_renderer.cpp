@@ -15,12 +15,8 @@
 
 namespace vplab {
 
-namespace {
-
-/// Shadow rays per occludedBatch call: a multiple of Embree's 8-wide packets, small enough to stay in L1.
-constexpr std::size_t kShadowBatch = 64;
-
-struct Context {
+/// What the VPL estimators read: the scene, the VPLs and the per-render tables derived from them.
+struct VplContext {
   const Scene& scene;
   const EmbreeScene& embree;
   const LightSampler& lights;
@@ -38,13 +34,13 @@ struct Context {
   float sceneDiagonal = 1.0f;
 };
 
-/// Per-gather counters (the VPL part only).
-struct GatherTally {
-  double clampedLum = 0.0;
-  double unclampedLum = 0.0;
-  uint64_t shadowRays = 0;
-  uint64_t evaluations = 0;
-};
+namespace {
+
+using Context = VplContext;
+
+/// Shadow rays per occludedBatch call: a multiple of Embree's 8-wide packets, small enough to stay in L1.
+constexpr std::size_t kShadowBatch = 64;
+
 
 /// Unoccluded VSL contribution Phi T (see vpl_renderer.h for the definition of T and its estimator).
 glm::vec3 vslContribution(const Context& ctx, const ShadingPoint& sp, std::size_t index, Rng& rng) {
@@ -173,7 +169,8 @@ glm::vec3 gatherVpls(const Context& ctx, const Interaction& x, Rng& rng, GatherT
 /// Kollig & Keller 2004 compensation K(x1) of the residual transport T_r (docs/theory.md §5; see vpl_renderer.h),
 /// and in media Raab et al. 2008 (§18): the direction from the BRDF or the phase function, the next vertex by a free
 /// flight (a surface or a medium point), G with whichever cosines exist.
-glm::vec3 compensation(const Context& ctx, const Interaction& x, Rng& rng, int depth, GatherTally& tally) {
+glm::vec3 compensation(const Context& ctx, const Interaction& x, Rng& rng, int depth, GatherTally& tally,
+                       IncidentSample* incident = nullptr) {
   // Step 1: sample w from f(x1) cos (or f_p) and trace to x2.
   const Interaction::Sample bs = x.sample(rng);
   if (!bs.valid()) return glm::vec3(0.0f);
@@ -204,6 +201,7 @@ glm::vec3 compensation(const Context& ctx, const Interaction& x, Rng& rng, int d
   // in a medium); through media the free flight's weight (T sigma_s / pdf or T / P) carries the distance integral.
   glm::vec3 result =
       x.inMedium ? l * (1.0f - ctx.clampBound / g) : bs.f * l * ((1.0f - ctx.clampBound / g) * cos1 / bs.pdf);
+  if (incident && !x.inMedium) *incident = {bs.wi, l * ((1.0f - ctx.clampBound / g) * cos1 / bs.pdf)};
   return next.crossedMedium ? result * next.weight : result;
 }
 
@@ -327,15 +325,10 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
   return radiance;
 }
 
-}  // namespace
-
-VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Method method, const Settings& settings,
-                          RenderControl* control, std::function<void(const Image& mean, int samplesSoFar)> onPass) {
+/// The tables every estimator reads, built once per render.
+Context makeContext(const OfflineScene& offline, const VplSet& vplSet, Method method, const Settings& settings) {
   const Scene& scene = offline.scene();
-  const EmbreeScene& embree = offline.embree();
-  const LightSampler& lights = offline.lights();
-  assert(method == Method::Vpl || method == Method::VplKK || method == Method::Vsl || method == Method::VplAbc);
-  Context ctx{scene, embree, lights, vplSet.vpls, {}, {}, {}, {}, method, settings.clampBound};
+  Context ctx{scene, offline.embree(), offline.lights(), vplSet.vpls, {}, {}, {}, {}, method, settings.clampBound};
   ctx.vplBrdfs.reserve(vplSet.vpls.size());
   for (const Vpl& v : vplSet.vpls) ctx.vplBrdfs.push_back(brdfParamsAt(scene, v.material, v.uv));
   if (method == Method::Vsl) {
@@ -354,6 +347,37 @@ VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Met
   ctx.vplPhaseG.reserve(vplSet.vpls.size());
   for (const Vpl& v : vplSet.vpls) ctx.vplPhaseG.push_back(v.inMedium ? scene.media[v.medium].g : 0.0f);
 
+  return ctx;
+}
+
+}  // namespace
+
+VplTransport::VplTransport(const OfflineScene& offline, const VplSet& vpls, Method method, const Settings& settings)
+    : ctx_(std::make_unique<VplContext>(makeContext(offline, vpls, method, settings))) {}
+
+VplTransport::~VplTransport() = default;
+
+glm::vec3 VplTransport::gather(const Interaction& x, Rng& rng, GatherTally& tally, bool trackUnclamped) const {
+  return gatherVpls(*ctx_, x, rng, tally, trackUnclamped);
+}
+
+glm::vec3 VplTransport::compensation(const Interaction& x, Rng& rng, int depth, GatherTally& tally,
+                                     IncidentSample* incident) const {
+  return vplab::compensation(*ctx_, x, rng, depth, tally, incident);
+}
+
+const std::vector<Vpl>& VplTransport::vpls() const { return ctx_->vpls; }
+const std::vector<BrdfParams>& VplTransport::vplBrdfs() const { return ctx_->vplBrdfs; }
+float VplTransport::clampBound() const { return ctx_->clampBound; }
+int VplTransport::maxDepth() const { return ctx_->maxDepth; }
+
+VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Method method, const Settings& settings,
+                          RenderControl* control, std::function<void(const Image& mean, int samplesSoFar)> onPass) {
+  const Scene& scene = offline.scene();
+  const EmbreeScene& embree = offline.embree();
+  const LightSampler& lights = offline.lights();
+  assert(method == Method::Vpl || method == Method::VplKK || method == Method::Vsl || method == Method::VplAbc);
+  const Context ctx = makeContext(offline, vplSet, method, settings);
   const bool wantDirect = settings.components != Components::Indirect;
   const bool wantIndirect = settings.components != Components::Direct;
   const std::size_t pixels = static_cast<std::size_t>(std::max(0, settings.width)) * std::max(0, settings.height);
@@ -384,15 +408,17 @@ VplRenderResult renderVpl(const OfflineScene& offline, const VplSet& vplSet, Met
 
   VplRenderResult result;
   static_cast<ProgressiveResult&>(result) = renderProgressive(options, estimator, control);
-  double clamped = 0.0, unclamped = 0.0;
-  for (const GatherTally& t : tallies) {
-    clamped += t.clampedLum;
-    unclamped += t.unclampedLum;
-    result.shadowRays += t.shadowRays;
-    result.vplEvaluations += t.evaluations;
-  }
-  result.clampEnergyRemoved = unclamped > 0.0 ? (unclamped - clamped) / unclamped : 0.0;
+  addTallies(tallies, result);
   return result;
+}
+
+void addTallies(const std::vector<GatherTally>& tallies, VplRenderResult& result) {
+  GatherTally total;
+  for (const GatherTally& t : tallies) total.add(t);
+  result.shadowRays += total.shadowRays;
+  result.vplEvaluations += total.evaluations;
+  result.clampEnergyRemoved =
+      total.unclampedLum > 0.0 ? (total.unclampedLum - total.clampedLum) / total.unclampedLum : 0.0;
 }
 
 }  // namespace vplab

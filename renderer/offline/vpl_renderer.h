@@ -34,6 +34,7 @@
 
 #include "renderer/core/parallel.h"
 #include "renderer/offline/embree_scene.h"
+#include "renderer/offline/interaction.h"
 #include "renderer/offline/light_sampler.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/progressive.h"
@@ -43,8 +44,50 @@
 
 #include <cstdint>
 #include <functional>
+#include <memory>
 
 namespace vplab {
+
+/// Per-gather counters (the VPL part only).
+struct GatherTally {
+  double clampedLum = 0.0;
+  double unclampedLum = 0.0;
+  uint64_t shadowRays = 0;
+  uint64_t evaluations = 0;
+  void add(const GatherTally& o) {
+    clampedLum += o.clampedLum;
+    unclampedLum += o.unclampedLum;
+    shadowRays += o.shadowRays;
+    evaluations += o.evaluations;
+  }
+};
+
+struct VplContext;
+
+/// The renderer's estimators at any path vertex, for methods built on them (local virtual lights): the bounded VPL
+/// gather and Kollig & Keller's compensation, for one VplSet and Settings (the method decides G_b or the VSLs).
+class VplTransport {
+ public:
+  VplTransport(const OfflineScene& offline, const VplSet& vpls, Method method, const Settings& settings);
+  ~VplTransport();
+  VplTransport(const VplTransport&) = delete;
+  VplTransport& operator=(const VplTransport&) = delete;
+
+  /// sum_i C_i(x) V(x, x2_i) with exact shadow rays.
+  glm::vec3 gather(const Interaction& x, Rng& rng, GatherTally& tally, bool trackUnclamped) const;
+  /// K(x) at recursion depth `depth` (0 at the camera vertex). On a surface, `incident` (when given and the sample is
+  /// valid) receives the sampled direction and the light behind it, so that K toward another wo is f(wo, wi) weight.
+  glm::vec3 compensation(const Interaction& x, Rng& rng, int depth, GatherTally& tally,
+                         IncidentSample* incident = nullptr) const;
+
+  const std::vector<Vpl>& vpls() const;
+  const std::vector<BrdfParams>& vplBrdfs() const;  ///< f(x2) parameters of each VPL
+  float clampBound() const;
+  int maxDepth() const;
+
+ private:
+  std::unique_ptr<VplContext> ctx_;
+};
 
 struct VplRenderResult : ProgressiveResult {
   /// Energy removed by the clamp over the VPL (indirect) part: mean(unclamped - clamped) / mean(unclamped), with
@@ -53,6 +96,9 @@ struct VplRenderResult : ProgressiveResult {
   uint64_t shadowRays = 0;  ///< VPL shadow rays traced (compensation vertices included)
   uint64_t vplEvaluations = 0;  ///< VPL-to-point evaluations (with or without a shadow ray)
 };
+
+/// The per-pixel tallies of a render summed into its shadow-ray and evaluation counts and clampEnergyRemoved.
+void addTallies(const std::vector<GatherTally>& tallies, VplRenderResult& result);
 
 /// Renders settings.width x settings.height with the given method (Vpl, VplKK or Vsl; Reference is a programmer
 /// error). Progressive (one sample per pixel per pass), multithreaded, cancellable through control.

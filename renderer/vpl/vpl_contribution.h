@@ -36,6 +36,29 @@ inline glm::vec3 evaluateBrdfForVpl(const BrdfParams& p, const glm::vec3& n, con
   return evaluateBrdf(p, n, wo, wi);
 }
 
+/// Where a surface point x1 and a surface VPL x2 can exchange light: w = (x2 - x1) / |x2 - x1|, the shading cosines
+/// and G = cos1 cos2 / d^2. False when they cannot (coincident, or either one-sided surface faces away).
+struct VplPairGeometry {
+  glm::vec3 w{0.0f};
+  float cos1 = 0.0f;
+  float cos2 = 0.0f;
+  float g = 0.0f;
+};
+inline bool vplPairGeometry(const SurfaceHit& hit, const Vpl& vpl, VplPairGeometry& out) {
+  glm::vec3 d = vpl.position - hit.position;
+  float dist2 = glm::dot(d, d);
+  if (!(dist2 > 0.0f)) return false;
+  glm::vec3 w = d * (1.0f / std::sqrt(dist2));
+  // One-sided surfaces: both ends must face each other geometrically.
+  if (glm::dot(hit.geometricNormal, w) <= 0.0f || glm::dot(vpl.geometricNormal, w) >= 0.0f) return false;
+  // Geometry term with cosines clamped at zero (docs/theory.md §1).
+  float cos1 = glm::dot(hit.shadingNormal, w);
+  float cos2 = -glm::dot(vpl.normal, w);
+  if (cos1 <= 0.0f || cos2 <= 0.0f) return false;
+  out = {w, cos1, cos2, cos1 * cos2 / dist2};
+  return true;
+}
+
 /// Unoccluded contribution of one VPL (visibility is the caller's, because shadow rays are batched).
 /// `unclamped`, when given, receives the same product with G instead of G_b (for the energy removed by the clamp).
 /// `geometryTerm`, when given, receives G (0 when the pair cannot exchange light).
@@ -44,17 +67,10 @@ inline glm::vec3 vplUnoccludedContribution(const ShadingPoint& sp, const Vpl& vp
                                            float* geometryTerm = nullptr) {
   if (unclamped) *unclamped = glm::vec3(0.0f);
   if (geometryTerm) *geometryTerm = 0.0f;
-  glm::vec3 d = vpl.position - sp.hit.position;
-  float dist2 = glm::dot(d, d);
-  if (!(dist2 > 0.0f)) return glm::vec3(0.0f);
-  glm::vec3 w = d * (1.0f / std::sqrt(dist2));
-  // One-sided surfaces: both ends must face each other geometrically.
-  if (glm::dot(sp.hit.geometricNormal, w) <= 0.0f || glm::dot(vpl.geometricNormal, w) >= 0.0f) return glm::vec3(0.0f);
-  // Geometry term with cosines clamped at zero (docs/theory.md §1).
-  float cos1 = glm::dot(sp.hit.shadingNormal, w);
-  float cos2 = -glm::dot(vpl.normal, w);
-  if (cos1 <= 0.0f || cos2 <= 0.0f) return glm::vec3(0.0f);
-  float g = cos1 * cos2 / dist2;
+  VplPairGeometry pair;
+  if (!vplPairGeometry(sp.hit, vpl, pair)) return glm::vec3(0.0f);
+  const glm::vec3& w = pair.w;
+  float g = pair.g;
   // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
   glm::vec3 f1 = evaluateBrdfForVpl(sp.brdf, sp.hit.shadingNormal, sp.wo, w);
   glm::vec3 f2 = evaluateBrdfForVpl(vplBrdf, vpl.normal, vpl.incoming, -w);
@@ -63,6 +79,17 @@ inline glm::vec3 vplUnoccludedContribution(const ShadingPoint& sp, const Vpl& vp
   if (unclamped) *unclamped = base * g;
   // Bounded geometry term G_b = min(G, b) (docs/theory.md §4).
   return base * std::min(g, clampBound);
+}
+
+/// The same transfer as light arriving at x1, without x1's BRDF, for re-evaluation toward any viewer: the
+/// contribution toward wo is f(x1; wo, wi) * weight, weight = f(x2; w_in, -w) Phi G_b. False when none arrives.
+inline bool vplIncident(const SurfaceHit& hit, const Vpl& vpl, const BrdfParams& vplBrdf, float clampBound,
+                        IncidentSample& out) {
+  VplPairGeometry pair;
+  if (!vplPairGeometry(hit, vpl, pair)) return false;
+  glm::vec3 f2 = evaluateBrdfForVpl(vplBrdf, vpl.normal, vpl.incoming, -pair.w);
+  out = {pair.w, f2 * vpl.flux * std::min(pair.g, clampBound)};
+  return out.weight.r > 0.0f || out.weight.g > 0.0f || out.weight.b > 0.0f;
 }
 
 /// The transfer of §17 for any pair (docs/theory.md): a receiver on a surface or in a medium, a surface or medium
