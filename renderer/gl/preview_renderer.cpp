@@ -18,6 +18,18 @@ namespace vplab {
 
 namespace {
 
+// A perspective projection with depth = znear / z_view in [0, 1] (clip control GL_ZERO_TO_ONE): 1 at the near plane,
+// 0 at infinity, no far plane (as the reference's camera rays have none).
+glm::mat4 reversedDepthProjection(float yfov, float aspect, float znear) {
+  const float f = 1.0f / std::tan(0.5f * yfov);
+  glm::mat4 m(0.0f);
+  m[0][0] = f / aspect;
+  m[1][1] = f;
+  m[3][2] = znear;
+  m[2][3] = -1.0f;
+  return m;
+}
+
 bool sameCamera(const Camera& a, const Camera& b) {
   return a.position == b.position && a.forward == b.forward && a.up == b.up && a.yfov == b.yfov && a.znear == b.znear &&
          a.zfar == b.zfar;
@@ -368,7 +380,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
   const float sceneRadius = 0.51f * diagonal;
   glm::mat4 view = glm::lookAt(camera.position, camera.position + camera.forward, camera.up);
   float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
-  glm::mat4 proj = glm::perspective(camera.yfov, aspect, camera.znear, camera.zfar);
   glDisable(GL_BLEND);
   glDisable(GL_DEPTH_TEST);
 
@@ -380,17 +391,22 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
       // Background texels are marked by w = 0 in position and merge key; the normal's mips must average zeros there
       // (a short averaged normal flags an edge). The other targets are only read where position.w > 0.
       for (int i : {0, 1, 5}) gbuffer.clearColor(i, glm::vec4(0.0f));
-      gbuffer.clearDepth(1.0f);
+      // Reversed depth: depth 1 at the near plane falling as 1/z to 0 at infinity, in a float buffer, resolves
+      // surfaces a millimetre apart at any distance. A glTF camera's znear of 5 cm with GL's usual depth left 3 mm
+      // steps at 1.6 m, and a top plate lost to the part 5 mm beneath it (docs/methods.md "Direct light in the preview").
+      glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
+      gbuffer.clearDepth(0.0f);
       glEnable(GL_DEPTH_TEST);
-      glDepthFunc(GL_LESS);
+      glDepthFunc(GL_GREATER);
       glDisable(GL_CULL_FACE);
       glScene_->bind();
-      gbuffer_.set("uViewProj", proj * view);
+      gbuffer_.set("uViewProj", reversedDepthProjection(camera.yfov, aspect, camera.znear) * view);
       gbuffer_.set("uCameraPosition", camera.position);
       gbuffer_.use();
       vao_.bind();
       drawProceduralTriangles(3 * glScene_->triangleCount());
       glDisable(GL_DEPTH_TEST);
+      glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
       tg.full.gbufferDerivedCurrent = false;
       if (ownGrid) {
         // The indirect light's grid takes the G-buffer's texels at its representatives.
