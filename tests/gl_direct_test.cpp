@@ -11,6 +11,7 @@
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/metrics.h"
+#include "renderer/offline/emitter_mask.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "tests/gl_test_util.h"
@@ -22,9 +23,10 @@ namespace {
 class GlDirect : public test::GlBackendTest {};
 
 // Preview direct light (Le seen directly included, as the reference's direct component has it) at 4x, box-filtered,
-// against the reference's direct component.
+// against the reference's direct component; over the pixels `excluded` keeps (emitterMask at size x size: the
+// emitters, exact in both, would otherwise hold most of the energy) or over all.
 ImageMetrics directAgainstReference(const OfflineScene& l, int size, int referenceSpp, const char* name,
-                                    Image* previewOut = nullptr) {
+                                    Image* previewOut = nullptr, const PixelMask* excluded = nullptr) {
   Settings s;
   s.width = s.height = 4 * size;
   s.threads = 2;
@@ -38,10 +40,11 @@ ImageMetrics directAgainstReference(const OfflineScene& l, int size, int referen
   r.samplesPerPixel = referenceSpp;
   r.components = Components::Direct;
   Image reference = renderReference(l, r).image;
-  ImageMetrics m = compareImages(preview, reference);
-  std::printf("[ measured ] %s direct light, preview at %d^2 box-filtered to %d^2 vs reference %d spp: relMSE %.5f, "
+  ImageMetrics m = excluded ? compareImagesExcluding(preview, reference, *excluded) : compareImages(preview, reference);
+  std::printf("[ measured ] %s direct light, preview at %d^2 box-filtered to %d^2 vs reference %d spp%s: relMSE %.5f, "
               "energy %.4f\n",
-              name, 4 * size, size, referenceSpp, m.relMse, m.energyRatioOverall);
+              name, 4 * size, size, referenceSpp, excluded ? ", emitters excluded" : "", m.relMse,
+              m.energyRatioOverall);
   EXPECT_EQ(m.nonFinitePixels, 0u);
   if (previewOut) *previewOut = preview;
   return m;
@@ -68,7 +71,10 @@ Scene openCornellBox(bool keepEmitter) {
 
 TEST_P(GlDirect, AreaLightMatchesReferenceCornellBox) {
   auto l = test::loadAssetScene("cornell-box");
-  ImageMetrics m = directAgainstReference(*l, 64, 1024, "cornell-box");
+  const PixelMask emitters = emitterMask(l->embree(), 64, 64);
+  // The emitter holds 69 % of this image's energy: compared over all pixels, lit surfaces 5-6 % too dark passed.
+  // Measured with the emitter and its edge excluded: relMSE 0.00038, mean ratio 0.9923 (both backends).
+  ImageMetrics m = directAgainstReference(*l, 64, 1024, "cornell-box", nullptr, &emitters);
   EXPECT_LE(m.relMse, 0.005);
   EXPECT_NEAR(m.energyRatioOverall, 1.0, 0.02);
 }
