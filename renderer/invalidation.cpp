@@ -1,5 +1,6 @@
 #include "renderer/invalidation.h"
 
+#include "renderer/offline/render_methods.h"
 #include "renderer/vpl/generation_methods.h"
 
 namespace vplab {
@@ -93,12 +94,17 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
     s.offline |= usesVpls;
   }
 
-  // The bound b acts in the gather only (section 4): VPLs and shadow maps stay. KK compensation (section 5) also
-  // depends on b through its region, so both VPL methods go stale; the VSL method does not clamp.
+  // The bound b acts in the gather only (section 4): VPLs and shadow maps stay. The offline methods that clamp go
+  // stale (their table row says which): the VPL render, KK compensation (its region depends on b) and approximate
+  // compensation in media; the VSL, VRL and beam methods do not clamp.
   if (a.clampBound != b.clampBound) {
     s.gather = true;
-    s.offline |= method == Method::Vpl || method == Method::VplKK;
+    s.offline |= renderMethod(method).usesClampBound;
   }
+  // The CPU's virtual ray lights and beams (sections 19, 20): their samples and the beams' radius schedule.
+  if (a.vrlSamples != b.vrlSamples) s.offline |= method == Method::Vrl || method == Method::Vbl;
+  if (a.beamRadius != b.beamRadius || a.beamPasses != b.beamPasses || a.beamShrink != b.beamShrink)
+    s.offline |= method == Method::Vbl;
   if (a.ssbcSteps != b.ssbcSteps || a.ssbcCoarseRings != b.ssbcCoarseRings) s.ssbc = true;
 
   // VSLs (section 7) change the gather integral, not the VPL positions. The cone samples are the CPU estimator's

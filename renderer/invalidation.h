@@ -21,8 +21,9 @@
 //                        paths scatter, their attenuation) and the offline result; the clamp bound b and the camera
 //                        do not touch the VPLs, in media as elsewhere
 //   offline result    <- scene, lights, camera, image size, seed, and the parameters of the offline method: the
-//                        reference ignores every VPL parameter; the VPL methods read the VPLs and clampBound; the VSL
-//                        method reads the VSL parameters (the radius and the CPU's cone samples). Exposure, threads and
+//                        reference ignores every VPL parameter; the VPL methods read the VPLs, and clampBound when
+//                        they clamp (vpl, vpl-kk, vpl-abc); the VSL method reads the VSL parameters (the radius and the
+//                        CPU's cone samples); vrl reads vrlSamples, vbl also the beam radius, passes and shrink. Exposure, threads and
 //                        the preview-only parameters never touch it (results do not depend on the thread count).
 
 #include <string>

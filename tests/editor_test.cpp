@@ -289,6 +289,8 @@ TEST(EditorPresets, DescriptionsSayWhatEachPresetStarts) {
     EXPECT_EQ(d.find("path-traced reference") != std::string::npos, p.offline == ui::PresetOffline::Reference) << d;
     EXPECT_EQ(d.find("exact VPL render") != std::string::npos, p.offline == ui::PresetOffline::ExactVpl) << d;
     EXPECT_EQ(d.find("animates the light") != std::string::npos, p.animateLight) << d;
+    if (p.offline == ui::PresetOffline::Chosen)
+      EXPECT_NE(d.find(std::string("(") + toString(p.offlineMethod) + ")"), std::string::npos) << d;
     // What the presets compare against must be started by them, not left to the reader.
     const bool compares =
         p.view == ui::ViewMode::Split || p.view == ui::ViewMode::Difference || p.view == ui::ViewMode::Reference;

@@ -3,6 +3,7 @@
 #include <gtest/gtest.h>
 
 #include <functional>
+#include <vector>
 
 namespace vplab {
 namespace {
@@ -30,6 +31,26 @@ TEST(Invalidation, ClampBoundKeepsVplsAndShadowMaps) {
   // The path-traced reference does not depend on b, so the chart's errors stay measured against it.
   EXPECT_FALSE(change([](Settings& x) { x.clampBound = 0.5f; }, Method::Reference).offline);
   EXPECT_FALSE(change([](Settings& x) { x.clampBound = 0.5f; }, Method::Vsl).offline);
+}
+
+TEST(Invalidation, MediaMethodsGoStaleWithWhatTheyRead) {
+  // Approximate compensation clamps; virtual ray lights and beams do not.
+  EXPECT_TRUE(change([](Settings& x) { x.clampBound = 0.5f; }, Method::VplAbc).offline);
+  EXPECT_FALSE(change([](Settings& x) { x.clampBound = 0.5f; }, Method::Vrl).offline);
+  EXPECT_FALSE(change([](Settings& x) { x.clampBound = 0.5f; }, Method::Vbl).offline);
+  // Their own parameters stale them and nothing of the preview.
+  for (Method m : {Method::Vrl, Method::Vbl}) {
+    Staleness s = change([](Settings& x) { x.vrlSamples = 4; }, m);
+    EXPECT_TRUE(s.offline) << toString(m);
+    EXPECT_FALSE(s.anyPreview()) << toString(m);
+  }
+  EXPECT_FALSE(change([](Settings& x) { x.vrlSamples = 4; }, Method::Vpl).offline);
+  for (const auto& beam : std::vector<std::function<void(Settings&)>>{[](Settings& x) { x.beamRadius = 0.1f; },
+                                                                       [](Settings& x) { x.beamPasses = 3; },
+                                                                       [](Settings& x) { x.beamShrink = 0.9f; }}) {
+    EXPECT_TRUE(change(beam, Method::Vbl).offline);
+    EXPECT_FALSE(change(beam, Method::Vrl).any());
+  }
 }
 
 TEST(Invalidation, VplParametersRegenerateEverythingDownstream) {

@@ -1,5 +1,7 @@
 #include "ui/presets.h"
 
+#include "renderer/offline/render_methods.h"
+
 #include <cmath>
 #include <functional>
 
@@ -12,6 +14,7 @@ struct PresetSpec {
   ViewMode view = ViewMode::Preview;
   PresetOffline offline = PresetOffline::None;
   bool signedDifference = false, showRejected = false, animateLight = false, reseedEveryFrame = false;
+  Method offlineMethod = Method::Vrl;  ///< with offline = Chosen
 };
 
 TeachingPreset make(const PresetSpec& spec, const std::function<void(Settings&)>& edit, std::string explanation) {
@@ -24,6 +27,7 @@ TeachingPreset make(const PresetSpec& spec, const std::function<void(Settings&)>
   p.showRejected = spec.showRejected;
   p.animateLight = spec.animateLight;
   p.reseedEveryFrame = spec.reseedEveryFrame;
+  p.offlineMethod = spec.offlineMethod;
   p.settings = presetBaseline();
   edit(p.settings);
   p.explanation = std::move(explanation);
@@ -177,6 +181,54 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "leaks through the wall between the rooms, where too few points covered the wall near a VPL, blue where "
         "splats and the depth bias shadow surfaces that meet. Raise the ISM points and the tile size, or switch the "
         "VPL visibility to cube shadow maps, and the map fades."));
+    // --- participating media (cornell-fog: the Cornell box filled with bluish haze, docs/scenes.md) --------------
+    list.push_back(make(
+        {"Splotches in fog", "cornell-fog.gltf", ViewMode::Split, PresetOffline::ExactVpl},
+        [](Settings& s) {
+          s.vplCount = 64;
+          s.clampBound = kInfinity;
+        },
+        "Light paths scatter in the fog and leave medium VPLs there, each lighting the air and the walls around it "
+        "with 1/d^2 and no cosine to soften it (the phase function is all there is). On the right, the exact render "
+        "of these VPLs through the fog: bright blobs float in the haze where a medium VPL sits close to what the "
+        "camera sees, besides the corner splotches of the surface VPLs. More VPLs make the blobs smaller, not "
+        "gone."));
+    list.push_back(make(
+        {"Bounded fog darkens", "cornell-fog.gltf", ViewMode::Difference, PresetOffline::Reference, true},
+        [](Settings& s) {
+          s.vplCount = 256;
+          s.clampBound = 25.0f;
+        },
+        "The bound b = 25 clamps 1/d^2 in the fog as on surfaces: every VPL closer than 1/sqrt(b) = 0.2 m to a lit "
+        "point gives less than it should. The signed difference against the path-traced reference is blue (too "
+        "dark) all through the haze, not only in the corners: in a medium every point has VPLs all around it, so "
+        "the bound takes a share of the light everywhere. Rendered exactly (Render exact VPL in the offline panel), "
+        "the same VPLs report the share of the energy the bound removed."));
+    list.push_back(make(
+        {"Approximate compensation", "cornell-fog.gltf", ViewMode::Split, PresetOffline::Chosen, false, false, false,
+         false, Method::VplAbc},
+        [](Settings& s) {
+          s.vplCount = 256;
+          s.clampBound = 25.0f;
+        },
+        "Engelhardt et al. 2012 add back what the bound removed with one extra bounce per shading point: a point "
+        "sampled inside the bound's ball, the medium there taken as homogeneous and unoccluded, lit by the VPLs "
+        "with the residual max(0, G - b). On the right, the exact render with that compensation (vpl-abc): the "
+        "haze comes back to about the reference's brightness without Kollig-Keller's recursive paths. What it "
+        "misses is light that needs more than one bounce inside 1/sqrt(b), or a wall inside the ball."));
+    list.push_back(make(
+        {"Ray lights", "cornell-fog.gltf", ViewMode::Split, PresetOffline::Chosen, false, false, false, false,
+         Method::Vrl},
+        [](Settings& s) {
+          s.vplCount = 64;
+          s.clampBound = kInfinity;
+        },
+        "Virtual ray lights (Novak et al. 2012a): instead of points where light scattered, each light path's "
+        "segment through the fog lights the medium all along its length. Integrating along a ray and a camera "
+        "ray turns the medium VPLs' 1/d^2 into a far weaker singularity, so the floating blobs of 'Splotches in "
+        "fog' are gone at the same number of light paths, without a bound. On the right, the CPU VRL render (vrl, "
+        "pass by pass); the surfaces are still lit by unbounded surface VPLs, so their corner splotches stay. The "
+        "offline panel also offers vbl: beams that shrink pass after pass."));
     return list;
   }();
   return presets;
@@ -198,6 +250,8 @@ std::string presetDescription(const TeachingPreset& p) {
   std::string started;
   if (p.offline == PresetOffline::Reference) started = "renders the path-traced reference";
   if (p.offline == PresetOffline::ExactVpl) started = "renders the exact VPL render";
+  if (p.offline == PresetOffline::Chosen)
+    started = "renders " + std::string(renderMethod(p.offlineMethod).label) + " (" + toString(p.offlineMethod) + ")";
   if (p.animateLight) started += std::string(started.empty() ? "" : ", ") + "animates the light";
   std::string text = "Preset: " + p.name + " (" + p.scene + ", " + toString(p.view) + " view";
   if (!started.empty()) text += "; " + started;

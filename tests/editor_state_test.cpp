@@ -1,0 +1,312 @@
+// The editor's state without a window (ui/editor_state.h): an edit marks exactly the work it made stale and the
+// preview re-renders that and nothing else, media edits are validated as the loader validates them, the script verbs
+// reach the same functions as the panels, the edited lights and media reopen the same, and the offline pass renders
+// the media methods.
+
+#ifdef VPLAB_HAVE_EDITOR
+
+#include "ui/editor_state.h"
+
+#include <gtest/gtest.h>
+
+#include <chrono>
+#include <filesystem>
+#include <thread>
+
+#include "renderer/gl/context.h"
+#include "renderer/image/metrics.h"
+#include "renderer/invalidation.h"
+#include "renderer/offline/render_methods.h"
+#include "renderer/scene/lights_json.h"
+#include "tests/test_tmp.h"
+#include "ui/media_panel.h"
+#include "ui/script.h"
+#include "ui/view_image.h"
+
+namespace vplab {
+namespace {
+
+const std::string kFogScene = std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-fog.gltf";
+
+/// Small settings: a state test is about which work runs, not about the picture.
+Settings smallSettings() {
+  Settings s;
+  s.width = s.height = 32;
+  s.vplCount = 32;
+  s.directLightSamples = 4;
+  s.shadowMapSize = 64;
+  s.threads = 2;
+  return s;
+}
+
+std::unique_ptr<ui::EditorState> fogState() {
+  return std::make_unique<ui::EditorState>(kFogScene, smallSettings(), false, 0.4f);
+}
+
+// --- without GL: edits and their invalidation
+// -------------------------------------------------------------------------
+
+TEST(EditorStateMedia, InvalidMediaAreRefusedWithTheLoadersMessageAndChangeNothing) {
+  auto state = fogState();  // no update runs: no GL needed
+  const std::vector<Medium> before = state->scene().media;
+  ASSERT_EQ(before.size(), 1u);
+  struct Case {
+    std::function<void(std::vector<Medium>&)> spoil;
+    std::string expected;
+  };
+  const std::vector<Case> cases = {
+      {[](std::vector<Medium>& m) { m[0].g = 1.0f; }, "g must lie in (-1, 1)"},
+      {[](std::vector<Medium>& m) { m[0].g = NAN; }, "g must lie in (-1, 1)"},
+      {[](std::vector<Medium>& m) { m[0].sigmaA.g = -0.1f; }, "sigmaA.g must lie in [0, 1e+07]"},
+      {[](std::vector<Medium>& m) { m[0].sigmaS.b = INFINITY; }, "sigmaS.b must lie in [0, 1e+07]"},
+      {[](std::vector<Medium>& m) { m[0].sigmaS.r = NAN; }, "sigmaS.r"},
+      {[](std::vector<Medium>& m) { ui::resizeMediumBox(m[0], glm::vec3(0.1f, 0.0f, 0.1f)); }, "no volume"},
+      {[](std::vector<Medium>& m) { m.push_back(m[0]); }, "medium boxes overlap"},
+      {[&](std::vector<Medium>& m) { m.push_back(ui::newFogEverywhere(state->scene())); },
+       "cannot lie inside the medium that fills all space"},
+  };
+  for (const Case& c : cases) {
+    std::vector<Medium> next = before;
+    c.spoil(next);
+    EXPECT_FALSE(state->editMedia(next)) << c.expected;
+    EXPECT_NE(state->mediaError().find(c.expected), std::string::npos) << state->mediaError();
+    ASSERT_EQ(state->scene().media.size(), before.size());
+    EXPECT_EQ(state->scene().media[0].sigmaS, before[0].sigmaS);
+    EXPECT_EQ(state->scene().media[0].worldFromBox, before[0].worldFromBox);
+  }
+  // A valid edit clears the message.
+  std::vector<Medium> next = before;
+  next[0].g = 0.5f;
+  EXPECT_TRUE(state->editMedia(next));
+  EXPECT_TRUE(state->mediaError().empty());
+  EXPECT_EQ(state->scene().media[0].g, 0.5f);
+}
+
+TEST(EditorStateMedia, CoefficientsAndBoxesStaleTheVplsButNeitherTheGBufferNorTheShadowMaps) {
+  auto state = fogState();
+  const std::vector<Medium> fog = state->scene().media;
+  auto after = [&](const std::function<void(std::vector<Medium>&)>& edit) {
+    std::vector<Medium> next = fog;
+    edit(next);
+    return staleAfterMediumEdit(fog, next);
+  };
+  for (const auto& edit : std::vector<std::function<void(std::vector<Medium>&)>>{
+           [](std::vector<Medium>& m) { m[0].sigmaS *= 1.02f; }, [](std::vector<Medium>& m) { m[0].sigmaA.r += 0.01f; },
+           [](std::vector<Medium>& m) { m[0].g = -0.2f; },
+           [](std::vector<Medium>& m) { ui::moveMediumBox(m[0], glm::vec3(0.0f, -0.01f, 0.0f)); },
+           [](std::vector<Medium>& m) { ui::resizeMediumBox(m[0], 0.5f * m[0].halfSizes()); },
+           [](std::vector<Medium>& m) { m.clear(); }}) {
+    const Staleness s = after(edit);
+    EXPECT_TRUE(s.vpls && s.vplShadowMaps && s.gather && s.direct && s.offline) << toString(s);
+    EXPECT_FALSE(s.gbuffer || s.lightShadowMaps) << toString(s);
+  }
+  // What light does not meet changes nothing: a new name, a vacuum box added.
+  EXPECT_EQ(after([](std::vector<Medium>& m) { m[0].name = "renamed"; }), Staleness{});
+  EXPECT_EQ(after([&](std::vector<Medium>& m) {
+              Medium vacuum = ui::newFogBox(state->scene());
+              vacuum.sigmaA = vacuum.sigmaS = glm::vec3(0.0f);
+              ui::moveMediumBox(vacuum, glm::vec3(10.0f));
+              m.push_back(vacuum);
+            }),
+            Staleness{});
+  // The bound b does not touch the VPLs, in media as elsewhere; it re-gathers.
+  Settings b = state->settings();
+  b.clampBound = 5.0f;
+  const Staleness bound = staleAfterSettingsChange(state->settings(), b, Method::VplAbc);
+  EXPECT_FALSE(bound.vpls || bound.vplShadowMaps) << toString(bound);
+  EXPECT_TRUE(bound.gather && bound.offline) << toString(bound);
+}
+
+TEST(EditorStateMedia, NewBoxesFitTheGeometryAndMovingOrResizingKeepsTheRest) {
+  auto state = fogState();
+  const Scene& scene = state->scene();
+  Medium box = ui::newFogBox(scene);
+  EXPECT_TRUE(mediumProblem(box).empty()) << mediumProblem(box);
+  for (const glm::vec3& corner : box.corners())
+    for (int a = 0; a < 3; ++a) {
+      EXPECT_GT(corner[a], scene.geometryBounds.lower[a]);
+      EXPECT_LT(corner[a], scene.geometryBounds.upper[a]);
+    }
+  const glm::vec3 centre = box.centre();
+  ui::resizeMediumBox(box, glm::vec3(0.1f, 0.2f, 0.3f));
+  EXPECT_NEAR(glm::length(box.centre() - centre), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(box.halfSizes() - glm::vec3(0.1f, 0.2f, 0.3f)), 0.0f, 1e-6f);
+  ui::moveMediumBox(box, glm::vec3(0.5f, 0.0f, -0.25f));
+  EXPECT_NEAR(glm::length(box.centre() - centre - glm::vec3(0.5f, 0.0f, -0.25f)), 0.0f, 1e-6f);
+  EXPECT_NEAR(glm::length(box.halfSizes() - glm::vec3(0.1f, 0.2f, 0.3f)), 0.0f, 1e-6f);
+  EXPECT_EQ(mediumAt({box}, box.centre()), 0);
+  // The panel's figures: 1 / sigma_t, and sigma_t times the lengths.
+  box.sigmaA = glm::vec3(0.5f);
+  box.sigmaS = glm::vec3(1.5f, 0.0f, 0.0f);
+  const std::string text = ui::describeMedium(box, 2.0f);
+  EXPECT_NE(text.find("mean free path 0.5 2 2 m"), std::string::npos) << text;
+  EXPECT_NE(text.find("across the scene 4 1 1"), std::string::npos) << text;
+  EXPECT_NE(text.find("longest edge 1.2 0.3 0.3"), std::string::npos) << text;
+}
+
+// --- with GL: the preview re-renders what the edit made stale --------------------------------------------------------
+
+class EditorStateGl : public ::testing::Test {
+ protected:
+  HeadlessGlContext context_;
+};
+
+TEST_F(EditorStateGl, EachEditRendersWhatItMadeStaleAndNothingElse) {
+  auto state = fogState();
+  state->finishWork();
+  ASSERT_TRUE(state->previewError().empty()) << state->previewError();
+  ASSERT_FALSE(state->previewImage().empty());
+  EXPECT_EQ(state->counters().vplGenerations, 1);
+
+  // The bound b: a new gather, the same VPLs and shadow maps.
+  Image before = state->previewImage();
+  state->mark();
+  Settings b = state->settings();
+  b.clampBound = 2.0f;
+  state->changeSettings(b);
+  ui::WorkCounters n = state->sinceMark();
+  EXPECT_EQ(n.vplGenerations, 0);
+  EXPECT_EQ(n.vplShadowMaps, 0);
+  EXPECT_GE(n.gathers, 1);
+  EXPECT_LT(compareImages(state->previewImage(), before).energyRatioOverall, 0.999) << "b = 2 removes energy";
+
+  // A fog coefficient: new VPLs (same seed, other flux and places), their shadow maps, a gather.
+  const std::vector<Vpl> oldVpls = state->vpls().vpls;
+  before = state->previewImage();
+  state->mark();
+  std::vector<Medium> media = state->scene().media;
+  media[0].sigmaS *= 3.0f;
+  ASSERT_TRUE(state->editMedia(media));
+  n = state->sinceMark();
+  EXPECT_EQ(n.vplGenerations, 1);
+  EXPECT_GT(n.vplShadowMaps, 0);
+  EXPECT_GE(n.gathers, 1);
+  bool vplsDiffer = oldVpls.size() != state->vpls().vpls.size();
+  for (std::size_t i = 0; !vplsDiffer && i < oldVpls.size(); ++i)
+    vplsDiffer = oldVpls[i].flux != state->vpls().vpls[i].flux || oldVpls[i].position != state->vpls().vpls[i].position;
+  EXPECT_TRUE(vplsDiffer);
+  EXPECT_GT(compareImages(state->previewImage(), before).relMse, 0.0);
+
+  // A camera move: a new G-buffer and gather, never new VPLs or shadow maps.
+  state->mark();
+  state->camera().orbit(0.1f, 0.0f);
+  state->cameraMoved();
+  n = state->sinceMark();
+  EXPECT_EQ(n.vplGenerations, 0);
+  EXPECT_EQ(n.vplShadowMaps, 0);
+  EXPECT_GE(n.gathers, 1);
+
+  // A renamed medium: nothing at all.
+  state->mark();
+  media = state->scene().media;
+  media[0].name = "renamed";
+  ASSERT_TRUE(state->editMedia(media));
+  n = state->sinceMark();
+  EXPECT_EQ(n.vplGenerations, 0);
+  EXPECT_EQ(n.vplShadowMaps, 0);
+  EXPECT_EQ(n.gathers, 0);
+}
+
+TEST_F(EditorStateGl, ScriptVerbsCallTheStateFunctionsWithoutAWindow) {
+  auto state = fogState();
+  const std::vector<ui::ScriptCommand> script = ui::parseScript(
+      "mark\nset clampBound 5\nexpect-no-vpl-regeneration\nexpect-no-shadow-map-render\n"
+      "medium 0 sigmaS 0.4 0.4 0.4\nexpect-vpl-regeneration\nmedium 0 remove\nmedium add box\n"
+      "medium 0 sigmaS 0.5 0.5 0.5\nmedium 0 g -0.3\nmedium 0 size 0.2 0.2 0.2\nmedium 0 move 0 -0.05 0\n"
+      "view split\nframes 2\n",
+      "s.txt");
+  std::vector<std::string> windowVerbs;
+  for (const ui::ScriptCommand& c : script)
+    if (!ui::runStateCommand(*state, c, "s.txt")) windowVerbs.push_back(c.verb);
+  EXPECT_EQ(windowVerbs, std::vector<std::string>{"frames"});
+  const Medium& fog = state->scene().media.at(0);
+  EXPECT_EQ(fog.sigmaS, glm::vec3(0.5f));
+  EXPECT_EQ(fog.g, -0.3f);
+  EXPECT_NEAR(fog.halfSizes().x, 0.2f, 1e-6f);
+  EXPECT_EQ(state->view().view, ui::ViewMode::Split);
+  EXPECT_EQ(state->settings().clampBound, 5.0f);
+  // An edit the loader would refuse fails the script at its line with the loader's words, and changes nothing.
+  for (const std::string& bad :
+       {"medium 0 g 1", "medium 0 sigmaA -1 0 0", "medium add space", "medium add box", "medium 3 g 0"}) {
+    try {
+      ui::runStateCommand(*state, ui::parseScript("frames 1\n" + bad + "\n", "s.txt").at(1), "s.txt");
+      ADD_FAILURE() << "no error for " << bad;
+    } catch (const ui::ScriptError& e) {
+      EXPECT_EQ(std::string(e.what()).rfind("s.txt:2: medium: ", 0), 0u) << e.what();
+    }
+  }
+  EXPECT_EQ(state->scene().media.size(), 1u);
+  EXPECT_EQ(state->scene().media[0].g, -0.3f);
+  EXPECT_THROW(ui::parseScript("medium 0 spin 3\n", "s.txt"), ui::ScriptError);
+  EXPECT_THROW(ui::parseScript("offline fast\n", "s.txt"), ui::ScriptError);
+}
+
+TEST_F(EditorStateGl, EditedLightsAndMediaReopenTheSame) {
+  // A copy of the scene in the test's directory: the sidecar goes next to it.
+  const std::string copy = test::tmpPath("cornell-fog.gltf");
+  std::filesystem::copy_file(kFogScene, copy, std::filesystem::copy_options::overwrite_existing);
+  std::filesystem::remove(lightsSidecarPath(copy));
+  std::string saved;
+  {
+    ui::EditorState state(copy, smallSettings(), false, 0.4f);
+    const std::vector<ui::ScriptCommand> script = ui::parseScript(
+        "medium 0 sigmaA 0.2 0.1 0.05\nmedium 0 g 0.6\nmedium 0 size 0.2 0.2 0.2\nlight 0 intensity 2\n"
+        "save-sidecar\n",
+        "s.txt");
+    for (const ui::ScriptCommand& c : script) ui::runStateCommand(state, c, "s.txt");
+    saved = lightsToJson(state.scene());
+    state.finishWork();
+  }
+  ui::EditorState reopened(copy, smallSettings(), false, 0.4f);
+  EXPECT_EQ(lightsToJson(reopened.scene()), saved);
+  ASSERT_EQ(reopened.scene().media.size(), 1u);
+  EXPECT_EQ(reopened.scene().media[0].g, 0.6f);
+  EXPECT_EQ(reopened.scene().media[0].sigmaA, glm::vec3(0.2f, 0.1f, 0.05f));
+  std::filesystem::remove(lightsSidecarPath(copy));
+}
+
+/// Polls the state until its offline job ended and its last image is taken.
+void waitForOffline(ui::EditorState& state) {
+  while (state.job().running()) {
+    state.pollOffline();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  state.pollOffline();
+}
+
+TEST_F(EditorStateGl, OfflinePassRendersTheMediaMethodsOfTheTable) {
+  auto state = fogState();
+  Settings s = state->settings();
+  s.width = s.height = 12;
+  s.vplCount = 16;
+  s.exactSamplesPerPixel = 1;
+  s.beamPasses = 3;
+  state->changeSettings(s);
+  state->finishWork();
+  for (Method method : {Method::VplAbc, Method::Vrl, Method::Vbl}) {
+    state->setOfflineMethod(method);
+    state->startOffline(ui::OfflineRequest::Chosen);
+    waitForOffline(*state);
+    ASSERT_TRUE(state->job().error().empty()) << state->job().error();
+    EXPECT_EQ(state->offlineImageMethod(), method);
+    // The same image as the render-method table gives for the same scene, camera, settings and VPLs.
+    Scene scene = state->scene();
+    scene.camera = state->camera().camera();
+    OfflineScene offline(scene);
+    const VplRenderResult direct = renderMethod(method).render(
+        offline, state->vpls(), offlineRenderSettings(state->settings(), method), nullptr, {});
+    const ImageMetrics m = compareImages(state->offlineImage(), direct.image);
+    EXPECT_LT(m.relMse, 1e-6) << toString(method);
+    EXPECT_GT(m.energyRatioOverall, 0.0) << toString(method);
+  }
+  // The composed split view puts that image right of the divider, at the preview's size.
+  state->setView(ui::ViewMode::Split);
+  const ui::ViewImage view = ui::composeView(*state);
+  EXPECT_TRUE(view.emptyState.empty()) << view.emptyState;
+  EXPECT_EQ(view.width, 12);
+}
+
+}  // namespace
+}  // namespace vplab
+
+#endif  // VPLAB_HAVE_EDITOR
