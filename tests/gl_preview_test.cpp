@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <string>
 
 #include "renderer/core/sampling.h"
@@ -87,8 +88,14 @@ float expectedVpl(glm::vec3 x1, glm::vec3 x2, float flux, float b) {
   return kAlbedo * kInvPi * g * kAlbedo * kInvPi * flux;
 }
 
-TEST(GlPreview, SingleVplMatchesClosedForm) {
-  HeadlessGlContext context;
+// The closed-form tests run on both backends (tests/gl_test_util.h).
+class GlPreviewClosedForm : public test::GlBackendTest {};
+
+// Measured: largest relative error over the 32x32 pixels 1.0e-6 (b = inf and b = 0.5, OSMesa and EGL): float rounding.
+// 1e-4 leaves room for other GPUs' arithmetic and fails any error of 0.01 % or more.
+constexpr double kSingleVplTolerance = 1e-4;
+
+TEST_P(GlPreviewClosedForm, SingleVplMatchesClosedForm) {
   Scene scene = floorScene();
   VplSet vpls = oneVpl(glm::vec3(0.3f, -0.2f, 1.0f), glm::vec3(10.0f));
   PreviewRenderer renderer;
@@ -97,19 +104,18 @@ TEST(GlPreview, SingleVplMatchesClosedForm) {
     settings.clampBound = b;
     renderer.render(scene, vpls, settings, scene.camera);
     Image indirect = renderer.readLinear(PreviewOutput::Indirect);
-    int checked = 0;
-    for (int y = 0; y < kSize; y += 3)
-      for (int x = 0; x < kSize; x += 3) {
+    double worst = 0.0;
+    for (int y = 0; y < kSize; ++y)
+      for (int x = 0; x < kSize; ++x) {
         float want = expectedVpl(floorPoint(scene.camera, x, y), vpls.vpls[0].position, 10.0f, b);
-        EXPECT_NEAR(indirect.at(x, y).g, want, 0.01f * want + 1e-5f) << "pixel " << x << "," << y << " b=" << b;
-        ++checked;
+        worst = std::max(worst, std::abs(indirect.at(x, y).g / want - 1.0));
+        EXPECT_NEAR(indirect.at(x, y).g, want, kSingleVplTolerance * want) << "pixel " << x << "," << y << " b=" << b;
       }
-    EXPECT_GT(checked, 100);
+    std::printf("[ measured ] one VPL over a Lambert plane, b = %g: largest relative error %.2e\n", b, worst);
   }
 }
 
-TEST(GlPreview, OccluderCastsVplShadow) {
-  HeadlessGlContext context;
+TEST_P(GlPreviewClosedForm, OccluderCastsVplShadow) {
   Scene scene = floorScene();
   // A small blocker facing down between the VPL and the floor centre.
   addQuad(scene, glm::vec3(0, 0, 0.5f), glm::vec3(0.2f, 0, 0), glm::vec3(0, -0.2f, 0), 0);
@@ -124,19 +130,42 @@ TEST(GlPreview, OccluderCastsVplShadow) {
   PreviewRenderer renderer;
   renderer.render(scene, vpls, settings, cam);
   Image indirect = renderer.readLinear(PreviewOutput::Indirect);
-  // The ray through the image centre hits the floor at the origin, under the blocker... unless the blocker is hit
-  // first: it is, so check the floor just outside the shadow instead via the darkest and brightest floor pixels.
-  float darkest = 1e9f, brightest = 0.0f;
-  for (const glm::vec3& p : indirect.pixels) {
-    darkest = std::min(darkest, p.g);
-    brightest = std::max(brightest, p.g);
-  }
-  EXPECT_GT(brightest, 0.0f);
-  EXPECT_LT(darkest, 1e-6f);
+  // Each pixel's view ray: where it meets the blocker (z = 0.5, |x|, |y| < 0.2) the pixel shows the blocker's unlit
+  // back; otherwise it meets the floor, in the blocker's shadow (the blocker projected from the VPL at z = 1 onto z = 0
+  // is |x|, |y| < 0.4) or lit by the closed form (measured: 2.4e-6 relative error on 848 lit pixels, 52 shadowed ones
+  // black). The filtered 64^2 shadow map softens the shadow's edge over |x|, |y| in 0.3-0.45, which is not judged.
+  int shadowed = 0, lit = 0;
+  double worstLit = 0.0;
+  for (int y = 0; y < kSize; ++y)
+    for (int x = 0; x < kSize; ++x) {
+      glm::vec2 ndc((x + 0.5f) / kSize * 2.0f - 1.0f, 1.0f - (y + 0.5f) / kSize * 2.0f);
+      glm::vec3 d = cam.rayDirection(ndc, 1.0f);
+      glm::vec3 atBlocker = cam.position + d * ((0.5f - cam.position.z) / d.z);
+      if (std::abs(atBlocker.x) < 0.2f && std::abs(atBlocker.y) < 0.2f) continue;
+      glm::vec3 x1 = cam.position + d * (-cam.position.z / d.z);
+      if (std::abs(x1.x) > 2.0f || std::abs(x1.y) > 2.0f) continue;  // background
+      const float edge = std::max(std::abs(x1.x), std::abs(x1.y));
+      if (edge < 0.3f) {
+        EXPECT_LT(indirect.at(x, y).g, 1e-6f) << "in the blocker's shadow: pixel " << x << "," << y;
+        ++shadowed;
+      } else if (edge > 0.45f) {
+        const float want = expectedVpl(x1, vpls.vpls[0].position, 10.0f, kInfinity);
+        worstLit = std::max(worstLit, std::abs(indirect.at(x, y).g / want - 1.0));
+        EXPECT_NEAR(indirect.at(x, y).g, want, kSingleVplTolerance * want) << "lit: pixel " << x << "," << y;
+        ++lit;
+      }
+    }
+  std::printf("[ measured ] VPL over a blocker: %d shadowed floor pixels, %d lit (largest relative error %.2e)\n",
+              shadowed, lit, worstLit);
+  EXPECT_GE(shadowed, 8);
+  EXPECT_GE(lit, 100);
 }
 
-TEST(GlPreview, InterleavedMatchesFullGather) {
-  HeadlessGlContext context;
+// Measured: largest relative error per pixel 3.0e-3, mean ratio 0.99843 (OSMesa and EGL): the k x k merge blurs the
+// field's curvature. Bounds at three times those.
+constexpr double kInterleavedPixelTolerance = 0.01, kInterleavedMeanTolerance = 0.005;
+
+TEST_P(GlPreviewClosedForm, InterleavedMatchesFullGather) {
   Scene scene = floorScene();
   VplSet vpls;
   // Four nearby VPLs of equal flux: each 2 x 2 subset holds one, scaled by k^2 = 4.
@@ -150,19 +179,24 @@ TEST(GlPreview, InterleavedMatchesFullGather) {
   settings.interleave = 2;
   renderer.render(scene, vpls, settings, scene.camera);
   Image inter = renderer.readLinear(PreviewOutput::Indirect);
-  // Per pixel the merge is a k x k blur of a smooth but steep field (a few percent); the energy must agree closely.
-  double sumFull = 0.0, sumInter = 0.0;
+  // Per pixel the merge is a k x k blur of a smooth but steep field; the energy must agree closely.
+  double sumFull = 0.0, sumInter = 0.0, worst = 0.0;
   for (int y = 2; y < kSize - 2; ++y)
     for (int x = 2; x < kSize - 2; ++x) {
-      EXPECT_NEAR(inter.at(x, y).g, full.at(x, y).g, 0.08f * full.at(x, y).g) << x << "," << y;
+      worst = std::max(worst, std::abs(inter.at(x, y).g / full.at(x, y).g - 1.0));
+      EXPECT_NEAR(inter.at(x, y).g, full.at(x, y).g, kInterleavedPixelTolerance * full.at(x, y).g) << x << "," << y;
       sumFull += full.at(x, y).g;
       sumInter += inter.at(x, y).g;
     }
-  EXPECT_NEAR(sumInter / sumFull, 1.0, 0.02);
+  std::printf("[ measured ] four VPLs, k = 2 against k = 1: largest relative error per pixel %.2e, mean ratio %.6f\n",
+              worst, sumInter / sumFull);
+  EXPECT_NEAR(sumInter / sumFull, 1.0, kInterleavedMeanTolerance);
 }
 
-TEST(GlPreview, DirectAreaLightConvergesToQuadrature) {
-  HeadlessGlContext context;
+// Measured: largest relative error 1.15e-3 (OSMesa and EGL; the light samples are fixed, so the figure is too).
+constexpr double kAreaLightTolerance = 0.005;
+
+TEST_P(GlPreviewClosedForm, DirectAreaLightConvergesToQuadrature) {
   Scene scene = floorScene();
   Material light;
   light.baseColor = glm::vec3(0.0f);
@@ -180,6 +214,7 @@ TEST(GlPreview, DirectAreaLightConvergesToQuadrature) {
   PreviewRenderer renderer;
   renderer.render(scene, VplSet{}, settings, scene.camera);
   Image direct = renderer.readLinear(PreviewOutput::Direct);
+  double worst = 0.0;
   for (int y = 4; y < kSize; y += 8)
     for (int x = 4; x < kSize; x += 8) {
       glm::vec3 x1 = floorPoint(scene.camera, x, y);
@@ -196,8 +231,10 @@ TEST(GlPreview, DirectAreaLightConvergesToQuadrature) {
           float c = d.z / std::sqrt(d2);
           sum += kAlbedo * kInvPi * 5.0f * c * c / d2 * (0.16f / (kN * kN));
         }
-      EXPECT_NEAR(direct.at(x, y).r, sum, 0.06 * sum) << x << "," << y;
+      worst = std::max(worst, std::abs(direct.at(x, y).r / sum - 1.0));
+      EXPECT_NEAR(direct.at(x, y).r, sum, kAreaLightTolerance * sum) << x << "," << y;
     }
+  std::printf("[ measured ] 2048 light samples of a square emitter: largest relative error %.2e\n", worst);
   // The emitter faces away from the camera: one-sided, so it adds no Le to the final image.
   Image final = renderer.readLinear(PreviewOutput::Final);
   Image indirect = renderer.readLinear(PreviewOutput::Indirect);
@@ -205,9 +242,11 @@ TEST(GlPreview, DirectAreaLightConvergesToQuadrature) {
     EXPECT_NEAR(final.pixels[i].r, direct.pixels[i].r + indirect.pixels[i].r, 1e-5f);
 }
 
-TEST(GlPreview, DirectionalLightMatchesClosedFormWithinTwoPercent) {
+// Measured: largest relative error 1.2e-7 (OSMesa and EGL): nothing but rounding on an unoccluded plane.
+constexpr double kDirectionalTolerance = 1e-4;
+
+TEST_P(GlPreviewClosedForm, DirectionalLightMatchesClosedForm) {
   // Parallel light of irradiance E at 36.9 degrees from the normal: L = (rho/pi) E cos everywhere on the floor.
-  HeadlessGlContext context;
   Scene scene = floorScene();
   PunctualLight sun;
   sun.name = "sun";
@@ -220,9 +259,16 @@ TEST(GlPreview, DirectionalLightMatchesClosedFormWithinTwoPercent) {
   renderer.render(scene, VplSet{}, smallSettings(), scene.camera);
   Image direct = renderer.readLinear(PreviewOutput::Direct);
   const float expected = kAlbedo * kInvPi * 3.0f * 0.8f;
+  double worst = 0.0;
   for (int y = 0; y < kSize; ++y)
-    for (int x = 0; x < kSize; ++x) EXPECT_NEAR(direct.at(x, y).r, expected, 0.02f * expected) << x << "," << y;
+    for (int x = 0; x < kSize; ++x) {
+      worst = std::max(worst, std::abs(direct.at(x, y).r / expected - 1.0));
+      EXPECT_NEAR(direct.at(x, y).r, expected, kDirectionalTolerance * expected) << x << "," << y;
+    }
+  std::printf("[ measured ] directional light on an open plane: largest relative error %.2e\n", worst);
 }
+
+VPLAB_GL_BACKENDS(GlPreviewClosedForm);
 
 // The editor splits a change's passes across frames (a budget per call): stepping with a budget that stops after every
 // pass, with a second change arriving mid-way, ends in exactly the image one unbudgeted call gives.

@@ -118,9 +118,12 @@ PixelMask blockMask(const PixelMask& mask, int block) {
   return out;
 }
 
+double meanLuminanceExcluding(const Image& image, const PixelMask& excluded) {
+  return luminance(glm::vec3(compareImagesExcluding(image, image, excluded).meanImage));
+}
+
 double unitMeanScale(const Image& reference, const PixelMask& excluded) {
-  const ImageMetrics m = compareImagesExcluding(reference, reference, excluded);
-  const double mean = luminance(glm::vec3(m.meanReference));
+  const double mean = meanLuminanceExcluding(reference, excluded);
   return mean > 0.0 ? 1.0 / mean : 1.0;
 }
 
@@ -128,6 +131,11 @@ Image scaled(const Image& image, double factor) {
   Image out = image;
   for (glm::vec3& p : out.pixels) p *= static_cast<float>(factor);
   return out;
+}
+
+ImageMetrics compareAtUnitMean(const Image& image, const Image& reference, const PixelMask& excluded) {
+  const double toUnitMean = unitMeanScale(reference, excluded);
+  return compareImagesExcluding(scaled(image, toUnitMean), scaled(reference, toUnitMean), excluded);
 }
 
 Image relativeErrorImage(const Image& image, const Image& reference) {

@@ -86,6 +86,13 @@ double meanRatioExcludingEmitters(const Image& image, const Image& reference, co
 double unitMeanScale(const Image& reference, const PixelMask& excluded);
 Image scaled(const Image& image, double factor);
 
+/// Mean Rec. 709 luminance over the pixels the mask keeps (0 when it keeps none).
+double meanLuminanceExcluding(const Image& image, const PixelMask& excluded);
+
+/// compareImagesExcluding on both images times unitMeanScale(reference, excluded): relMSE at unit mean over the kept
+/// pixels; its energyRatioOverall is meanRatioExcludingEmitters (the scale cancels).
+ImageMetrics compareAtUnitMean(const Image& image, const Image& reference, const PixelMask& excluded);
+
 /// True when all three channels are finite.
 bool isFinite(glm::vec3 v);
 
