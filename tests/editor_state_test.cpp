@@ -48,7 +48,7 @@ std::unique_ptr<ui::EditorState> fogState() {
 
 TEST(EditorStateMedia, InvalidMediaAreRefusedWithTheLoadersMessageAndChangeNothing) {
   auto state = fogState();  // no update runs: no GL needed
-  const std::vector<Medium> before = state->scene().media;
+  const std::vector<Medium> before = state->media();
   ASSERT_EQ(before.size(), 1u);
   struct Case {
     std::function<void(std::vector<Medium>&)> spoil;
@@ -70,21 +70,21 @@ TEST(EditorStateMedia, InvalidMediaAreRefusedWithTheLoadersMessageAndChangeNothi
     c.spoil(next);
     EXPECT_FALSE(state->editMedia(next)) << c.expected;
     EXPECT_NE(state->mediaError().find(c.expected), std::string::npos) << state->mediaError();
-    ASSERT_EQ(state->scene().media.size(), before.size());
-    EXPECT_EQ(state->scene().media[0].sigmaS, before[0].sigmaS);
-    EXPECT_EQ(state->scene().media[0].worldFromBox, before[0].worldFromBox);
+    ASSERT_EQ(state->media().size(), before.size());
+    EXPECT_EQ(state->media()[0].sigmaS, before[0].sigmaS);
+    EXPECT_EQ(state->media()[0].worldFromBox, before[0].worldFromBox);
   }
   // A valid edit clears the message.
   std::vector<Medium> next = before;
   next[0].g = 0.5f;
   EXPECT_TRUE(state->editMedia(next));
   EXPECT_TRUE(state->mediaError().empty());
-  EXPECT_EQ(state->scene().media[0].g, 0.5f);
+  EXPECT_EQ(state->media()[0].g, 0.5f);
 }
 
 TEST(EditorStateMedia, CoefficientsAndBoxesStaleTheVplsButNeitherTheGBufferNorTheShadowMaps) {
   auto state = fogState();
-  const std::vector<Medium> fog = state->scene().media;
+  const std::vector<Medium> fog = state->media();
   auto after = [&](const std::function<void(std::vector<Medium>&)>& edit) {
     std::vector<Medium> next = fog;
     edit(next);
@@ -174,7 +174,7 @@ TEST_F(EditorStateGl, EachEditRendersWhatItMadeStaleAndNothingElse) {
   const std::vector<Vpl> oldVpls = state->vpls().vpls;
   before = state->previewImage();
   state->mark();
-  std::vector<Medium> media = state->scene().media;
+  std::vector<Medium> media = state->media();
   media[0].sigmaS *= 3.0f;
   ASSERT_TRUE(state->editMedia(media));
   n = state->sinceMark();
@@ -198,13 +198,38 @@ TEST_F(EditorStateGl, EachEditRendersWhatItMadeStaleAndNothingElse) {
 
   // A renamed medium: nothing at all.
   state->mark();
-  media = state->scene().media;
+  media = state->media();
   media[0].name = "renamed";
   ASSERT_TRUE(state->editMedia(media));
   n = state->sinceMark();
   EXPECT_EQ(n.vplGenerations, 0);
   EXPECT_EQ(n.vplShadowMaps, 0);
   EXPECT_EQ(n.gathers, 0);
+}
+
+// A slider dragged while an update runs: the update finishes with the media it started with (an image every time one
+// finishes, instead of a restart every frame), then the next one takes the latest edit.
+TEST_F(EditorStateGl, AMediumDraggedDuringAnUpdateWaitsForIt) {
+  auto state = fogState();
+  state->finishWork();
+  const glm::vec3 sigmaS = state->media()[0].sigmaS;
+  std::vector<Medium> media = state->media();
+  media[0].sigmaS *= 1.5f;
+  ASSERT_TRUE(state->editMedia(media));
+  state->updateWork(0.0);  // starts the update: at least one pass, then out of budget
+  ASSERT_TRUE(state->previewUpdating()) << "a zero budget must leave passes for later frames";
+  const int finished = state->updatesFinished();
+  for (int frame = 0; state->previewUpdating(); ++frame) {
+    ASSERT_LT(frame, 1000) << "the update must finish while the slider moves";
+    media[0].sigmaS *= 1.01f;  // the drag goes on
+    ASSERT_TRUE(state->editMedia(media));
+    state->updateWork(0.0);
+  }
+  EXPECT_EQ(state->updatesFinished(), finished + 1);
+  EXPECT_EQ(state->scene().media[0].sigmaS, sigmaS * 1.5f) << "the finished image is of the media it started with";
+  EXPECT_EQ(state->media()[0].sigmaS, media[0].sigmaS) << "the panel shows the latest edit";
+  state->finishWork();
+  EXPECT_EQ(state->scene().media[0].sigmaS, media[0].sigmaS) << "which the next update takes";
 }
 
 TEST_F(EditorStateGl, ScriptVerbsCallTheStateFunctionsWithoutAWindow) {
@@ -219,7 +244,7 @@ TEST_F(EditorStateGl, ScriptVerbsCallTheStateFunctionsWithoutAWindow) {
   for (const ui::ScriptCommand& c : script)
     if (!ui::runStateCommand(*state, c, "s.txt")) windowVerbs.push_back(c.verb);
   EXPECT_EQ(windowVerbs, std::vector<std::string>{"frames"});
-  const Medium& fog = state->scene().media.at(0);
+  const Medium& fog = state->media().at(0);
   EXPECT_EQ(fog.sigmaS, glm::vec3(0.5f));
   EXPECT_EQ(fog.g, -0.3f);
   EXPECT_NEAR(fog.halfSizes().x, 0.2f, 1e-6f);
@@ -235,8 +260,8 @@ TEST_F(EditorStateGl, ScriptVerbsCallTheStateFunctionsWithoutAWindow) {
       EXPECT_EQ(std::string(e.what()).rfind("s.txt:2: medium: ", 0), 0u) << e.what();
     }
   }
-  EXPECT_EQ(state->scene().media.size(), 1u);
-  EXPECT_EQ(state->scene().media[0].g, -0.3f);
+  EXPECT_EQ(state->media().size(), 1u);
+  EXPECT_EQ(state->media()[0].g, -0.3f);
   EXPECT_THROW(ui::parseScript("medium 0 spin 3\n", "s.txt"), ui::ScriptError);
   EXPECT_THROW(ui::parseScript("offline fast\n", "s.txt"), ui::ScriptError);
 }
@@ -254,8 +279,8 @@ TEST_F(EditorStateGl, EditedLightsAndMediaReopenTheSame) {
         "save-sidecar\n",
         "s.txt");
     for (const ui::ScriptCommand& c : script) ui::runStateCommand(state, c, "s.txt");
+    state.finishWork();  // the scene takes the edited media with the next update
     saved = lightsToJson(state.scene());
-    state.finishWork();
   }
   ui::EditorState reopened(copy, smallSettings(), false, 0.4f);
   EXPECT_EQ(lightsToJson(reopened.scene()), saved);
@@ -298,6 +323,9 @@ TEST_F(EditorStateGl, OfflinePassRendersTheMediaMethodsOfTheTable) {
     const ImageMetrics m = compareImages(state->offlineImage(), direct.image);
     EXPECT_LT(m.relMse, 1e-6) << toString(method);
     EXPECT_GT(m.energyRatioOverall, 0.0) << toString(method);
+    // The next render of the same method with the same settings is estimated at what this one took.
+    EXPECT_NEAR(state->offlineEstimate(method), state->offlineSeconds(), 1e-6 + 1e-6 * state->offlineSeconds())
+        << toString(method);
   }
   // The composed split view puts that image right of the divider, at the preview's size.
   state->setView(ui::ViewMode::Split);

@@ -608,6 +608,26 @@ TEST(EditorWindow, PanelsDrawEveryGenerationMethodAndVisibility) {
   EXPECT_EQ(run.status, 0) << run.output;
 }
 
+// Fog added through the script's medium verbs (the media panel's functions) and drawn by the media panel, a VRL render
+// beside the preview in the split view, and a refused edit that fails the script with the loader's words.
+TEST(EditorWindow, MediaPanelAndTheMediaMethodsRunInTheWindow) {
+  ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
+  const std::string shot = test::tmpPath("fog.png");
+  RunResult run = runEditor("set width 32\nset height 32\nset vplCount 16\nset exactSamplesPerPixel 1\n"
+                            "medium add box\nmedium 0 sigmaS 1 1.5 2\nmedium 0 g 0.4\nframes 2\nview split\n"
+                            "offline vrl\nwait-offline\nframes 2\nscreenshot " + shot + "\npreset-state\n",
+                            "");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const ViewRect rect = viewRectOf(run.output, shot);
+  ASSERT_GT(rect.w, 0) << run.output;
+  EXPECT_NE(run.output.find("preset-state"), std::string::npos);
+  RunResult refused = runEditor("medium add box\nmedium add space\n", "");
+  EXPECT_EQ(refused.status, 1) << refused.output;
+  EXPECT_NE(refused.output.find(":2: medium: "), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("cannot lie inside the medium that fills all space"), std::string::npos)
+      << refused.output;
+}
+
 TEST(EditorWindow, BadSceneFileIsAnErrorBeforeAnyWindow) {
   // No display needed: the scene is loaded before the window is opened.
   std::string cmd =

@@ -384,7 +384,7 @@ void Editor::dragStep() {
                     glm::vec3(0.002f * state.scene().bounds.diagonal() * sign, 0.0f, 0.0f), 1.0f);
   } else if (script_.drag == ScriptRun::Drag::Medium) {
     // sigma_s changes by 2 % every frame, as a slider dragged slowly.
-    std::vector<Medium> media = state.scene().media;
+    std::vector<Medium> media = state.media();
     media[static_cast<std::size_t>(script_.dragIndex)].sigmaS *= sign > 0.0f ? 1.02f : 1.0f / 1.02f;
     state.editMedia(media);
   } else {
@@ -450,7 +450,7 @@ void Editor::execute(const ScriptCommand& c) {
       const bool light = c.args[1] == "light";
       s.drag = light ? ScriptRun::Drag::Light : ScriptRun::Drag::Medium;
       s.dragIndex = static_cast<int>(scriptNumber(c, 2, src));
-      const std::size_t count = light ? editableLights(state_->scene()).size() : state_->scene().media.size();
+      const std::size_t count = light ? editableLights(state_->scene()).size() : state_->media().size();
       if (s.dragIndex < 0 || static_cast<std::size_t>(s.dragIndex) >= count) fail("no " + c.args[1] + " " + c.args[2]);
     } else if (c.args.size() != 1) {
       fail("usage: time-frames N [light|medium I]");

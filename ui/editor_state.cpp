@@ -38,6 +38,7 @@ EditorState::EditorState(const std::string& scenePath, const Settings& settings,
   stageScene(scene_, settings_.stage);
   applyLightsSidecar(scene_);
   sceneCamera_ = scene_.camera;
+  media_ = scene_.media;
   rebuildAcceleration();
   camera_ = controllerFor(scene_, sceneCamera_);
 }
@@ -65,6 +66,8 @@ bool EditorState::openScene(const std::string& path) {
   pendingOffline_ = PresetOffline::None;
   scene_ = std::move(loaded);
   sceneCamera_ = scene_.camera;
+  media_ = scene_.media;
+  mediaPending_ = false;
   rebuildAcceleration();
   camera_ = controllerFor(scene_, sceneCamera_);
   lightOffsets_.clear();
@@ -116,18 +119,27 @@ bool EditorState::editMedia(const std::vector<Medium>& next) {
     return false;
   }
   mediaError_.clear();
-  Staleness s = staleAfterMediumEdit(scene_.media, next);
-  scene_.media = next;
-  // The BVH reads scene_.media where it traces; the light sampler sizes a directional light's disk to cover them.
-  offline_->punctualLightsChanged();
+  const Staleness s = staleAfterMediumEdit(media_, next);
+  media_ = next;
+  mediaPending_ = true;
   markStale(s);
   if (s.anyPreview()) chartPending_ = true;
   return true;
 }
 
+void EditorState::applyEditedMedia() {
+  if (!mediaPending_) return;
+  mediaPending_ = false;
+  scene_.media = media_;
+  // The BVH reads scene_.media where it traces; the light sampler sizes a directional light's disk to cover them.
+  offline_->punctualLightsChanged();
+}
+
 std::string EditorState::saveSidecar() {
   const std::string path = lightsSidecarPath(scene_.sourcePath);
-  saveLightsFile(path, scene_);
+  Scene edited = scene_;
+  edited.media = media_;
+  saveLightsFile(path, edited);
   return path;
 }
 
@@ -263,6 +275,7 @@ void EditorState::updateWork(double budgetMs) {
   // shows a new image each time an update finishes instead of restarting the update every frame.
   const bool startUpdate = !previewUpdating_ && stale_.anyPreview();
   if (!previewUpdating_) {
+    applyEditedMedia();
     if (stale_.vpls) regenerateVpls();
     if (vslRadiiStale_) {
       std::vector<float> radii = vslRadii(vpls_.vpls, settings_, scene_.bounds.diagonal());
@@ -358,6 +371,9 @@ WorkCounters EditorState::sinceMark() {
 // --- offline pass -------------------------------------------------------------------------------------------------
 
 void EditorState::startOffline(OfflineRequest request) {
+  // The offline pass renders what the editor shows; a media edit made while an update runs reaches the preview with
+  // the next update.
+  if (!previewUpdating_) applyEditedMedia();
   offlineMethod_ = request == OfflineRequest::Reference ? Method::Reference
                    : request == OfflineRequest::Exact   ? exactCounterpartOf(settings_)
                                                         : chosenOfflineMethod_;
@@ -472,7 +488,7 @@ std::string EditorState::presetState() const {
   for (uint32_t t : scene_.emissiveTriangles)
     for (int k = 0; k < 3; ++k) lights += vec(scene_.positions[scene_.triangles[t][k]]);
   std::string media;
-  for (const Medium& m : scene_.media)
+  for (const Medium& m : media_)
     media += vec(m.sigmaA) + vec(m.sigmaS) + std::to_string(m.g) + vec(m.centre()) + vec(m.halfSizes());
   const Camera cam = camera_.camera();
   char view[192];

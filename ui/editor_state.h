@@ -78,6 +78,9 @@ class EditorState {
   /// would refuse (mediaProblem) are refused with its message, which mediaError() then holds, and the scene keeps its
   /// media. Returns whether they were applied.
   bool editMedia(const std::vector<Medium>& next);
+  /// The media as edited: what the panels show and edit. The scene takes them when the next preview update starts
+  /// (an update under way keeps the media it started with, as it keeps its settings and camera).
+  const std::vector<Medium>& media() const { return media_; }
   const std::string& mediaError() const { return mediaError_; }
   /// Writes the scene's lights and media to the sidecar next to the scene file; returns the path.
   std::string saveSidecar();
@@ -189,6 +192,8 @@ class EditorState {
   void measureClampEnergy();
   void measureVplsSeen();
   void addChartPoint();
+  /// The scene takes the edited media (between updates).
+  void applyEditedMedia();
 
   Scene scene_;
   Camera sceneCamera_;
@@ -196,6 +201,8 @@ class EditorState {
   std::vector<glm::vec3> lightOffsets_;
   std::vector<float> lightScales_;
   std::string sceneError_, mediaError_;
+  std::vector<Medium> media_;  ///< media(); scene_.media until applyEditedMedia()
+  bool mediaPending_ = false;
 
   Settings settings_;
   bool fitPreview_ = true;

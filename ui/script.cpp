@@ -71,7 +71,7 @@ std::string renderMethodNamesForScripts() {
 
 /// The scene's media with the `medium` command applied (the same functions as the media panel).
 std::vector<Medium> editedMedia(const EditorState& state, const ScriptCommand& c, const std::string& source) {
-  std::vector<Medium> media = state.scene().media;
+  std::vector<Medium> media = state.media();
   if (c.args[0] == "add") {
     media.push_back(c.args[1] == "box" ? newFogBox(state.scene()) : newFogEverywhere(state.scene()));
     return media;
@@ -147,7 +147,8 @@ bool runStateVerb(EditorState& state, const ScriptCommand& c, const std::string&
     print("preset-state " + state.presetState());
   } else if (c.verb == "save-view") {
     state.finishWork();
-    if (state.previewImage().empty()) fail(c, source, "no preview image");
+    if (state.previewImage().empty())
+      fail(c, source, "no preview image" + (state.previewError().empty() ? "" : ": " + state.previewError()));
     writeImage(c.args[0], state.previewImage(), state.settings().exposure);
     print("save-view " + c.args[0] + " " + std::to_string(state.previewImage().width) + "x" +
           std::to_string(state.previewImage().height));

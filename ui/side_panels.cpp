@@ -223,8 +223,8 @@ void drawLeftPanel(EditorState& state, PanelState& panels) {
     ImGui::SameLine();
     ImGui::Checkbox("new seed every frame", &state.reseedEveryFrame);
   }
-  if (ImGui::CollapsingHeader("Media")) {
-    std::vector<Medium> media = state.scene().media;
+  if (ImGui::CollapsingHeader("Media", state.media().empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen)) {
+    std::vector<Medium> media = state.media();
     if (drawMediaPanel(state.scene(), media, state.mediaError())) state.editMedia(media);
   }
   if (ImGui::CollapsingHeader("Many lights", ImGuiTreeNodeFlags_DefaultOpen)) {
