@@ -145,6 +145,7 @@ TEST(TextureUnits, GlslIncludeMatchesTheEnum) {
       {"BINDING_SHADOW_CASTERS", binding(BufferBinding::ShadowCasters)},
       {"BINDING_DIRECT_LIGHTS", binding(BufferBinding::DirectLights)},
       {"BINDING_VPLS", binding(BufferBinding::Vpls)},
+      {"BINDING_MEDIA", binding(BufferBinding::Media)},
   };
   EXPECT_EQ(glsl.size(), std::size(expected));
   for (const auto& [name, number] : expected) {

@@ -16,9 +16,10 @@ struct DirectLightGpu {
 }  // namespace
 
 namespace {
-BrdfVariants directProgram(const UniformTableLayout& layout, int mapKind) {
+BrdfVariants directProgram(const UniformTableLayout& layout, int mapKind, int mediaCount = 0) {
   return BrdfVariants("preview/direct.frag.glsl",
-                      {uniformTableDefine("DIRECT_UBO_LIGHTS", layout), "DIRECT_MAP_KIND " + std::to_string(mapKind)});
+                      {uniformTableDefine("DIRECT_UBO_LIGHTS", layout), "DIRECT_MAP_KIND " + std::to_string(mapKind),
+                       "PREVIEW_MEDIA " + std::to_string(mediaCount)});
 }
 }  // namespace
 
@@ -26,6 +27,23 @@ DirectLightPass::DirectLightPass()
     : tableLayout_(uniformTableLayout(sizeof(DirectLightGpu))),
       programs_{directProgram(tableLayout_, AreaMap), directProgram(tableLayout_, PunctualMap),
                 directProgram(tableLayout_, DirectionalMap)} {}
+
+void DirectLightPass::useMedia(int mediaCount) {
+  if (mediaCount == mediaCount_) return;
+  mediaCount_ = mediaCount;
+  programs_ = {directProgram(tableLayout_, AreaMap, mediaCount), directProgram(tableLayout_, PunctualMap, mediaCount),
+               directProgram(tableLayout_, DirectionalMap, mediaCount)};
+}
+
+DirectLightPass::TableView DirectLightPass::bindTable() const {
+  shadows_.bind();
+  TableView view{&table_, tableLayout_, 0, 0, runs_.empty() ? 0 : runs_.back().end};
+  for (const MapRun& run : runs_) {
+    if (run.kind == AreaMap) view.areaEnd = run.end;
+    if (run.kind != DirectionalMap) view.punctualEnd = run.end;
+  }
+  return view;
+}
 
 bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, float sceneRadius,
                                  const std::function<bool()>& outOfTime) {

@@ -40,6 +40,17 @@ class DirectLightPass {
             const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao);
   /// Whether the lights uploaded by the last renderMaps() include area-light samples (else `raw` stays 0).
   bool hasAreaSamples() const { return !runs_.empty() && runs_.front().kind == AreaMap; }
+  /// Compiles the passes with the transmittance of the scene's `mediaCount` media toward each light
+  /// (common/medium.glsl; 0: none).
+  void useMedia(int mediaCount);
+  /// The light table as the media pass (media_pass.h) reads it, with the lights' maps bound: the area samples come
+  /// first, then the point and spot lights, then the directional ones up to `count`.
+  struct TableView {
+    const GlBuffer* buffer;
+    UniformTableLayout layout;
+    int areaEnd, punctualEnd, count;
+  };
+  TableView bindTable() const;
 
  private:
   // What a light's shadow map is; each kind has its own program (DIRECT_MAP_KIND of shaders/preview/direct.frag.glsl).
@@ -62,6 +73,7 @@ class DirectLightPass {
   std::vector<glm::vec3> directionalDirections_;
   // The map rendering under way: the next cube face and directional map (-1: done).
   bool mapsStarted_ = false;
+  int mediaCount_ = 0;
   int nextFace_ = 0, nextDirectional_ = 0;
 };
 

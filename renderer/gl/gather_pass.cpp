@@ -16,9 +16,10 @@ struct VplGpu {
 
 VplGatherPass::VplGatherPass() : tableLayout_(uniformTableLayout(sizeof(VplGpu))) {}
 
-void VplGatherPass::useVisibility(const VplVisibility& visibility) {
+void VplGatherPass::useVisibility(const VplVisibility& visibility, int mediaCount) {
   const std::vector<std::string> defines = {uniformTableDefine("GATHER_UBO_VPLS", tableLayout_),
-                                            visibility.shaderDefine()};
+                                            visibility.shaderDefine(),
+                                            "PREVIEW_MEDIA " + std::to_string(mediaCount)};
   point_ = std::make_unique<BrdfVariants>("preview/gather.frag.glsl", defines);
   sphere_ = std::make_unique<BrdfVariants>("preview/gather_vsl.frag.glsl", defines);
   sphereLambertVpls_.reset();
@@ -29,7 +30,10 @@ std::vector<uint32_t> gatherOrder(const Scene& scene, const VplSet& vpls, int* l
   std::vector<uint32_t> order(vpls.vpls.size());
   std::iota(order.begin(), order.end(), 0u);
   // The same test as evaluateBrdf's Lambert fast path.
+  // A medium VPL's factor is precomputed like a Lambert one's (lambertPower: its flux), its phase function applied in
+  // the loop.
   auto lambert = [&](uint32_t i) {
+    if (vpls.vpls[i].inMedium) return true;
     const Material& m = scene.materials[vpls.vpls[i].material];
     return m.metallic <= 0.0f && m.specular <= 0.0f;
   };
@@ -46,6 +50,15 @@ void VplGatherPass::upload(const Scene& scene, const VplSet& set, const std::vec
   for (std::size_t i = 0; i < gpu.size(); ++i) {
     const Vpl& v = set.vpls[order[i]];
     haveRadius_ = haveRadius_ || v.radius > 0.0f;
+    if (v.inMedium) {
+      // A medium VPL (common/vpl_table.glsl): flagged in geoNormal.w, its phase function's g in baseColor.w, the
+      // direction its light travelled on in geoNormal.xyz; no surface, so no shading normal and no BRDF.
+      const float g = scene.media[v.medium].g;
+      gpu[i] = {glm::vec4(v.position, 0.0f), glm::vec4(0.0f),           glm::vec4(v.incoming, 0.0f),
+                glm::vec4(v.flux, 0.0f),     glm::vec4(0.0f, 0.0f, 0.0f, g), glm::vec4(-v.incoming, 1.0f),
+                glm::vec4(v.flux, 0.0f)};
+      continue;
+    }
     const Material& m = scene.materials[v.material];
     gpu[i] = {glm::vec4(v.position, v.radius),
               glm::vec4(v.normal, m.metallic),
@@ -60,6 +73,15 @@ void VplGatherPass::upload(const Scene& scene, const VplSet& set, const std::vec
       gpu[i].lambertPower = glm::vec4(glm::vec3(gpu[i].baseColor) * v.flux * kInvPi, 0.0f);
   }
   table_.assign(gpu.data(), gpu.size() * sizeof(VplGpu));
+}
+
+void VplGatherPass::drawTable(ShaderProgram& program, const VplVisibility& visibility, Target& raw,
+                              const InterleavedLayout& layout, const GlVertexArray& vao) const {
+  LightTable table{&table_, BufferBinding::Vpls, tableLayout_, {},
+                   [&](int maps, ShaderProgram& p) { visibility.bindChunk(maps, p); }};
+  for (int c = 0; c < visibility.chunkCount(); ++c)
+    table.chunks.push_back({visibility.chunkBegin(c), visibility.chunkEnd(c), c, visibility.chunkBegin(c), nullptr});
+  drawInterleavedLightTable(program, raw, layout, table, vao);
 }
 
 bool VplGatherPass::draw(bool lambertOnly, const Camera& camera, const Settings& settings, float far, float bias,

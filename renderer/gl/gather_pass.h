@@ -28,8 +28,15 @@ class VplGatherPass {
  public:
   VplGatherPass();
 
-  /// Compiles the gather for `visibility` (its shader define).
-  void useVisibility(const VplVisibility& visibility);
+  /// Compiles the gather for `visibility` (its shader define), with the transmittance of the scene's `mediaCount` media
+  /// and medium VPLs (common/medium.glsl, docs/theory.md §17; 0: none).
+  void useVisibility(const VplVisibility& visibility, int mediaCount = 0);
+  /// The defines the gather was compiled with: the media pass (media_pass.h) reads the same table and maps.
+  const std::vector<std::string>& defines() const { return defines_; }
+  /// Draws `program` over the uploaded VPLs, interleaved into `raw` as the point-VPL gather is (same table, chunks and
+  /// visibility maps; the program's own uniforms are the caller's).
+  void drawTable(ShaderProgram& program, const VplVisibility& visibility, Target& raw, const InterleavedLayout& layout,
+                 const GlVertexArray& vao) const;
   /// Uploads the VPLs with their materials, in gatherOrder().
   void upload(const Scene& scene, const VplSet& vpls, const std::vector<uint32_t>& order, int lambertCount);
   /// The next draw() starts from its first draw: what it sums over changed.

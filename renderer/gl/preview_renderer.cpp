@@ -189,14 +189,26 @@ PreviewRenderer::PreviewRenderer()
       gridLight_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 1"}),
       upsample_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 0"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}) {
-  useVisibility(VisibilityMethod::Cube);
+  useVisibility(VisibilityMethod::Cube, 0);
 }
 
-void PreviewRenderer::useVisibility(VisibilityMethod method) {
-  if (vplVisibility_ && method == visibilityMethod_) return;
-  vplVisibility_ = makeVplVisibility(method);
+void PreviewRenderer::useVisibility(VisibilityMethod method, int mediaCount) {
+  if (vplVisibility_ && method == visibilityMethod_ && mediaCount == gatherMedia_) return;
+  if (!vplVisibility_ || method != visibilityMethod_) vplVisibility_ = makeVplVisibility(method);
   visibilityMethod_ = method;
-  gather_.useVisibility(*vplVisibility_);
+  gatherMedia_ = mediaCount;
+  gather_.useVisibility(*vplVisibility_, mediaCount);
+  if (mediaCount > 0) media_.useGatherDefines(gather_.defines());
+}
+
+MediaPass::Frame PreviewRenderer::mediaFrame(const Camera& camera, const Settings& settings) const {
+  const float diagonal = std::max(scene_->bounds.diagonal(), 1e-6f);
+  const float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
+  const glm::mat4 view = glm::lookAt(camera.position, camera.position + camera.forward, camera.up);
+  const glm::mat4 proj = glm::perspective(camera.yfov, aspect, camera.znear, camera.zfar);
+  // The same far and bias as the VPL maps are built with (render()), and the sphere a directional light's map covers.
+  return {lambertOnly_,     camera,          glm::inverse(proj * view),     scene_->bounds.center(),
+          diagonal,         0.51f * diagonal, 2.0f * diagonal,              settings.shadowBias * diagonal};
 }
 
 PreviewRenderer::~PreviewRenderer() = default;
@@ -265,30 +277,14 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   return why.str();
 }
 
-const VplSet& PreviewRenderer::surfaceVplsOf(const VplSet& handed) {
-  if (std::none_of(handed.vpls.begin(), handed.vpls.end(), [](const Vpl& v) { return v.inMedium; })) return handed;
-  if (surfaceVpls_.id != handed.id || surfaceVplsSource_ != &handed || surfaceVplsCount_ != handed.vpls.size()) {
-    surfaceVpls_ = VplSet{};
-    for (const Vpl& v : handed.vpls)
-      if (!v.inMedium) surfaceVpls_.vpls.push_back(v);
-    surfaceVpls_.stats = handed.stats;
-    surfaceVpls_.id = handed.id;
-    surfaceVplsSource_ = &handed;
-    surfaceVplsCount_ = handed.vpls.size();
-  }
-  return surfaceVpls_;
-}
-
-PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed, const Settings& settings,
+PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, const Settings& settings,
                                        const Camera& camera, double budgetMs) {
   auto frameStart = std::chrono::steady_clock::now();
-  // The preview lights surfaces only: a scene's media are not drawn yet (docs/methods.md, "Participating media"),
-  // so its medium VPLs are left out.
-  const VplSet& vpls = surfaceVplsOf(handed);
   requireValidSettings(settings);
   if (limits_.maxTextureSize == 0) limits_ = queryGlLimits();
   if (std::string problem = previewFitProblem(scene, vpls.vpls.size(), settings, limits_); !problem.empty())
     throw std::runtime_error(problem);
+  if (std::string problem = mediaFitProblem(scene); !problem.empty()) throw std::runtime_error(problem);
   PreviewTimings t;
   if (&scene != scene_ || sceneDirty_ || !glScene_) {
     glScene_ = std::make_unique<GlScene>(scene);
@@ -296,6 +292,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
     // The same test as evaluateBrdf's Lambert fast path (metallic and specular are per material, never textured).
     lambertOnly_ = std::all_of(scene.materials.begin(), scene.materials.end(),
                                [](const Material& m) { return m.metallic <= 0.0f && m.specular <= 0.0f; });
+    uploadedMedia_.clear();
     sceneDirty_ = false;
     haveFrame_ = false;
     shadowsValid_ = false;
@@ -315,11 +312,21 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
   Staleness stale = staleAfterSettingsChange(lastSettings_, settings, Method::Reference);
   if (!haveFrame_ || !sameCamera(camera, lastCamera_)) stale |= staleAfterCameraMove();
   if (!shadowsValid_ || lightsDirty_) stale.lightShadowMaps = true;
+  // The media are compared with those uploaded, so that an edit in place (the editor's) needs no call: what they
+  // change is what renderer/invalidation.h says (the direct light's transmittance and all the VPLs do).
+  if (const Staleness mediaEdit = staleAfterMediumEdit(uploadedMedia_, scene.media);
+      mediaEdit.anyPreview() || !haveFrame_) {
+    media_.upload(scene);
+    direct_.useMedia(media_.count());
+    uploadedMedia_ = scene.media;
+    stale |= mediaEdit;
+  }
   lightsDirty_ = false;
-  if (settings.visibility != visibilityMethod_) {
-    useVisibility(settings.visibility);
+  if (settings.visibility != visibilityMethod_ || media_.count() != gatherMedia_) {
+    useVisibility(settings.visibility, media_.count());
     vplsDirty_ = true;
   }
+  if (media_.active()) media_.bind();
   if (!shadowsValid_) vplVisibility_->resetScene();
   // The renderer does not generate VPLs: a new or edited set is uploaded and gathered again. Its maps depend on the
   // casters (position, and orientation for paraboloid tiles) and the map sizes only, which the technique compares:
@@ -330,8 +337,12 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
   int lambertVpls = 0;
   const std::vector<uint32_t> order = gatherOrder(scene, vpls, &lambertVpls);
   std::vector<IsmCaster> casters(vpls.vpls.size());
-  for (std::size_t i = 0; i < casters.size(); ++i)
-    casters[i] = {vpls.vpls[order[i]].position, vpls.vpls[order[i]].geometricNormal};
+  // A medium VPL lights every direction; a technique that orients its map (a paraboloid) faces the way its light
+  // travelled, where the phase function of a forward-scattering medium sends most of it.
+  for (std::size_t i = 0; i < casters.size(); ++i) {
+    const Vpl& v = vpls.vpls[order[i]];
+    casters[i] = {v.position, v.inMedium ? -v.incoming : v.geometricNormal};
+  }
   if (stale.vplShadowMaps || vplDataChanged) stale.vplShadowMaps = vplVisibility_->stale(casters, settings);
   stale.gather |= vplDataChanged;
   stale = stale.propagated();
@@ -348,6 +359,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
   // A gather sliced over earlier calls starts over when what it depends on changed again.
   if (stale.gather) gather_.restart();
   pending_.gather |= stale.gather;
+  pending_.media |= media_.active() && (stale.direct || stale.gather);
   pending_.merge |= stale.direct || stale.gather;
   pending_.ssbc |= stale.ssbc;
   pending_.tonemap |= stale.tonemap;
@@ -487,6 +499,18 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
   // merge is linear and its weights depend on the G-buffer only, so one merge serves both. On a grid of its own the
   // gather is merged there and I0 takes the merged direct light at the grid's representatives. Its time is counted in
   // the gather pass (in the direct pass when only that one ran).
+  // The media's scattering along camera rays, on the indirect light's grid: after the lights' and the VPLs' maps and
+  // the passes that use them.
+  if (pending_.media && !pending_.directMaps && !pending_.vplMaps && !pending_.direct && !pending_.gather &&
+      !outOfBudget) {
+    t.mediaMs = timed(timer_, t.mediaWallMs, [&] {
+      grid.g.bind();
+      media_.draw(mediaFrame(camera, settings), settings, grid.interleaved(), direct_, gather_, *vplVisibility_, vao_);
+    });
+    ++counters_.media;
+    finished(pending_.media);
+  }
+
   if (pending_.merge && !pending_.direct && !pending_.gather && !outOfBudget) {
     double wallMs = 0.0;
     double gpuMs = timed(timer_, wallMs, [&] {
@@ -518,7 +542,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
 
   // Pass 5: R1 = T_r(I0) (I0 = direct + indirect, merged by the de-interleave), R2 = T_r(R1), final = Le + I0 + R1
   // + R2 (the final composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
-  if (pending_.ssbc && !pending_.merge && !outOfBudget) {
+  if (pending_.ssbc && !pending_.merge && !pending_.media && !outOfBudget) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       grid.g.bind();
       residualSteps_ =
@@ -527,16 +551,22 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& handed,
       if (ownGrid) {
         upsample(glm::vec4(1.0f, 1.0f, residualSteps_ >= 1, residualSteps_ >= 2), camera.position,
                  tg.linear.framebuffer);
-        return;
+      } else {
+        tg.linear.framebuffer.bind(tg.width, tg.height);
+        tg.full.g.bind();
+        tg.full.i0.texture.bind(unit(TextureUnit::PassInput0));
+        tg.full.r1.texture.bind(unit(TextureUnit::PassInput2));
+        tg.full.r2.texture.bind(unit(TextureUnit::PassInput3));
+        compose_.set("uResidualSteps", residualSteps_);
+        compose_.set("uCameraPosition", camera.position);
+        drawFullscreen(compose_, vao_);
       }
-      tg.linear.framebuffer.bind(tg.width, tg.height);
-      tg.full.g.bind();
-      tg.full.i0.texture.bind(unit(TextureUnit::PassInput0));
-      tg.full.r1.texture.bind(unit(TextureUnit::PassInput2));
-      tg.full.r2.texture.bind(unit(TextureUnit::PassInput3));
-      compose_.set("uResidualSteps", residualSteps_);
-      compose_.set("uCameraPosition", camera.position);
-      drawFullscreen(compose_, vao_);
+      // Through media: the surfaces' image attenuated along the camera rays, plus the light scattered into them.
+      if (media_.active()) {
+        tg.full.g.bind();
+        media_.compose(mediaFrame(camera, settings), tg.linear.texture, glm::vec3(1.0f), tg.width, tg.height,
+                       tg.linear.framebuffer, vao_);
+      }
     });
     ++counters_.ssbc;
     finished(pending_.ssbc);
@@ -610,14 +640,29 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   drawFullscreen(upsample_, vao_);
 }
 
+void PreviewRenderer::throughMedia(Target& target, glm::vec3 weights) {
+  if (!media_.active() || !haveFrame_) return;
+  targets_->full.g.bind();
+  media_.compose(mediaFrame(lastCamera_, lastSettings_), target.texture, weights, targets_->width, targets_->height,
+                 target.framebuffer, vao_);
+}
+
 Image PreviewRenderer::readLinear(PreviewOutput which) {
   if (!targets_) return {};
   Targets& tg = *targets_;
+  if (which == PreviewOutput::Scattered) {
+    if (!media_.active()) return Image(tg.width, tg.height);
+    tg.full.indirect.texture.copyFrom(tg.linear.texture);
+    throughMedia(tg.full.indirect, glm::vec3(0.0f, 1.0f, 1.0f));
+    glBindFramebuffer(GL_FRAMEBUFFER, 0);
+    return readFramebuffer(tg.full.indirect.framebuffer, 0, tg.width, tg.height);
+  }
   if (tg.downscaled && (which == PreviewOutput::Residual || which == PreviewOutput::Indirect)) {
     // Upsampled from the indirect light's grid on demand.
     const bool residual = which == PreviewOutput::Residual;
     upsample(glm::vec4(0.0f, !residual, residual && residualSteps_ >= 1, residual && residualSteps_ >= 2),
              lastCamera_.position, tg.full.indirect.framebuffer);
+    throughMedia(tg.full.indirect, residual ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 1.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(tg.full.indirect.framebuffer, 0, tg.width, tg.height);
   }
@@ -636,6 +681,7 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     const bool direct = which == PreviewOutput::Direct;
     Target& out = direct ? tg.direct : tg.full.indirect;
     mergeInterleaved(tg.full, direct ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f, 1.0f), out.framebuffer);
+    throughMedia(out, direct ? glm::vec3(1.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 1.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(out.framebuffer, 0, tg.width, tg.height);
   }

@@ -3,7 +3,9 @@
 //   1 G-buffer  2 direct light (shadow-mapped area samples + punctual lights)  3 VPL visibility maps (cube or ISM)
 //   4 VPL gather (G_b, VSL, interleaved k x k) + geometry-aware de-interleave  5 screen-space bias compensation
 //   6 tonemap.
-// The image is Le (seen directly) + direct + indirect (+ compensation), in the CPU renderer's linear units.
+// The image is Le (seen directly) + direct + indirect (+ compensation), in the CPU renderer's linear units. In a scene
+// with participating media the surfaces' light is attenuated along every light, VPL and camera segment, and the media
+// add the light they scatter into camera rays (media_pass.h).
 // Needs a current GL context (HeadlessGlContext or the editor's window); does not create one.
 //
 // Each pass is a class of its own (direct_pass.h, gather_pass.h, ssbc_pass.h; the VPL maps behind vpl_visibility.h);
@@ -23,6 +25,7 @@
 #include "renderer/gl/gather_pass.h"
 #include "renderer/gl/gl_limits.h"
 #include "renderer/gl/gl_scene.h"
+#include "renderer/gl/media_pass.h"
 #include "renderer/gl/resources.h"
 #include "renderer/gl/screen_pass.h"
 #include "renderer/gl/shader.h"
@@ -38,11 +41,15 @@ namespace vplab {
 /// changed.
 struct PreviewTimings {
   double gbufferMs = 0, directShadowMs = 0, directMs = 0, vplShadowMs = 0, gatherMs = 0, ssbcMs = 0, tonemapMs = 0;
-  double totalMs() const { return gbufferMs + directShadowMs + directMs + vplShadowMs + gatherMs + ssbcMs + tonemapMs; }
+  /// The media's scattering along camera rays with its merge (media_pass.h; 0 in a scene without media).
+  double mediaMs = 0;
+  double totalMs() const {
+    return gbufferMs + directShadowMs + directMs + vplShadowMs + gatherMs + mediaMs + ssbcMs + tonemapMs;
+  }
   /// CPU wall time per pass in milliseconds, from issuing its commands until the GPU finished them (the timer
   /// query result is waited for), so it includes driver overhead that GL_TIME_ELAPSED does not see.
   double gbufferWallMs = 0, directShadowWallMs = 0, directWallMs = 0, vplShadowWallMs = 0, gatherWallMs = 0,
-         ssbcWallMs = 0, tonemapWallMs = 0;
+         ssbcWallMs = 0, tonemapWallMs = 0, mediaWallMs = 0;
   /// CPU wall time of the whole render() call (uploads and invalidation checks included).
   double frameWallMs = 0;
   /// Pixel x VPL evaluations the gather pass performed (each with one shadow-map fetch): pixels x N / k^2.
@@ -57,15 +64,16 @@ struct PreviewTimings {
 
 /// How often each pass ran since construction (tests check the invalidation rules with these).
 struct PreviewCounters {
-  int gbuffer = 0, directShadowMaps = 0, direct = 0, vplShadowMaps = 0, gather = 0, ssbc = 0, tonemap = 0;
+  int gbuffer = 0, directShadowMaps = 0, direct = 0, vplShadowMaps = 0, gather = 0, ssbc = 0, tonemap = 0, media = 0;
 };
 
 /// Which image readLinear() returns.
 enum class PreviewOutput {
-  Final,     ///< Le + direct + indirect + compensation
-  Direct,    ///< direct light (reflected) only
-  Indirect,  ///< de-interleaved VPL gather only
+  Final,     ///< Le + direct + indirect + compensation (through media: attenuated, plus their scattered light)
+  Direct,    ///< direct light (reflected) only; through media attenuated, plus the lights' single scattering
+  Indirect,  ///< de-interleaved VPL gather only; through media attenuated, plus the VPLs' in-scattering
   Residual,  ///< screen-space compensation R1 + R2 only
+  Scattered,  ///< the light the media scatter into camera rays only (0 without media): the lights' and the VPLs'
 };
 
 /// Whether the preview of `scene` with `vplCount` VPLs under `settings` fits the context's limits: an empty string, or
@@ -121,18 +129,19 @@ class PreviewRenderer {
   /// Draws into `out` the full-resolution image of the indirect light's grid (preview/upsample.frag.glsl) with the
   /// terms `terms` selects: x emission and direct light, y the gather, z R1, w R2.
   void upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFramebuffer& out);
-  /// Creates the visibility technique and compiles the gather for it when Settings::visibility changed.
-  void useVisibility(VisibilityMethod method);
+  /// Creates the visibility technique and compiles the gather (and the media's VPL pass) for it and for the scene's
+  /// media when Settings::visibility or whether the scene has media changed.
+  void useVisibility(VisibilityMethod method, int mediaCount);
+  /// Through the scene's media (none: nothing to do): target = weights.x T(camera, surface) target + weights.y the
+  /// lights' single scattering + weights.z the VPLs' in-scattering, for the last frame (MediaPass::compose).
+  void throughMedia(Target& target, glm::vec3 weights);
+  /// What the media passes need of this frame's camera and scene.
+  MediaPass::Frame mediaFrame(const Camera& camera, const Settings& settings) const;
 
   std::unique_ptr<Targets> targets_;
   std::unique_ptr<GlScene> glScene_;
   const Scene* scene_ = nullptr;
   const VplSet* vplSet_ = nullptr;
-  /// The surface VPLs of a set that holds medium VPLs too (the preview does not draw media): copied once per set.
-  const VplSet& surfaceVplsOf(const VplSet& handed);
-  VplSet surfaceVpls_;
-  const VplSet* surfaceVplsSource_ = nullptr;
-  std::size_t surfaceVplsCount_ = 0;
   std::uint64_t vplSetId_ = 0;
   bool vplsDirty_ = true;
   bool sceneDirty_ = true;
@@ -147,6 +156,11 @@ class PreviewRenderer {
   /// The VPL visibility technique of Settings::visibility.
   std::unique_ptr<VplVisibility> vplVisibility_;
   VisibilityMethod visibilityMethod_ = VisibilityMethod::Cube;
+  /// The media count the gather was compiled for.
+  int gatherMedia_ = 0;
+  MediaPass media_;
+  /// The media media_ holds, to notice an edit in place.
+  std::vector<Medium> uploadedMedia_;
   VplGatherPass gather_;
   ShaderProgram deinterleaveRows_, deinterleaveColumns_;
   SsbcPass ssbc_;
@@ -170,9 +184,9 @@ class PreviewRenderer {
 
   /// Passes that are stale and have not run yet (render() with a budget can leave some for the next call).
   struct PendingPasses {
-    bool gbuffer = false, directMaps = false, vplMaps = false, direct = false, gather = false, merge = false,
-         ssbc = false, tonemap = false;
-    int count() const { return gbuffer + directMaps + vplMaps + direct + gather + merge + ssbc + tonemap; }
+    bool gbuffer = false, directMaps = false, vplMaps = false, direct = false, gather = false, media = false,
+         merge = false, ssbc = false, tonemap = false;
+    int count() const { return gbuffer + directMaps + vplMaps + direct + gather + media + merge + ssbc + tonemap; }
     bool any() const { return count() > 0; }
   };
   PendingPasses pending_;

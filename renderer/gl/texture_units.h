@@ -50,6 +50,8 @@ enum class BufferBinding : int {
   DirectLights = 7,
   /// The VPL table (uniform block of common/gather.glsl).
   Vpls = 8,
+  /// The scene's participating media (uniform block of common/medium.glsl).
+  Media = 9,
 };
 
 constexpr int binding(BufferBinding b) {

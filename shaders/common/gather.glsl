@@ -26,20 +26,32 @@
 #include "common/vsl.glsl"
 #endif
 
-struct GlVpl {
-  vec4 position;   // xyz, w: VSL radius (0 = point)
-  vec4 normal;     // xyz shading normal, w metallic
-  vec4 incoming;   // xyz toward where the light came from, w roughness
-  vec4 flux;       // rgb Phi, w specular
-  vec4 baseColor;  // rgb (texture included)
-  vec4 geoNormal;  // xyz geometric normal
-  // rgb f(x2) Phi = baseColor / pi Phi for a pure-Lambert VPL, 0 where its light arrived from behind the shading normal
-  // (then f(x2) = 0): the whole VPL factor of the pure-Lambert loop, precomputed by the renderer.
-  vec4 lambertPower;
-};
-layout(std140, binding = BINDING_VPLS) uniform Vpls { GlVpl vpls[GATHER_UBO_VPLS]; };
+#include "common/vpl_table.glsl"
+#include "common/medium.glsl"
+#include "common/phase.glsl"
 
-uniform float uClampBound; // b (a large finite value stands for infinity); point-VPL sets only
+uniform float uClampBound;
+
+// The VPL's end of a transfer toward x1 along w (unit, from x1 to the VPL). A surface VPL: its cosine, its one-sided
+// surface and its BRDF. In a scene with media a medium VPL has none of these (docs/theory.md §17): cosine 1, light toward
+// every side, and its phase function, which mediaTransfer() applies with the transmittance between the ends.
+#if PREVIEW_MEDIA
+bool isMediumVpl(GlVpl vpl) { return vpl.geoNormal.w > 0.5; }
+float vplEndCosine(GlVpl vpl, vec3 w) { return isMediumVpl(vpl) ? 1.0 : -dot(vpl.normal.xyz, w); }
+bool vplFaces(GlVpl vpl, vec3 w) { return isMediumVpl(vpl) || dot(vpl.geoNormal.xyz, w) < 0.0; }
+vec3 vplEndBrdf(GlVpl vpl, BrdfParams p2, vec3 w) {
+  return isMediumVpl(vpl) ? vec3(1.0) : evaluateBrdf(p2, vpl.normal.xyz, vpl.incoming.xyz, -w);
+}
+vec3 mediaTransfer(GlVpl vpl, vec3 x1, vec3 w) {
+  float phase = isMediumVpl(vpl) ? phaseHG(dot(vpl.incoming.xyz, w), vpl.baseColor.w) : 1.0;
+  return phase * mediaTransmittance(x1, vpl.position.xyz);
+}
+#else
+float vplEndCosine(GlVpl vpl, vec3 w) { return -dot(vpl.normal.xyz, w); }
+bool vplFaces(GlVpl vpl, vec3 w) { return dot(vpl.geoNormal.xyz, w) < 0.0; }
+vec3 vplEndBrdf(GlVpl vpl, BrdfParams p2, vec3 w) { return evaluateBrdf(p2, vpl.normal.xyz, vpl.incoming.xyz, -w); }
+vec3 mediaTransfer(GlVpl vpl, vec3 x1, vec3 w) { return vec3(1.0); }
+#endif // b (a large finite value stands for infinity); point-VPL sets only
 
 layout(location = 0) out vec4 outColor;
 
@@ -91,35 +103,36 @@ void main() {
   vec3 f1 = dot(n1, wo) > 0.0 ? p1.baseColor * kInvPi : vec3(0.0);
   for (int i = first; i < uLightEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];
-    vec3 x2 = vpl.position.xyz, n2 = vpl.normal.xyz;
+    vec3 x2 = vpl.position.xyz;
     vec3 d = x2 - x1;
     float dist2 = dot(d, d);
     float invDist = inversesqrt(max(dist2, 1e-30));
     vec3 w = d * invDist;
-    float cos1 = dot(n1, w), cos2 = -dot(n2, w);
+    float cos1 = dot(n1, w), cos2 = vplEndCosine(vpl, w);
     // One-sided surfaces at both ends, clamped cosines, G bounded by b (docs/theory.md §4).
-    bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 && cos2 > 0.0;
+    bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && vplFaces(vpl, w) && cos1 > 0.0 && cos2 > 0.0;
     float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, dist2 * invDist, ng);
     float gv = contributes ? min(cos1 * cos2 * invDist * invDist, uClampBound) * v : 0.0;
-    sum += gv * vpl.lambertPower.rgb;
+    sum += gv * vpl.lambertPower.rgb * mediaTransfer(vpl, x1, w);
   }
   sum *= f1;
 #else
   // The same terms at glossy ends, also without branches.
   for (int i = first; i < uLightEnd; i += k2) {
     GlVpl vpl = vpls[i - uUboBase];
-    vec3 x2 = vpl.position.xyz, n2 = vpl.normal.xyz;
+    vec3 x2 = vpl.position.xyz;
     BrdfParams p2 = BrdfParams(vpl.baseColor.rgb, vpl.normal.w, vpl.incoming.w, vpl.flux.w);
     vec3 d = x2 - x1;
     float dist2 = dot(d, d);
     float invDist = inversesqrt(max(dist2, 1e-30));
     vec3 w = d * invDist;
-    float cos1 = dot(n1, w), cos2 = -dot(n2, w);
-    bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && dot(vpl.geoNormal.xyz, w) < 0.0 && cos1 > 0.0 && cos2 > 0.0;
+    float cos1 = dot(n1, w), cos2 = vplEndCosine(vpl, w);
+    bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && vplFaces(vpl, w) && cos1 > 0.0 && cos2 > 0.0;
     float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, dist2 * invDist, ng);
     float gv = min(cos1 * cos2 * invDist * invDist, uClampBound) * v;
     // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
-    sum += contributes ? evaluateBrdf(p1, n1, wo, w) * gv * evaluateBrdf(p2, n2, vpl.incoming.xyz, -w) * vpl.flux.rgb
+    sum += contributes ? evaluateBrdf(p1, n1, wo, w) * gv * vplEndBrdf(vpl, p2, w) * vpl.flux.rgb *
+                             mediaTransfer(vpl, x1, w)
                        : vec3(0.0);
   }
 #endif

@@ -23,6 +23,7 @@
 #include "common/math.glsl"
 #include "common/units.glsl"
 #include "common/light_shadow.glsl"
+#include "common/medium.glsl"
 
 struct DirectLight {
   vec4 position;  // xyz, w: 0 area sample, 1 point, 2 spot, 3 directional (xyz unused)
@@ -83,7 +84,10 @@ void main() {
     // One-sided receiver: the light must be on the side the geometric normal faces.
     float cos1 = dot(n1, w);
     bool reaches = dist2 > 0.0 && dot(ng, w) > 0.0 && cos1 > 0.0 && emitted > 0.0;
-    sum += reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * visibility * l.weight.rgb) : vec3(0.0);
+    // Through participating media, the transmittance between the light and x1 (1 without media).
+    sum += reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * visibility * l.weight.rgb) *
+                         mediaLightTransmittance(l.position, l.axis.xyz, x1)
+                   : vec3(0.0);
   }
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA
   outColor = interleavedOutput(s, sum * float(k2));

@@ -1,0 +1,88 @@
+#pragma once
+// The preview's participating media (docs/theory.md §16-§18, docs/methods.md "Participating media"): what the media
+// do to the image besides the transmittance the surface passes apply themselves (the direct pass toward each light,
+// the gather toward each VPL, both through common/medium.glsl):
+//   - single scattering of the lights along camera rays (preview/media_lights.frag.glsl), with the direct pass's
+//     lights and shadow maps;
+//   - in-scattering of the VPLs, surface and medium ones, along camera rays (preview/media_vpls.frag.glsl), with the
+//     gather's table, its visibility technique and the bound b;
+// both interleaved like the surface passes, on the indirect light's grid, and merged (media_merge.frag.glsl); then
+// the composition through the media (media_compose.frag.glsl): T(camera, surface) times the surfaces' image plus the
+// scattered light.
+
+#include <memory>
+#include <string>
+#include <vector>
+
+#include "renderer/gl/direct_pass.h"
+#include "renderer/gl/gather_pass.h"
+#include "renderer/gl/resources.h"
+#include "renderer/gl/screen_pass.h"
+#include "renderer/gl/shader.h"
+#include "renderer/gl/vpl_visibility.h"
+#include "renderer/scene/scene.h"
+#include "renderer/settings.h"
+
+namespace vplab {
+
+/// The most media one scene may hold in the preview (MEDIA_MAX of common/medium.glsl).
+inline constexpr int kPreviewMaxMedia = 8;
+/// Distances per light and pixel along a camera ray for the lights' single scattering: with equiangular sampling and
+/// the k x k merge, 4 keep the shafts of the bundled fog scenes within 2 % of the CPU's (tests/gl_media_test.cpp).
+inline constexpr int kMediaLightSteps = 4;
+
+/// One sentence when the scene holds more media than the preview draws, else empty.
+std::string mediaFitProblem(const Scene& scene);
+
+class MediaPass {
+ public:
+  MediaPass();
+
+  /// Uploads the scene's media (at most kPreviewMaxMedia, mediaFitProblem()); active() tells whether it has any that
+  /// absorb or scatter.
+  void upload(const Scene& scene);
+  bool active() const { return count_ > 0; }
+  int count() const { return count_; }
+  /// Binds the media's table for every pass compiled with PREVIEW_MEDIA (the direct pass and the gather too).
+  void bind() const;
+  /// Compiles the VPLs' in-scattering for the gather's table, visibility technique and media
+  /// (VplGatherPass::defines()).
+  void useGatherDefines(const std::vector<std::string>& gatherDefines);
+
+  struct Frame {
+    bool lambertOnly;
+    const Camera& camera;
+    glm::mat4 invViewProj;
+    glm::vec3 sceneCentre;
+    float sceneDiagonal, sceneRadius, far, bias;
+  };
+  /// Draws both scattering passes on the grid whose G-buffer is bound (layout: its size and k) and merges them.
+  void draw(const Frame& frame, const Settings& settings, const InterleavedLayout& layout,
+            const DirectLightPass& direct, const VplGatherPass& gather, const VplVisibility& visibility,
+            const GlVertexArray& vao);
+  /// Draws into `out` (width x height, the full G-buffer bound) weights.x T(camera, surface) `surface` + weights.y the
+  /// lights' single scattering + weights.z the VPLs' in-scattering of the last draw(). `surface` may be out's own
+  /// texture: it is copied.
+  void compose(const Frame& frame, const GlTexture& surface, glm::vec3 weights, int width, int height,
+               GlFramebuffer& out, const GlVertexArray& vao);
+
+ private:
+  void ensureTargets(const InterleavedLayout& layout);
+
+  GlBuffer table_;
+  int count_ = 0;
+  std::unique_ptr<ShaderProgram> lights_;
+  int lightsLayoutCapacity_ = 0;
+  std::unique_ptr<BrdfVariants> vpls_;
+  ShaderProgram merge_;
+  std::unique_ptr<ShaderProgram> compose_;
+  // The media count the programs were compiled for.
+  int lightsCount_ = 0, composeCount_ = 0;
+  // The interleaved results (block layout), their merge (lights in colour 0, VPLs in colour 1) and a copy of the
+  // surfaces' image that compose() reads.
+  std::unique_ptr<Target> lightsRaw_, vplsRaw_, merged_, surfaceCopy_;
+  std::unique_ptr<GlTexture> mergedVpls_;
+  int rawWidth_ = 0, rawHeight_ = 0, gridWidth_ = 0, gridHeight_ = 0;
+};
+
+}  // namespace vplab

@@ -1,0 +1,83 @@
+// A camera ray through the media (docs/theory.md §16-§18), for the passes that integrate along it
+// (preview/media_lights.frag.glsl, preview/media_vpls.frag.glsl, preview/media_compose.frag.glsl): the ray of a pixel,
+// the range of each medium before the surface the pixel sees, the transmittance from the camera, and equiangular
+// distances (Kulla & Fajardo 2012) as renderer/offline/camera_sample.h draws them. Compiled with PREVIEW_MEDIA > 0 (the
+// media count, common/medium.glsl), after a declaration of uCameraPosition (the pass's own, or common/interleaved.glsl's).
+#include "common/fullscreen.glsl"
+#include "common/medium.glsl"
+
+uniform mat4 uInvViewProj;      // clip space -> world, for the rays of pixels that see no surface
+uniform float uSceneDiagonal;   // a span reaching infinity is cut as camera_sample.h mediaSpanEnd() cuts it
+
+struct MediaRay {
+  vec3 origin, dir;         // dir unit
+  float end;                // distance to the surface the pixel sees (1e30: none)
+  float a, b;               // the span of the media before `end`
+  vec2 range[PREVIEW_MEDIA];    // each medium's part of the ray, [t0, t1] within [0, end] (empty: t0 >= t1)
+};
+
+// The camera ray through the centre of pixel px of an image of `size` pixels whose G-buffer is bound; false when it
+// crosses no medium.
+bool mediaRayAt(ivec2 px, ivec2 size, out MediaRay r) {
+  vec4 pos = texelFetch(gPosition, px, 0);
+  r.origin = uCameraPosition;
+  if (pos.w > 0.0) {
+    vec3 d = pos.xyz - uCameraPosition;
+    r.end = length(d);
+    r.dir = d / max(r.end, 1e-30);
+  } else {
+    vec2 ndc = (vec2(px) + 0.5) / vec2(size) * 2.0 - 1.0;
+    vec4 far = uInvViewProj * vec4(ndc, 1.0, 1.0);
+    r.dir = normalize(far.xyz / far.w - uCameraPosition);
+    r.end = 1e30;
+  }
+  r.a = 1e30;
+  r.b = 0.0;
+  float leastSigmaT = 1e30;
+  for (int m = 0; m < PREVIEW_MEDIA; ++m) {
+    vec2 t = mediumRange(m, r.origin, r.dir);
+    t = vec2(max(t.x, 0.0), min(t.y, r.end));
+    r.range[m] = t;
+    if (t.x < t.y) {
+      r.a = min(r.a, t.x);
+      r.b = max(r.b, t.y);
+      vec3 st = media[m].sigmaT.rgb;
+      leastSigmaT = min(leastSigmaT, min(st.r, min(st.g, st.b)));
+    }
+  }
+  // A medium filling all space, seen where no surface ends the ray: cut where its least attenuated channel's
+  // transmittance is 1e-6, or at 1000 scene diagonals.
+  if (r.b >= 1e29) r.b = r.a + (leastSigmaT > 0.0 ? 14.0 / leastSigmaT : 1000.0 * uSceneDiagonal);
+  return r.a < r.b;
+}
+
+// The medium holding the ray's point at t, or -1 (between boxes).
+int mediumAlong(MediaRay r, float t) {
+  int found = -1;
+  for (int m = 0; m < PREVIEW_MEDIA; ++m)
+    if (t >= r.range[m].x && t < r.range[m].y) found = m;
+  return found;
+}
+
+// Transmittance from the camera to the ray's point at t.
+vec3 cameraTransmittance(MediaRay r, float t) {
+  vec3 depth = vec3(0.0);
+  for (int m = 0; m < PREVIEW_MEDIA; ++m)
+    depth += media[m].sigmaT.rgb * max(0.0, min(r.range[m].y, t) - r.range[m].x);
+  return exp(-depth);
+}
+
+// A distance in [a, b) drawn equiangularly around p from the uniform number u: t = delta + h tan(theta), theta uniform
+// between the span's angles, pdf h / ((thetaB - thetaA)(h^2 + (t - delta)^2)), which cancels a 1/d^2 toward p.
+float equiangularDistance(MediaRay r, vec3 p, float u, float minH, out float pdf) {
+  float delta = dot(p - r.origin, r.dir);
+  float h = max(minH, length(r.origin + r.dir * delta - p));
+  float thetaA = atan(r.a - delta, h), thetaB = atan(r.b - delta, h);
+  float t = delta + h * tan(mix(thetaA, thetaB, u));
+  pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
+  return t;
+}
+
+// Interleaved gradient noise (Jimenez 2014): a deterministic number in [0, 1) per pixel, which the merge of the k x k
+// subsets and the box filter of neighbouring pixels average.
+float pixelJitter(ivec2 px) { return fract(52.9829189 * fract(dot(vec2(px), vec2(0.06711056, 0.00583715)))); }

@@ -1,0 +1,62 @@
+// Homogeneous participating media in the preview (docs/theory.md §16-§17; renderer/scene/medium.h): transmittance
+// exp(-sum sigma_t length) over the parts of a segment inside the media, in closed form (a ray-box slab test per
+// medium). The renderer compiles a pass with PREVIEW_MEDIA set to the number of the scene's media and binds their
+// table (renderer/gl/media_pass.h): a count known to the compiler unrolls the loops over the media and makes their
+// reads constant (llvmpipe: half the cost of a loop to a count read from the table). With PREVIEW_MEDIA 0 (no media)
+// the transmittance is 1 and costs nothing, so the surface passes include this file unconditionally.
+#ifndef PREVIEW_MEDIA
+#define PREVIEW_MEDIA 0
+#endif
+
+#if PREVIEW_MEDIA
+#include "common/units.glsl"
+
+// The most media a scene may hold in the preview (renderer/gl/media_pass.h kPreviewMaxMedia).
+#define MEDIA_MAX 8
+
+struct GlMedium {
+  vec4 sigmaT;        // rgb sigma_a + sigma_s, w: 1 when the medium fills all space
+  vec4 sigmaS;        // rgb sigma_s, w: Henyey-Greenstein g
+  mat4 boxFromWorld;  // maps the medium's box onto the cube [-1, 1]^3
+};
+layout(std140, binding = BINDING_MEDIA) uniform Media { GlMedium media[MEDIA_MAX]; };
+
+// The parameter range [t0, t1] of o + t d inside medium m (empty when t0 >= t1); d need not be unit.
+vec2 mediumRange(int m, vec3 o, vec3 d) {
+  if (media[m].sigmaT.w > 0.5) return vec2(-1e30, 1e30);
+  vec3 ob = (media[m].boxFromWorld * vec4(o, 1.0)).xyz;
+  vec3 db = mat3(media[m].boxFromWorld) * d;
+  // A zero component becomes a tiny one of either sign: the slab is then [-inf, inf] or empty, as it should be.
+  vec3 inv = 1.0 / mix(db, vec3(1e-30), lessThan(abs(db), vec3(1e-30)));
+  vec3 ta = (-1.0 - ob) * inv, tb = (1.0 - ob) * inv;
+  vec3 lo = min(ta, tb), hi = max(ta, tb);
+  return vec2(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
+}
+
+// Optical depth per channel of o + t d for t in [tMin, tMax].
+vec3 opticalDepth(vec3 o, vec3 d, float tMin, float tMax) {
+  vec3 depth = vec3(0.0);
+  float len = length(d);
+  for (int m = 0; m < PREVIEW_MEDIA; ++m) {
+    vec2 r = mediumRange(m, o, d);
+    depth += media[m].sigmaT.rgb * (max(0.0, min(r.y, tMax) - max(r.x, tMin)) * len);
+  }
+  return depth;
+}
+
+// Transmittance between two points.
+vec3 mediaTransmittance(vec3 a, vec3 b) { return exp(-opticalDepth(a, b - a, 0.0, 1.0)); }
+
+// Transmittance from x toward infinity along the unit direction w (a directional light).
+vec3 mediaTransmittanceToward(vec3 x, vec3 w) { return exp(-opticalDepth(x, w, 0.0, 1e30)); }
+
+#else
+vec3 mediaTransmittance(vec3 a, vec3 b) { return vec3(1.0); }
+vec3 mediaTransmittanceToward(vec3 x, vec3 w) { return vec3(1.0); }
+#endif
+
+// The transmittance between x and a light of the direct pass's table (preview/direct.frag.glsl): position.w 3 is a
+// directional light arriving from -axis, anything else a point at position.xyz.
+vec3 mediaLightTransmittance(vec4 position, vec3 axis, vec3 x) {
+  return position.w == 3.0 ? mediaTransmittanceToward(x, -axis) : mediaTransmittance(x, position.xyz);
+}

@@ -1,0 +1,117 @@
+#version 450 core
+// Single scattering of the lights along camera rays (docs/theory.md §16, §18): per pixel, the integral over the media
+// the ray crosses before its surface of T(0, t) sigma_s f_p L_light(x(t)), with the direct pass's lights
+// (preview/direct.frag.glsl: its K area-light samples and punctual lights) and their shadow maps:
+//   L_light = weight cosLight / d^2 * T(light, x) * V          (area sample y_k, one-sided, weight = Le / (K p_A))
+//           = I(-w) / d^2 * T(light, x) * V                     (point or spot light, KHR_lights_punctual falloff)
+//           = E * T(x -> infinity) * V                          (directional light)
+// estimated with uMediaSteps distances per light, drawn equiangularly around it (uniformly over the span for a
+// directional light), stratified and rotated per pixel and per light. V is one lookup in the light's map (no filter: a
+// medium point has no surface to bias against, and the ray's integral smooths the shadow's edge).
+// Interleaved like the direct pass: pixel subset s takes the area samples s, s + k^2, ... with weight k^2; the few
+// punctual and directional lights are taken at every pixel. Written in the deinterleaved block layout
+// (common/interleaved.glsl) and merged by preview/media_merge.frag.glsl.
+#include "common/media_interleaved.glsl"
+#include "common/phase.glsl"
+
+// The layout of the direct pass's light table (preview/direct.frag.glsl).
+struct DirectLight {
+  vec4 position;  // xyz, w: 0 area sample, 1 point, 2 spot, 3 directional
+  vec4 axis;      // emitter normal, spot axis or direction of travel; w: cos(outer cone)
+  vec4 weight;    // rgb: Le / (K p_A), intensity or irradiance; w: cos(inner cone)
+  vec4 shadow;    // x: the light's map
+  vec4 centre;    // xyz: where that map was rendered from
+};
+layout(std140, binding = BINDING_DIRECT_LIGHTS) uniform DirectLights {
+  DirectLight lights[DIRECT_UBO_LIGHTS];
+};
+
+// The lights' maps as the direct pass binds them (renderer/gl/light_shadows.h): a cube of radial distances around each
+// map's centre, and for a directional light an orthographic map of distances along its direction from the plane
+// uSceneRadius behind uSceneCentre, over the disc of that radius.
+layout(binding = UNIT_LIGHT_SHADOWS) uniform samplerCubeArray uLightShadows;
+layout(binding = UNIT_DIRECTIONAL_SHADOWS) uniform sampler2DArray uDirectionalShadows;
+uniform vec3 uSceneCentre;
+uniform float uSceneRadius;
+uniform float uDirectionalShadowTexel;  // metres
+uniform float uLightShadowTexel;        // angle of a cube texel at a face's centre
+
+uniform int uMediaSteps;   // distances per light and pixel
+uniform int uAreaFirst;    // this subset's first area sample in the bound range
+uniform int uAreaEnd;      // one past the last area sample in the bound range
+uniform int uPunctualEnd;  // one past the last point or spot light; directional lights follow up to uLightEnd
+
+layout(location = 0) out vec4 outColor;
+
+const int kAreaLight = 0, kPunctualLight = 1, kDirectionalLight = 2;
+
+// T(0, t) sigma_s f_p L_light(x(t)) / pdf(t), summed over the light's distances and divided by their count. `kind` is
+// a constant at every call, so each loop below is compiled without the other kinds' code.
+vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, float minH) {
+  vec3 sum = vec3(0.0);
+  for (int j = 0; j < uMediaSteps; ++j) {
+    float u = (float(j) + rotation) / float(uMediaSteps);
+    float pdf, t;
+    if (kind == kDirectionalLight) {
+      t = mix(r.a, r.b, u);
+      pdf = 1.0 / (r.b - r.a);
+    } else {
+      t = equiangularDistance(r, l.position.xyz, u, minH, pdf);
+    }
+    int m = mediumAlong(r, t);
+    int medium = max(m, 0);
+    vec3 x = r.origin + r.dir * t;
+    vec3 w;
+    float falloff, visibility;
+    if (kind == kDirectionalLight) {
+      w = -l.axis.xyz;
+      falloff = 1.0;
+      vec3 s, tt;
+      orthonormalFrame(l.axis.xyz, s, tt);
+      vec3 p = x - uSceneCentre;
+      vec2 uv = vec2(dot(p, s), dot(p, tt)) / (2.0 * uSceneRadius) + 0.5;
+      float depth = dot(p, l.axis.xyz) + uSceneRadius;
+      float stored = texture(uDirectionalShadows, vec3(uv, l.shadow.x)).r;
+      visibility = stored >= depth - 2.0 * uDirectionalShadowTexel ? 1.0 : 0.0;
+    } else {
+      vec3 d = l.position.xyz - x;
+      float dist2 = max(dot(d, d), 1e-30);
+      w = d * inversesqrt(dist2);
+      float cosLight = -dot(l.axis.xyz, w);
+      if (kind == kAreaLight) {
+        falloff = max(cosLight, 0.0) / dist2;
+      } else {
+        float s = clamp((cosLight - l.axis.w) / max(0.001, l.weight.w - l.axis.w), 0.0, 1.0);
+        falloff = (l.position.w == 2.0 ? s * s : 1.0) / dist2;
+      }
+      vec3 fromCentre = x - l.centre.xyz;
+      float stored = texture(uLightShadows, vec4(fromCentre, l.shadow.x)).r;
+      visibility = stored >= length(fromCentre) * (1.0 - 2.0 * uLightShadowTexel) ? 1.0 : 0.0;
+    }
+    float phase = phaseHG(dot(w, r.dir), media[medium].sigmaS.w);
+    vec3 term = cameraTransmittance(r, t) * media[medium].sigmaS.rgb * (phase * falloff * visibility / pdf) *
+                l.weight.rgb * mediaLightTransmittance(l.position, l.axis.xyz, x);
+    sum += m >= 0 && pdf > 0.0 ? term : vec3(0.0);
+  }
+  return sum / float(uMediaSteps);
+}
+
+void main() {
+  MediaPixel at;
+  if (!interleavedMediaPixel(at)) {
+    outColor = vec4(0.0);
+    return;
+  }
+  MediaRay r = at.ray;
+  int k2 = at.k2;
+  float jitter = at.jitter, minH = at.minH;
+  vec3 sum = vec3(0.0);
+  // Each light's distances rotated by its own amount (the golden ratio's fraction), so that lights do not share strata.
+  for (int i = uAreaFirst; i < uAreaEnd; i += k2)
+    sum += float(k2) * scatteredLight(lights[i - uUboBase], kAreaLight, r, fract(jitter + 0.618034 * float(i)), minH);
+  for (int i = max(uAreaEnd, uLightBegin); i < uPunctualEnd; ++i)
+    sum += scatteredLight(lights[i - uUboBase], kPunctualLight, r, fract(jitter + 0.618034 * float(i)), minH);
+  for (int i = max(uPunctualEnd, uLightBegin); i < uLightEnd; ++i)
+    sum += scatteredLight(lights[i - uUboBase], kDirectionalLight, r, fract(jitter + 0.618034 * float(i)), minH);
+  outColor = vec4(sum, 1.0);
+}

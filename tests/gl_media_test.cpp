@@ -1,0 +1,212 @@
+// Participating media in the GL preview (renderer/gl/media_pass.h, docs/theory.md §16-§18) against the CPU's exact VPL
+// render on the same VPLs (renderer/offline/vpl_renderer.h: transmittance on every transfer, each VPL's in-scattering
+// at an equiangular distance of its own, the bound b) and against the CPU's single scattering of the lights, on the
+// bundled fog scenes. The preview point-samples pixel centres with one distance per VPL and pixel, the CPU jitters
+// its pixel samples: the preview is rendered at 4x the resolution and box-filtered down before comparing. Every test
+// runs on OSMesa and on EGL.
+
+#include <gtest/gtest.h>
+
+#include <cstdio>
+#include <functional>
+#include <map>
+#include <memory>
+#include <string>
+
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/image/metrics.h"
+#include "renderer/offline/camera_sample.h"
+#include "renderer/offline/emitter_mask.h"
+#include "renderer/offline/vpl_renderer.h"
+#include "renderer/vpl/vpl_generation.h"
+#include "tests/gl_test_util.h"
+#include "tests/test_scenes.h"
+
+namespace vplab {
+namespace {
+
+class GlMedia : public test::GlBackendTest {};
+
+constexpr int kUpscale = 4;
+
+/// The CPU images, rendered once for both backends.
+const Image& cachedCpu(const std::string& key, const std::function<Image()>& render) {
+  static std::map<std::string, Image> images;
+  auto it = images.find(key);
+  if (it == images.end()) it = images.emplace(key, render()).first;
+  return it->second;
+}
+
+/// The preview at kUpscale x the settings' size, box-filtered down.
+Image previewDownscaled(const Scene& scene, const VplSet& vpls, Settings s, PreviewOutput which) {
+  s.width *= kUpscale;
+  s.height *= kUpscale;
+  PreviewRenderer renderer;
+  renderer.render(scene, vpls, s, scene.camera);
+  return blockAverage(renderer.readLinear(which), kUpscale);
+}
+
+/// The CPU's single scattering of the lights along camera rays: per pixel sample, one forced free flight in the media
+/// before the surface and the reference's direct-light estimator there (renderer/offline/camera_sample.h, as the VPL
+/// render draws it), nothing else.
+Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int spp) {
+  const Scene& scene = l.scene();
+  Image image(s.width, s.height);
+  std::vector<MediumInterval> intervals;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      Rng rng(hashKey(static_cast<uint64_t>(y) * s.width + x, 0x73696e676c65ull));
+      glm::vec3 sum(0.0f);
+      for (int i = 0; i < spp; ++i) {
+        const glm::vec2 jitter = rng.next2D();
+        const glm::vec3 dir = cameraRayDirection(scene.camera, static_cast<float>(x) + jitter.x,
+                                                 static_cast<float>(y) + jitter.y, s.width, s.height);
+        const auto hit = l.embree().intersect(scene.camera.position, dir);
+        const float end = hit ? hit->distance : kInfinity;
+        mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
+        float t = 0.0f;
+        uint32_t medium = 0;
+        glm::vec3 weight(0.0f);
+        if (intervals.empty() || !sampleForcedFlight(scene.media, intervals, end, rng.next2D(), t, medium, weight))
+          continue;
+        const Interaction at = Interaction::inMediumAt(scene, scene.camera.position + dir * t, medium, -dir);
+        sum += weight * estimateDirectLight(l.embree(), l.lights(), at, rng);
+      }
+      image.at(x, y) = sum / static_cast<float>(spp);
+    }
+  return image;
+}
+
+struct Comparison {
+  double relMse, meanRatio;
+};
+
+Comparison compare(const OfflineScene& l, const Image& gl, const Image& cpu, const char* what, int edge = 1) {
+  const PixelMask emitters = emitterMask(l.embree(), cpu.width, cpu.height, edge);
+  // Both scaled by the CPU image's mean, so that relMSE weighs a dim image's errors as a bright one's.
+  const double scale = unitMeanScale(cpu, emitters);
+  const ImageMetrics m = compareImagesExcluding(scaled(gl, scale), scaled(cpu, scale), emitters);
+  const double ratio = meanRatioExcludingEmitters(gl, cpu, emitters);
+  std::printf("[ measured ] %s: relMSE %.5f, mean ratio %.4f (%zu emitter pixels left out)\n", what, m.relMse, ratio,
+              emitters.count());
+  EXPECT_EQ(m.nonFinitePixels, 0u) << what;
+  return {m.relMse, ratio};
+}
+
+/// The preview's indirect light (the VPLs: the gather attenuated along the camera rays, plus the VPLs' in-scattering)
+/// against the CPU's exact VPL render of the indirect component, on the same VPLs, surface and medium ones.
+void expectIndirectMatchesCpu(const std::string& name, float bound, int size, int vplCount, int k = 1, int grid = 1) {
+  auto l = test::loadAssetScene(name);
+  Settings s = test::indirectSettings(size, vplCount);
+  s.clampBound = bound;
+  s.interleave = k;
+  s.indirectDownscale = grid;
+  VplSet vpls = generateVpls(*l, s);
+  std::size_t inMedium = 0;
+  for (const Vpl& v : vpls.vpls) inMedium += v.inMedium;
+  ASSERT_GT(inMedium, 0u) << name << ": no medium VPLs to test";
+  const Image gl = previewDownscaled(l->scene(), vpls, s, PreviewOutput::Indirect);
+  Settings c = s;
+  c.samplesPerPixel = 64;
+  const Image& cpu =
+      cachedCpu(name + std::to_string(vplCount), [&] { return renderVpl(*l, vpls, Method::Vpl, c).image; });
+  const std::string what = name + " indirect, " + std::to_string(vpls.vpls.size()) + " VPLs (" +
+                           std::to_string(inMedium) + " in the medium), b = " + std::to_string(bound);
+  const Comparison m = compare(*l, gl, cpu, what.c_str());
+  EXPECT_LE(m.relMse, 0.02);
+  EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
+  // The VPLs' in-scattering along the camera rays is a good part of it, so a comparison without it would fail.
+  const double scattered = meanLuminance(previewDownscaled(l->scene(), vpls, s, PreviewOutput::Scattered)) -
+                           meanLuminance(previewDownscaled(l->scene(), VplSet{}, s, PreviewOutput::Scattered));
+  std::printf("[ measured ] %s: the VPLs' in-scattering is %.1f %% of the indirect mean\n", name.c_str(),
+              100.0 * scattered / meanLuminance(gl));
+  EXPECT_GT(scattered, 0.1 * meanLuminance(gl));
+}
+
+TEST_P(GlMedia, FogCornellIndirectMatchesCpu) {
+  expectIndirectMatchesCpu("cornell-fog", 20.0f, 64, 64);
+}
+
+TEST_P(GlMedia, FogShaftIndirectMatchesCpu) {
+  expectIndirectMatchesCpu("fog-shaft", 20.0f, 64, 64);
+}
+// The benchmark's configuration: interleaved over 4 x 4 subsets and on the half-resolution grid, with more VPLs.
+TEST_P(GlMedia, FogCornellInterleavedOnTheGridMatchesCpu) {
+  expectIndirectMatchesCpu("cornell-fog", 20.0f, 64, 256, 4, 2);
+}
+
+/// The lights' single scattering (the preview's Scattered output without VPLs) against the CPU's.
+void expectSingleScatteringMatchesCpu(const std::string& name, int size) {
+  auto l = test::loadAssetScene(name);
+  Settings s = test::indirectSettings(size, 0);
+  const Image gl = previewDownscaled(l->scene(), VplSet{}, s, PreviewOutput::Scattered);
+  const Image& cpu = cachedCpu(name + " single", [&] { return cpuSingleScattering(*l, s, 256); });
+  const Comparison m = compare(*l, gl, cpu, (name + " single scattering").c_str());
+  EXPECT_LE(m.relMse, 0.02);
+  EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
+}
+
+TEST_P(GlMedia, FogShaftSingleScatteringMatchesCpu) {
+  expectSingleScatteringMatchesCpu("fog-shaft", 64);
+}
+
+TEST_P(GlMedia, FogCornellSingleScatteringMatchesCpu) {
+  expectSingleScatteringMatchesCpu("cornell-fog", 64);
+}
+
+// Same scene, settings and seed: the same image, bit for bit (the media passes draw no random numbers of their own
+// but per-pixel hashes).
+TEST_P(GlMedia, SameSettingsGiveTheSameImage) {
+  auto l = test::loadAssetScene("fog-shaft");
+  Settings s = test::indirectSettings(64, 64);
+  s.clampBound = 20.0f;
+  s.interleave = 2;
+  VplSet vpls = generateVpls(*l, s);
+  PreviewRenderer a, b;
+  a.render(l->scene(), vpls, s, l->scene().camera);
+  b.render(l->scene(), vpls, s, l->scene().camera);
+  EXPECT_EQ(test::differingPixels(a.readLinear(), b.readLinear()), 0u);
+}
+
+// The invalidation model (renderer/invalidation.h) with media: the bound changes the gather and the VPLs' in-scattering
+// but neither the VPLs' maps nor the direct light; a camera move redoes the media passes; a medium edited in place is
+// noticed (its coefficients change the direct light's transmittance and the scattering), and the image changes.
+TEST_P(GlMedia, PassesFollowTheInvalidationModel) {
+  auto l = test::loadAssetScene("cornell-fog");
+  Scene scene = l->scene();
+  Settings s = test::indirectSettings(32, 32);
+  s.clampBound = 20.0f;
+  VplSet vpls = generateVpls(*l, s);
+  PreviewRenderer renderer;
+  renderer.render(scene, vpls, s, scene.camera);
+  const PreviewCounters first = renderer.counters();
+  EXPECT_EQ(first.media, 1);
+  renderer.render(scene, vpls, s, scene.camera);
+  EXPECT_EQ(renderer.counters().media, 1) << "nothing changed";
+
+  s.clampBound = 5.0f;
+  renderer.render(scene, vpls, s, scene.camera);
+  PreviewCounters c = renderer.counters();
+  EXPECT_EQ(c.media, 2);
+  EXPECT_EQ(c.gather, first.gather + 1);
+  EXPECT_EQ(c.direct, first.direct);
+  EXPECT_EQ(c.vplShadowMaps, first.vplShadowMaps);
+
+  Camera moved = scene.camera;
+  moved.position.x += 0.01f;
+  renderer.render(scene, vpls, s, moved);
+  EXPECT_EQ(renderer.counters().media, 3);
+
+  const Image before = renderer.readLinear();
+  scene.media[0].sigmaS *= 0.5f;
+  renderer.render(scene, vpls, s, moved);
+  c = renderer.counters();
+  EXPECT_EQ(c.media, 4);
+  EXPECT_EQ(c.direct, first.direct + 2);  // the camera move, then the medium
+  EXPECT_GT(test::differingPixels(renderer.readLinear(), before), 0u);
+}
+
+VPLAB_GL_BACKENDS(GlMedia);
+
+}  // namespace
+}  // namespace vplab
