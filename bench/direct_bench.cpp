@@ -249,9 +249,9 @@ int main(int argc, char** argv) {
       std::string base = imagesDir + "/" + c.name;
       for (char& ch : base)
         if (ch == ' ') ch = '-';
-      writeImage(base + "-preview.exr", preview);
-      writeImage(base + "-reference.exr", reference);
-      writeImage(base + "-difference.exr", signedDifferenceImage(preview, reference));
+      writeImage(base + "-preview.pfm", preview);
+      writeImage(base + "-reference.pfm", reference);
+      writeImage(base + "-difference.pfm", signedDifferenceImage(preview, reference));
       writeImage(base + "-preview.png", preview);
       writeImage(base + "-reference.png", reference);
     }

@@ -1,6 +1,7 @@
 #include "renderer/gl/direct_pass.h"
 
 #include <algorithm>
+#include <limits>
 #include <string>
 #include <unordered_map>
 
@@ -16,6 +17,49 @@ struct DirectLightGpu {
 }  // namespace
 
 namespace {
+// Splits an emitter's samples [begin, end) into `cells` cells of nearby samples (median splits across the longest
+// extent, recursively), each behind a new caster at its samples' centroid: shadow.x is its map, centre its position.
+void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std::size_t end, int cells,
+                    std::vector<LightShadowCaster>& casters) {
+  if (cells > 1 && end - begin >= 2) {
+    glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
+    for (std::size_t i = begin; i < end; ++i) {
+      lo = glm::min(lo, glm::vec3(samples[i].position));
+      hi = glm::max(hi, glm::vec3(samples[i].position));
+    }
+    const glm::vec3 extent = hi - lo;
+    const int axis = extent.x >= extent.y && extent.x >= extent.z ? 0 : (extent.y >= extent.z ? 1 : 2);
+    const std::size_t middle = begin + (end - begin) / 2;
+    std::nth_element(
+        samples.begin() + static_cast<std::ptrdiff_t>(begin), samples.begin() + static_cast<std::ptrdiff_t>(middle),
+        samples.begin() + static_cast<std::ptrdiff_t>(end),
+        [axis](const DirectLightGpu& a, const DirectLightGpu& b) { return a.position[axis] < b.position[axis]; });
+    splitIntoCells(samples, begin, middle, cells / 2, casters);
+    splitIntoCells(samples, middle, end, cells - cells / 2, casters);
+    return;
+  }
+  glm::vec3 centre(0.0f), normal(0.0f);
+  for (std::size_t i = begin; i < end; ++i) {
+    centre += glm::vec3(samples[i].position);
+    normal += glm::vec3(samples[i].axis);
+  }
+  centre /= static_cast<float>(end - begin);
+  float radius = 0.0f;
+  for (std::size_t i = begin; i < end; ++i)
+    radius = std::max(radius, glm::distance(centre, glm::vec3(samples[i].position)));
+  // The map's origin a little in front of the emitter: from a point in its plane the emitter's own triangles are seen
+  // edge-on, and rounding can make one cover half the map at distance ~0 (every receiver shadowed).
+  const float normalLength = glm::length(normal);
+  if (normalLength > 0.5f * static_cast<float>(end - begin))
+    centre += normal / normalLength * (1e-3f * radius + 1e-5f * glm::length(centre));
+  const float map = static_cast<float>(casters.size());
+  casters.push_back({centre, radius});
+  for (std::size_t i = begin; i < end; ++i) {
+    samples[i].shadow = glm::vec4(map, radius, 0.0f, 0.0f);
+    samples[i].centre = glm::vec4(centre, 0.0f);
+  }
+}
+
 BrdfVariants directProgram(const UniformTableLayout& layout, int mapKind, int mediaCount = 0) {
   return BrdfVariants("preview/direct.frag.glsl",
                       {uniformTableDefine("DIRECT_UBO_LIGHTS", layout), "DIRECT_MAP_KIND " + std::to_string(mapKind),
@@ -102,13 +146,11 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
     runs_.back().end = index + 1;
   };
   casters_.clear();
-  // One shadow map per area emitter (light_shadows.h) and per punctual light.
+  // Shadow maps: a few per area emitter, one per cell of its samples (below), and one per punctual light.
   std::vector<AreaLightGroup> groups = groupAreaLights(scene);
   std::unordered_map<uint32_t, int> groupOf;
-  for (std::size_t g = 0; g < groups.size(); ++g) {
+  for (std::size_t g = 0; g < groups.size(); ++g)
     for (uint32_t t : groups[g].triangles) groupOf[t] = static_cast<int>(g);
-    casters_.push_back({groups[g].centre, groups[g].radius});
-  }
   // Area lights: K points y_k chosen with p(triangle) proportional to its power (luminance of its mean textured Le
   // x area, as the offline light sampler chooses) and uniform on the triangle, so p_A(y) = p_t / A_t; each carries
   // Le(y) / (K p_A), Le looked up at y, making the sum an unbiased estimate of the unshadowed T Le; the visibility
@@ -147,15 +189,23 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
       float pdfA = pTri / scene.triangleArea(tri);
       glm::vec3 weight =
           scene.emissionAt(scene.triangleMaterials[tri], scene.uvAt(tri, b)) / (static_cast<float>(k) * pdfA);
-      const int g = groupOf.at(tri);
-      const LightShadowCaster& caster = casters_[static_cast<std::size_t>(g)];
       samples.push_back({glm::vec4(y, 0.0f), glm::vec4(scene.geometricNormal(tri), 0.0f), glm::vec4(weight, 0.0f),
-                         glm::vec4(static_cast<float>(g), caster.radius, 0.0f, 0.0f),
-                         glm::vec4(caster.position, 0.0f)});
+                         glm::vec4(static_cast<float>(groupOf.at(tri)), 0.0f, 0.0f, 0.0f), glm::vec4(0.0f)});
     }
-    // Samples of one emitter next to each other: the shader filters its map once per run of them.
+    // Samples of one emitter next to each other, then split into cells, each behind its own map: up to
+    // kAreaShadowCells per emitter while the emitters' maps stay within kMaxAreaGroups in all (what previewFitProblem
+    // budgets), and with at least k^2 samples per cell, so that every interleaved subset has one.
     std::stable_sort(samples.begin(), samples.end(),
                      [](const DirectLightGpu& a, const DirectLightGpu& b) { return a.shadow.x < b.shadow.x; });
+    const int subsets = settings.interleave * settings.interleave;
+    for (std::size_t begin = 0; begin < samples.size();) {
+      std::size_t end = begin;
+      while (end < samples.size() && samples[end].shadow.x == samples[begin].shadow.x) ++end;
+      const int cells = std::max(1, std::min({kAreaShadowCells, kMaxAreaGroups / static_cast<int>(groups.size()),
+                                              static_cast<int>(end - begin) / subsets}));
+      splitIntoCells(samples, begin, end, cells, casters_);
+      begin = end;
+    }
     for (const DirectLightGpu& sample : samples) add(sample, AreaMap);
   }
   // The point and spot lights, then the directional ones: one run each.

@@ -2,12 +2,13 @@
 // Shadows of the preview's direct light (docs/methods.md "Direct light in the preview"): one cube shadow map per
 // light, not per light sample, so that the cost is lights x triangles, not K x triangles.
 //  - A punctual light: its cube map, filtered over about a texel (no stair-steps at shadow edges).
-//  - An area light: the emissive triangles are grouped into at most kMaxAreaGroups emitters; each has one cube map
-//    from its power-weighted centre and soft shadows by percentage-closer soft shadows (Fernando 2005): the blocker
-//    search finds the mean occluder distance z_b, the penumbra's angular radius seen from the centre is
-//    R (d - z_b) / (z_b d) for an emitter of radius R and a receiver at distance d, and a filter of that size gives the
-//    fraction of the emitter that is visible. The K area samples still give the unshadowed light (unbiased); only the
-//    visibility is the filtered approximation.
+//  - An area light: the emissive triangles are grouped into at most kMaxAreaGroups emitters, and each emitter's K
+//    samples into up to kAreaShadowCells cells of nearby samples (direct_pass.cpp), kMaxAreaGroups maps in all. Each
+//    cell has a cube map from its samples' centroid; each sample's shadow is read from its cell's map in the direction
+//    where a blocker at the mean blocker distance would cross the segment from the sample to the receiver
+//    (shaders/common/light_shadow.glsl, percentage-closer soft shadows with the emitter's own samples as the filter).
+//    The K area samples still give the unshadowed light (unbiased); only the visibility is approximated, the less
+//    the smaller a cell is against the distances to the blockers.
 // Maps store the radial distance to the light in a colour cube map (one value serves every face and the filter taps,
 // which cross faces), drawn on the CPU (distance_raster.h) and uploaded; each texel's distance is pushed away from the
 // light by a slope-scaled bias and the receiver is offset along its normal by a texel's footprint, which together
@@ -40,6 +41,10 @@ struct AreaLightGroup {
 };
 
 inline constexpr int kMaxAreaGroups = 8;
+/// Cells (each with its own map) an emitter's samples are split into, while the maps stay within kMaxAreaGroups: one
+/// map per emitter left the Debian 2CylinderEngine's fins under its studio light 5 % too dark, four 1 % (docs/methods.md
+/// "Direct light in the preview").
+inline constexpr int kAreaShadowCells = 4;
 std::vector<AreaLightGroup> groupAreaLights(const Scene& scene);
 
 class LightShadowMaps {

@@ -1,12 +1,8 @@
 // Visibility of a light from a shading point through its cube shadow map of radial distances
-// (renderer/gl/light_shadows.h; docs/methods.md "Direct light in the preview").
-//  - emitterRadius = 0 (punctual light): percentage-closer filtering over a disc of about one texel (kSharpShadowTaps).
-//  - emitterRadius R > 0 (area emitter around the map's centre): percentage-closer soft shadows (Fernando 2005). The
-//    blocker search averages the distances of occluders within the cone the emitter subtends; with their mean z_b the
-//    penumbra seen from the centre has the angular radius R (d - z_b) / (z_b d); the filter's fraction of lit taps is
-//    the visible fraction of the emitter.
+// (renderer/gl/light_shadows.h; docs/methods.md "Direct light in the preview"): a point or spot light's filtered over
+// about a texel, an area emitter's per sample (AreaShadow below).
 // Every tap compares against the distance to the receiver's own plane along the tap's direction (receiver-plane depth
-// bias), so a wide filter on a tilted receiver does not shadow the receiver by itself.
+// bias), so a tap away from the receiver's own direction on a tilted receiver does not shadow the receiver by itself.
 layout(binding = UNIT_LIGHT_SHADOWS) uniform samplerCubeArray uLightShadows;
 // Directional lights: an orthographic map each (layer of a 2D array) over the disc of radius uSceneRadius around
 // uSceneCentre perpendicular to the light's direction, storing the distance along the direction from the plane
@@ -17,7 +13,7 @@ uniform float uSceneRadius;
 uniform float uDirectionalShadowTexel;  // 2 uSceneRadius / map size, metres
 uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / faceSize
 
-// Taps of the soft shadows' blocker search and filter (area emitters).
+// Taps of the soft shadows' blocker search (area emitters).
 const int kLightShadowTaps = 16;
 // Taps of the filter over about one texel (punctual and directional lights): with 8 instead of 16 a point light's
 // direct light is 3 % further from the reference (relMSE 0.0180 against 0.0175 on the 10k-triangle dense scene at
@@ -39,7 +35,8 @@ float tapReference(vec3 u, vec3 ng, float planeOffset, float wn, float dist) {
   return abs(un) > 0.05 * abs(wn) && un * wn > 0.0 ? clamp(planeOffset / un, 0.5 * dist, 2.0 * dist) : dist;
 }
 
-float lightVisibility(int cube, vec3 lightPos, float emitterRadius, vec3 x, vec3 ng, float rotation) {
+// Visibility of a point or spot light at lightPos from x: percentage-closer filtering over a disc of about one texel.
+float pointLightVisibility(int cube, vec3 lightPos, vec3 x, vec3 ng, float rotation) {
   vec3 d0 = x - lightPos;
   float dist0 = length(d0);
   // Normal offset by about 1.5 texels' footprint at this distance (acne on grazing receivers).
@@ -50,36 +47,96 @@ float lightVisibility(int cube, vec3 lightPos, float emitterRadius, vec3 x, vec3
   vec3 t = cross(w, s);
   float planeOffset = dot(d, ng);
   float wn = dot(w, ng);
-
-  float filterAngle = 1.0 * uLightShadowTexel;
-  if (emitterRadius > 0.0) {
-    float searchAngle = clamp(emitterRadius / dist, uLightShadowTexel, 0.7);
-    float blockerSum = 0.0;
-    int blockers = 0;
-    vec2 angle = vogelStart(rotation);
-    for (int i = 0; i < kLightShadowTaps; ++i, angle = vogelNext(angle)) {
-      vec2 o = vogelTap(i, kLightShadowTaps, angle) * searchAngle;
-      vec3 u = normalize(w + o.x * s + o.y * t);
-      float stored = texture(uLightShadows, vec4(u, float(cube))).r;
-      if (stored < tapReference(u, ng, planeOffset, wn, dist)) {
-        blockerSum += stored;
-        ++blockers;
-      }
-    }
-    if (blockers == 0) return 1.0;
-    float zb = blockerSum / float(blockers);
-    filterAngle = clamp(emitterRadius * (dist - zb) / (zb * dist), uLightShadowTexel, 0.7);
-  }
-  // emitterRadius is a constant 0 where a punctual light's map is filtered, so the count is a constant too.
-  int filterTaps = emitterRadius > 0.0 ? kLightShadowTaps : kSharpShadowTaps;
   float lit = 0.0;
   vec2 angle = vogelStart(rotation);
-  for (int i = 0; i < filterTaps; ++i, angle = vogelNext(angle)) {
-    vec2 o = vogelTap(i, filterTaps, angle) * filterAngle;
+  for (int i = 0; i < kSharpShadowTaps; ++i, angle = vogelNext(angle)) {
+    vec2 o = vogelTap(i, kSharpShadowTaps, angle) * uLightShadowTexel;
     vec3 u = normalize(w + o.x * s + o.y * t);
     lit += texture(uLightShadows, vec4(u, float(cube))).r >= tapReference(u, ng, planeOffset, wn, dist) ? 1.0 : 0.0;
   }
-  return lit / float(filterTaps);
+  return lit / float(kSharpShadowTaps);
+}
+
+// Soft shadows of an area emitter's cell of samples (renderer/gl/light_shadows.h) from the cube map at the cell's centre
+// c, per area-light sample y (percentage-closer
+// soft shadows, Fernando 2005, with the emitter's own samples as the filter). A blocker at distance z_b from c blocks
+// the segment from y to the receiver x where that segment is z_b away from c along c->x: the map is read in the
+// direction of that point, so each sample's shadow test follows the emitter's real shape and orientation as seen from
+// x. A disc of the emitter's radius around c->x instead (the textbook filter) reached behind the emitter's plane for
+// receivers near its horizon and found the ceiling the emitter hangs under: walls of the Cornell box got half their
+// light there, and a large emitter darkened the whole room (docs/methods.md "Direct light in the preview").
+// Nothing behind the emitter's plane can block light it emits, so directions within two texels of that plane are not
+// tested (a texel's ray there may hit the ceiling).
+struct AreaShadow {
+  int cube;
+  vec3 centre;
+  vec3 receiver;  // x, offset along its normal (acne)
+  vec3 w;         // unit, from the centre to the receiver
+  float dist;
+  vec3 ng;
+  float planeOffset, wn;  // the receiver's plane, for tapReference
+  float blockerSum;
+  int blockers;
+  float blockerDepth;  // mean distance from the centre of the blockers the search found
+};
+
+AreaShadow areaShadowBegin(int cube, vec3 centre, vec3 x, vec3 ng) {
+  AreaShadow a;
+  a.cube = cube;
+  a.centre = centre;
+  vec3 d0 = x - centre;
+  // A quarter texel's footprint along the normal: the 1.5 of the point lights put a receiver between an engine's
+  // cooling fins, a texel or two apart under its studio light, into the next fin's shadow.
+  vec3 d = d0 + ng * (0.25 * uLightShadowTexel * length(d0));
+  a.receiver = centre + d;
+  a.dist = length(d);
+  a.w = d / a.dist;
+  a.ng = ng;
+  a.planeOffset = dot(d, ng);
+  a.wn = dot(a.w, ng);
+  a.blockerSum = 0.0;
+  a.blockers = 0;
+  a.blockerDepth = a.dist;
+  return a;
+}
+
+// Whether the point `reach` from the centre in direction u (in front of the emitter) lies behind an occluder seen
+// from the centre, and before the receiver's plane. Testing against the receiver's plane alone (the textbook test)
+// counted any geometry along u before the plane, far from the segment the tap stands for: the ground under the
+// engine's studio light was shadowed by the engine in directions that did not reach it (7 % too dark).
+bool areaShadowOccluded(AreaShadow a, vec3 u, float reach, vec3 emitterNormal, out float stored) {
+  stored = texture(uLightShadows, vec4(u, float(a.cube))).r;
+  return dot(u, emitterNormal) > 2.0 * uLightShadowTexel &&
+         stored < min(reach, tapReference(u, a.ng, a.planeOffset, a.wn, a.dist));
+}
+
+// One tap of the blocker search: the point a fraction t of the way from emitter sample y to the receiver. Occluders
+// up to half as far again count (a blocker's surface seen from the centre lies before the segment's crossing).
+void areaShadowSearch(inout AreaShadow a, vec3 y, vec3 emitterNormal, float t) {
+  vec3 p = mix(y, a.receiver, t) - a.centre;
+  float reach = length(p);
+  float stored;
+  bool blocked = areaShadowOccluded(a, p / reach, 1.5 * reach, emitterNormal, stored);
+  a.blockerSum += blocked ? stored : 0.0;
+  a.blockers += blocked ? 1 : 0;
+}
+
+void areaShadowEndSearch(inout AreaShadow a) {
+  a.blockerDepth = a.blockers > 0 ? a.blockerSum / float(a.blockers) : a.dist;
+}
+
+// 1 when the segment from emitter sample y (normal emitterNormal) to the receiver is clear, 0 when blocked: the map is
+// read toward the segment's point at the blockers' mean distance, and an occluder there (within a quarter again)
+// blocks it. The factors 1.5 and 1.25 and the receiver's normal offset of a quarter texel are those that kept every
+// case of vplab_bench_direct_bench within about 1 % (docs/benchmarks.md "Direct light in the preview").
+float areaSampleVisibility(AreaShadow a, vec3 y, vec3 emitterNormal) {
+  vec3 yc = y - a.centre;
+  float along = dot(yc, a.w);
+  float t = clamp((a.blockerDepth - along) / max(a.dist - along, 1e-6 * a.dist), 0.0, 1.0);
+  vec3 p = mix(yc, a.receiver - a.centre, t);
+  float reach = length(p);
+  float stored;
+  return a.blockers > 0 && areaShadowOccluded(a, p / reach, 1.25 * reach, emitterNormal, stored) ? 0.0 : 1.0;
 }
 
 // Visibility of a directional light (rays travelling along `direction`) from x: percentage-closer filtering over a

@@ -52,9 +52,18 @@ void main() {
   // Filter rotation per pixel (interleaved gradient noise, Jimenez 2014): deterministic, and the de-interleave blurs it.
   float rotation = 6.2831853 * fract(52.9829189 * fract(dot(vec2(s.px), vec2(0.06711056, 0.00583715))));
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA
-  // This subset's samples inside the range [uLightBegin, uLightEnd), all behind the map of the first.
-  DirectLight first = lights[uLightBegin + uSubsetOffset - uUboBase];
-  float visibility = lightVisibility(int(first.shadow.x), first.centre.xyz, first.shadow.y, x1, ng, rotation);
+  // The samples in [uLightBegin, uLightEnd) are one emitter's, all behind its map; the blocker search reads the
+  // map toward points on the segments from kLightShadowTaps of them (spread over the range) to x1, at fractions
+  // t in [0.15, 0.85] of the way, rotated per pixel.
+  DirectLight first = lights[uLightBegin - uUboBase];
+  AreaShadow shadow = areaShadowBegin(int(first.shadow.x), first.centre.xyz, x1, ng);
+  int runLength = uLightEnd - uLightBegin;
+  for (int j = 0; j < kLightShadowTaps; ++j) {
+    DirectLight tap = lights[uLightBegin + (j * runLength) / kLightShadowTaps - uUboBase];
+    float t = 0.15 + 0.7 * fract(0.618034 * (float(j) + 0.5) + rotation / 6.2831853);
+    areaShadowSearch(shadow, tap.position.xyz, tap.axis.xyz, t);
+  }
+  areaShadowEndSearch(shadow);
 #endif
   for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
     DirectLight l = lights[i - uUboBase];
@@ -79,7 +88,9 @@ void main() {
 #if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
     float visibility = directionalVisibility(int(l.shadow.x), l.axis.xyz, x1, ng, rotation);
 #elif DIRECT_MAP_KIND == DIRECT_MAP_PUNCTUAL
-    float visibility = lightVisibility(int(l.shadow.x), l.centre.xyz, 0.0, x1, ng, rotation);
+    float visibility = pointLightVisibility(int(l.shadow.x), l.centre.xyz, x1, ng, rotation);
+#else
+    float visibility = areaSampleVisibility(shadow, l.position.xyz, l.axis.xyz);
 #endif
     // One-sided receiver: the light must be on the side the geometric normal faces.
     float cos1 = dot(n1, w);
