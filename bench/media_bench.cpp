@@ -17,6 +17,7 @@
 #include <vector>
 
 #include "bench/bench_args.h"
+#include "bench/comparison_table.h"
 #include "evaluation/harness.h"
 #include "renderer/core/parallel.h"
 #include "renderer/image/image_io.h"
@@ -35,74 +36,26 @@ double now() {
   return std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
 }
 
-struct Row {
-  std::string scene, method, parameters;
-  double seconds = 0.0, relMse = 0.0, energy = 0.0, removed = 0.0;
-  int samples = 0;
-};
-
-/// One table row: the method's settings differ from the base by `edit`.
-struct Variant {
-  std::string name;  ///< the table's row name
-  Method method;
-  std::string parameters;
-  std::function<void(Settings&)> edit;
-};
 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::vector<std::string> scenes;
-  std::string csvPath, imageDir, refDir;
-  int size = 128, refSpp = 4096, vpls = 256, threads = 0;
-  double seconds = 10.0;
+  ComparisonOptions o;
   for (int i = 1; i < argc; ++i) {
-    std::string a = argv[i];
-    auto next = [&] { return benchOptionValue(argc, argv, i); };
-    if (a == "--size")
-      size = std::atoi(next().c_str());
-    else if (a == "--seconds")
-      seconds = std::atof(next().c_str());
-    else if (a == "--ref-spp")
-      refSpp = std::atoi(next().c_str());
-    else if (a == "--vpls")
-      vpls = std::atoi(next().c_str());
-    else if (a == "--threads")
-      threads = std::atoi(next().c_str());
-    else if (a == "--csv")
-      csvPath = next();
-    else if (a == "--images")
-      imageDir = next();
-    else if (a == "--ref-cache")
-      refDir = next();
-    else if (!a.empty() && a[0] != '-')
-      scenes.push_back(a);
-    else {
-      std::fprintf(stderr,
-                   "usage: %s [--size N] [--seconds S] [--ref-spp N] [--vpls N] [--threads T] [--csv F] [--images D] "
-                   "[--ref-cache D] [scene.gltf ...]\n",
-                   argv[0]);
-      return a == "--help" ? 0 : 2;
-    }
+    if (parseComparisonOption(argc, argv, i, o)) continue;
+    std::fprintf(stderr, "usage: %s %s [scene.gltf ...]\n", argv[0], kComparisonUsage);
+    return std::string(argv[i]) == "--help" ? 0 : 2;
   }
-  if (scenes.empty())
-    for (const char* name : {"cornell-fog", "fog-shaft"})
-      scenes.push_back(std::string(VPLAB_ASSET_DIR) + "/scenes/" + name + ".gltf");
-  threads = resolveThreadCount(threads);
-  if (!imageDir.empty()) std::filesystem::create_directories(imageDir);
+  prepareComparison(o, {"cornell-fog", "fog-shaft"});
+  const auto& [scenes, csvPath, imageDir, refDir, size, refSpp, vpls, threads, seconds] = o;
   if (!refDir.empty()) std::filesystem::create_directories(refDir);
 
-  std::vector<Row> rows;
+  std::vector<ComparisonRow> rows;
   for (const std::string& path : scenes) {
     const std::string name = std::filesystem::path(path).stem().string();
     OfflineScene offline(loadScene(path));
     const float diagonal = offline.scene().geometryBounds.diagonal();
-    Settings base;
-    base.width = base.height = size;
-    base.threads = threads;
-    base.vplCount = vpls;
-    base.components = Components::Indirect;
-    base.samplesPerPixel = 1;
+    const Settings base = comparisonBase(o);
 
     // The reference of the indirect light, cached per scene and size.
     Image reference;
@@ -125,7 +78,7 @@ int main(int argc, char** argv) {
     const float bound = 1.0f / (0.05f * diagonal * 0.05f * diagonal);
     char boundText[64];
     std::snprintf(boundText, sizeof boundText, "b = %.3g", bound);
-    const std::vector<Variant> variants = {
+    const std::vector<ComparisonVariant> variants = {
         {"vpl (unbounded)", Method::Vpl, "b = inf", [](Settings&) {}},
         {"bounding only", Method::Vpl, boundText, [&](Settings& s) { s.clampBound = bound; }},
         {"bias compensation (vpl-kk)", Method::VplKK, boundText, [&](Settings& s) { s.clampBound = bound; }},
@@ -137,7 +90,7 @@ int main(int argc, char** argv) {
            s.samplesPerPixel = 1;
          }},
     };
-    for (const Variant& v : variants) {
+    for (const ComparisonVariant& v : variants) {
       Settings s = base;
       v.edit(s);
       // Equal time: passes of fresh light paths (seed + pass) at one pixel sample each, averaged, until the budget
@@ -151,33 +104,17 @@ int main(int argc, char** argv) {
           if (now() - start >= seconds) control.cancel = true;
         });
       } else {
-        Image sum(size, size);
-        double removedSum = 0.0;
-        int passes = 0;
-        do {
-          Settings pass = s;
-          pass.seed = s.seed + static_cast<uint32_t>(passes);
-          pass.samplesPerPixel = 1;
-          VplSet set = generateVpls(offline, pass);
-          VplRenderResult one = renderMethod(v.method).render(offline, set, pass, nullptr, {});
-          for (std::size_t p = 0; p < sum.pixels.size(); ++p) sum.pixels[p] += one.image.pixels[p];
-          removedSum += one.clampEnergyRemoved;
-          ++passes;
-        } while (now() - start < seconds);
-        for (glm::vec3& p : sum.pixels) p /= static_cast<float>(passes);
-        r.image = std::move(sum);
-        r.samplesPerPixel = passes;
-        r.clampEnergyRemoved = removedSum / passes;
+        const EqualTimeRender e = renderForSeconds(offline, v.method, s, seconds);
+        r.image = e.image;
+        r.samplesPerPixel = e.passes;
+        r.clampEnergyRemoved = e.clampEnergyRemoved;
       }
-      Row row;
+      ComparisonRow row = measureComparison(r.image, reference);
       row.scene = name;
       row.method = v.name;
       row.parameters = v.parameters;
       row.seconds = now() - start;
-      row.samples = r.samplesPerPixel;
-      ImageMetrics m = compareImages(r.image, reference);
-      row.relMse = m.relMse;
-      row.energy = m.energyRatioOverall;
+      row.passes = r.samplesPerPixel;
       row.removed = r.clampEnergyRemoved;
       rows.push_back(row);
       std::fprintf(stderr, "%s: %-36s %6.2f s  relMSE %.4f  energy %.3f\n", name.c_str(), v.name.c_str(), row.seconds,
@@ -190,24 +127,10 @@ int main(int argc, char** argv) {
     }
   }
 
-  std::printf("media comparison at equal time (%.0f s each, %dx%d, %d VPLs, indirect light, %d threads)\n", seconds,
-              size, size, vpls, threads);
-  std::printf("| scene | method | parameters | time (s) | passes | relMSE | energy | bound removed |\n");
-  std::printf("|---|---|---|---|---|---|---|---|\n");
-  for (const Row& r : rows)
-    std::printf("| %s | %s | %s | %.1f | %d | %.4f | %.3f | %.1f %% |\n", r.scene.c_str(), r.method.c_str(),
-                r.parameters.c_str(), r.seconds, r.samples, r.relMse, r.energy, 100.0 * r.removed);
-  if (!csvPath.empty()) {
-    FILE* f = std::fopen(csvPath.c_str(), "w");
-    if (!f) {
-      std::fprintf(stderr, "cannot write %s\n", csvPath.c_str());
-      return 1;
-    }
-    std::fprintf(f, "scene,method,parameters,seconds,samples,relmse,energy_ratio,bound_removed\n");
-    for (const Row& r : rows)
-      std::fprintf(f, "%s,%s,%s,%.3f,%d,%.6g,%.6g,%.6g\n", r.scene.c_str(), r.method.c_str(), r.parameters.c_str(),
-                   r.seconds, r.samples, r.relMse, r.energy, r.removed);
-    std::fclose(f);
-  }
+  char title[160];
+  std::snprintf(title, sizeof title,
+                "media comparison at equal time (%.0f s each, %dx%d, %d VPLs, indirect light, %d threads)", seconds,
+                size, size, vpls, threads);
+  if (!reportComparison(title, rows, csvPath)) return 1;
   return 0;
 }

@@ -96,6 +96,28 @@ MeasuredImage renderCpu(const OfflineScene& offline, Method method, const VplSet
   return m;
 }
 
+EqualTimeRender renderForSeconds(const OfflineScene& offline, Method method, const Settings& settings, double seconds) {
+  const auto start = std::chrono::steady_clock::now();
+  auto elapsed = [&] { return std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count(); };
+  EqualTimeRender r;
+  r.image = Image(settings.width, settings.height);
+  double removed = 0.0;
+  do {
+    Settings pass = settings;
+    pass.seed = settings.seed + static_cast<uint32_t>(r.passes);
+    pass.samplesPerPixel = 1;
+    const VplSet set = renderMethod(method).usesVpls ? generateVpls(offline, pass) : VplSet{};
+    const VplRenderResult one = renderMethod(method).render(offline, set, pass, nullptr, {});
+    for (std::size_t p = 0; p < r.image.pixels.size(); ++p) r.image.pixels[p] += one.image.pixels[p];
+    removed += one.clampEnergyRemoved;
+    ++r.passes;
+  } while (elapsed() < seconds);
+  for (glm::vec3& p : r.image.pixels) p /= static_cast<float>(r.passes);
+  r.clampEnergyRemoved = removed / r.passes;
+  r.seconds = elapsed();
+  return r;
+}
+
 MeasuredImage renderReferenceImage(const OfflineScene& offline, const Settings& settings) {
   MeasuredImage m;
   ProgressiveResult r = renderReference(offline, settings);

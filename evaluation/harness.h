@@ -42,6 +42,15 @@ struct MeasuredImage {
 /// The sweeps' CPU renders of a scene ready for the CPU passes, each returning the image and the time it took.
 /// renderVpl with `method` (Vpl, VplKK or Vsl) on the given VPLs, restricted to settings.components.
 MeasuredImage renderCpu(const OfflineScene& offline, Method method, const VplSet& vpls, const Settings& settings);
+/// A render at equal time: passes of fresh light paths (seed + pass, one pixel sample each, VPL generation included)
+/// averaged until `seconds` have passed (at least one pass), so every method spends its time where its error is.
+struct EqualTimeRender {
+  Image image;
+  int passes = 0;
+  double seconds = 0.0;
+  double clampEnergyRemoved = 0.0;  ///< mean over the passes
+};
+EqualTimeRender renderForSeconds(const OfflineScene& offline, Method method, const Settings& settings, double seconds);
 /// renderReference at settings.samplesPerPixel, settings.components.
 MeasuredImage renderReferenceImage(const OfflineScene& offline, const Settings& settings);
 

@@ -119,7 +119,7 @@ int seriesRank(const std::string& method, const std::string& backend) {
 std::string describeRow(const CsvRow& r) {
   const std::string& m = r.at("method");
   std::string d = "N=" + r.at("vpls");
-  if (m == "clamp" || m == "ssbc" || m == "vpl-kk" || m == "vpl-abc") d += " b=" + r.at("clamp_b");
+  if (m == "clamp" || m == "ssbc" || m == "vpl-kk" || m == "vpl-abc" || m == "lvl") d += " b=" + r.at("clamp_b");
   if (m == "ssbc") d += " s=" + r.at("ssbc");
   if (m == "vsl") d += " r=" + r.at("vsl_r");
   if (m == "reject") d += " eps=" + r.at("epsilon");
@@ -162,6 +162,8 @@ const std::vector<std::string>& benchMethodNames() {
     // The media methods (renderer/offline/render_methods.h), rows only on scenes with participating media.
     for (const RenderMethod& m : renderMethods())
       if (m.forMedia) n.push_back(toString(m.id));
+    // Local virtual lights, rows on scenes without media.
+    n.push_back(toString(Method::Lvl));
     return n;
   }();
   return names;
@@ -251,6 +253,9 @@ std::vector<BenchCase> benchCases(const Scene& scene, const BenchConfig& config)
     s.ssbcSteps = 1;
   });
   for (float b : bounds) add("vpl-kk", Backend::Cpu, [&](Settings& s) { s.clampBound = b; });
+  // Local virtual lights at Kollig-Keller's bounds (surfaces only).
+  if (!scene.hasMedia())
+    for (float b : bounds) add("lvl", Backend::Cpu, [&](Settings& s) { s.clampBound = b; });
   if (scene.hasMedia()) {
     // The media methods (docs/methods.md, "Participating media"): the approximate compensation at the same bounds as
     // Kollig-Keller, ray lights at the VPL counts of plain VPLs, beams at those counts per pass.

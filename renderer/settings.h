@@ -181,8 +181,8 @@ struct Settings {
   int lvlTileSize = 8;
   /// Local lights per tile and camera sample, shared among the tile's groups by their pixel counts (at least one
   /// each) [1, 4096]. Each costs one gather of the global VPLs at its vertex and one shadow ray per pixel of its
-  /// group. Default 16 (docs/benchmarks.md "Local virtual lights").
-  int lvlLightsPerTile = 16;
+  /// group. Default 32 (docs/benchmarks.md "Local virtual lights").
+  int lvlLightsPerTile = 32;
 
   // --- virtual ray lights and progressive virtual beam lights, Novak et al. 2012a, 2012b (sections 19, 20) -----
   /// Samples per VRL and pixel sample of the exact CPU VRL/VBL render (each for the camera ray's media part and
