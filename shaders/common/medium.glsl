@@ -58,5 +58,11 @@ vec3 mediaTransmittanceToward(vec3 x, vec3 w) { return vec3(1.0); }
 // The transmittance between x and a light of the direct pass's table (preview/direct.frag.glsl): position.w 3 is a
 // directional light arriving from -axis, anything else a point at position.xyz.
 vec3 mediaLightTransmittance(vec4 position, vec3 axis, vec3 x) {
-  return position.w == 3.0 ? mediaTransmittanceToward(x, -axis) : mediaTransmittance(x, position.xyz);
+#if PREVIEW_MEDIA
+  // One segment either way (a select of two would evaluate both).
+  bool directional = position.w == 3.0;
+  return exp(-opticalDepth(x, directional ? -axis : position.xyz - x, 0.0, directional ? 1e30 : 1.0));
+#else
+  return vec3(1.0);
+#endif
 }
