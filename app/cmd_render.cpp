@@ -1,5 +1,11 @@
-// vplab render <scene> --method vpl|vpl-kk|vpl-abc|vsl|vrl|vbl: VPL generation (with optional rejection) and the exact
-// VPL render, or the virtual ray / progressive virtual beam light render (renderer/offline/vrl_renderer.h).
+// vplab render <scene> --method vpl|vpl-kk|vpl-abc|vsl|vrl|vbl|lvl: VPL generation (with optional rejection) and the
+// exact VPL render, or the virtual ray / progressive virtual beam light render (renderer/offline/vrl_renderer.h), or
+// local virtual lights (renderer/offline/lvl_renderer.h).
+
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <system_error>
 
 #include "app/cli.h"
 #include "app/commands.h"
@@ -8,8 +14,8 @@
 #include "app/scene_input.h"
 #include "app/scene_summary.h"
 #include "app/settings_options.h"
-#include "renderer/image/image_io.h"
 #include "renderer/core/atomic_file.h"
+#include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/render_methods.h"
@@ -18,11 +24,6 @@
 #include "renderer/vpl/generation_methods.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vpl_json.h"
-
-#include <cctype>
-#include <cstdio>
-#include <filesystem>
-#include <system_error>
 
 namespace vplab::app {
 
@@ -82,6 +83,7 @@ int cmdRender(const Args& args) {
     reference = cli::readReference(*refPath, settings, cli::renderInfo(settings, toString(method), 0), "render");
 
   Scene scene = cli::loadSceneForCommand("render", cl.positional()[0], settings.stage);
+  resolveClampBound(settings, scene.bounds.diagonal());
   OfflineScene offline(scene);
 
   RenderControl genControl;
@@ -105,19 +107,18 @@ int cmdRender(const Args& args) {
   VplRenderResult result = renderMethod(method).render(offline, vpls, renderSettings, &control, {});
   progress.finish();
 
-  if (out)
-    writeImage(*out, result.image, settings.exposure,
-               cli::renderInfo(settings, toString(method), result));
+  if (out) writeImage(*out, result.image, settings.exposure, cli::renderInfo(settings, toString(method), result));
   if (png) writeImage(*png, result.image, settings.exposure);
 
   const VplStats& st = vpls.stats;
   std::printf("scene       %s\n", cli::sceneSummary(scene).c_str());
-  std::printf("method      %s, %dx%d, %s, components %s, seed %u\n", toString(method), settings.width,
-              settings.height, cli::describeSamples("render", result).c_str(), toString(settings.components),
-              settings.seed);
+  std::printf("method      %s, %dx%d, %s, components %s, seed %u\n", toString(method), settings.width, settings.height,
+              cli::describeSamples("render", result).c_str(), toString(settings.components), settings.seed);
   std::printf("vpls        %s\n", describeVplStats(st).c_str());
   for (const std::string& w : st.warnings) std::fprintf(stderr, "vplab render: warning: %s\n", w.c_str());
-  std::printf("clamp       b = %g, energy removed %.2f%%\n", settings.clampBound, 100.0 * result.clampEnergyRemoved);
+  std::printf("clamp       b = %g (%g / diagonal^2), energy removed %.2f%%\n", settings.clampBound,
+              settings.clampBound * scene.bounds.diagonal() * scene.bounds.diagonal(),
+              100.0 * result.clampEnergyRemoved);
   std::printf("time        %.3f s on %d threads (%llu VPL shadow rays, %.2f Mrays/s)\n", result.seconds,
               resolveThreadCount(settings.threads), static_cast<unsigned long long>(result.shadowRays),
               result.seconds > 0.0 ? 1e-6 * static_cast<double>(result.shadowRays) / result.seconds : 0.0);
