@@ -100,6 +100,7 @@ bool VplGatherPass::draw(bool lambertOnly, const Camera& camera, const Settings&
   // or without a budget, so that both sum in the same order and give the same image.
   LightTable table{&table_, BufferBinding::Vpls, tableLayout_, {},
                    [&](int maps, ShaderProgram& program) { visibility.bindChunk(maps, program); }};
+  table.drawEmptySubsets = !lambertOnly;
   const int k = layout.k;
   table.layout.capacity =
       std::max(table.layout.alignment, std::min(table.layout.capacity, kGatherVplsPerDraw * k * k));

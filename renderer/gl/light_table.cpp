@@ -80,7 +80,7 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
     const LightChunk& chunk = table.chunks[static_cast<std::size_t>(r.chunk)];
     ShaderProgram& p = programOf(chunk);
     const int offset = subsetOffset(r.begin, subset, k);
-    if (r.begin + offset >= r.end) continue;
+    if (r.begin + offset >= r.end && !table.drawEmptySubsets) continue;
     const int sx = subset % k, sy = subset / k;
     glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
     glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);

@@ -45,13 +45,17 @@ struct LightTable {
   std::vector<LightChunk> chunks;
   /// Binds a set of maps and sets their uniforms on `program`; may be empty.
   std::function<void(int maps, ShaderProgram& program)> bindChunk;
+  /// Draw a subset's block even where the range holds none of the subset's lights: the VPL gather's glossy receivers
+  /// take every VPL of the range (common/gather.glsl), whichever subset their pixel has.
+  bool drawEmptySubsets = false;
 };
 
 /// Draws `table` with `program` (or each chunk's own) into the interleaved layout of `raw`: for each subset, one draw
-/// per uniform-block range of each chunk. A single draw per subset replaces its block's texels (every fragment writes), so it needs neither a
-/// clear nor blending; several draws add up. With a cursor, the draws from *cursor on run until outOfTime() says stop
-/// after one (a draw's sum is complete on its own, so the rest can follow later): returns false and leaves *cursor at
-/// the first draw not made, or true after the last one. The draws and their order do not depend on where it stopped.
+/// per uniform-block range of each chunk. A single draw per subset replaces its block's texels (every fragment writes),
+/// so it needs neither a clear nor blending; several draws add up. With a cursor, the draws from *cursor on run until
+/// outOfTime() says stop after one (a draw's sum is complete on its own, so the rest can follow later): returns false
+/// and leaves *cursor at the first draw not made, or true after the last one. The draws and their order do not depend
+/// on where it stopped.
 bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const InterleavedLayout& layout,
                                const LightTable& table, const GlVertexArray& vao, int* cursor = nullptr,
                                const std::function<bool()>& outOfTime = {});

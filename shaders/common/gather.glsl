@@ -68,6 +68,7 @@ void main() {
   // First VPL of this pixel's subset inside the draw's range (common/interleaved.glsl).
   int first = uLightBegin + uSubsetOffset;
   vec3 sum = vec3(0.0);
+  float scale = float(k2);  // the subset's VPLs stand for all k^2 subsets
 #if GATHER_VSL
   // Virtual spherical lights: one transfer per VPL (common/vsl.glsl), every VPL through the same code.
 #ifdef BRDF_LAMBERT_ONLY
@@ -117,8 +118,13 @@ void main() {
   }
   sum *= f1;
 #else
-  // The same terms at glossy ends, also without branches.
-  for (int i = first; i < uLightEnd; i += k2) {
+  // The same terms at glossy ends, also without branches. A glossy receiver takes every VPL of the draw's range at its
+  // own pixel, unscaled, and the de-interleave leaves it as it is: its lobe turns a VPL into a highlight narrower than
+  // the k x k window, which its subset's pixel would hold at k^2 times its value (or miss), and the merge would spread
+  // over the window at full strength (cornell-glossy at 128^2, b = 20, k = 4: relMSE 7.1 at unit mean, mean +7 %).
+  const bool everyVpl = p1.metallic > 0.0 || p1.specular > 0.0;
+  if (everyVpl) scale = 1.0;
+  for (int i = everyVpl ? uLightBegin : first; i < uLightEnd; i += everyVpl ? 1 : k2) {
     GlVpl vpl = vpls[i - uUboBase];
     vec3 x2 = vpl.position.xyz;
     BrdfParams p2 = BrdfParams(vpl.baseColor.rgb, vpl.normal.w, vpl.incoming.w, vpl.flux.w);
@@ -136,5 +142,5 @@ void main() {
                        : vec3(0.0);
   }
 #endif
-  outColor = interleavedOutput(surface, sum * float(k2));
+  outColor = interleavedOutput(surface, sum * scale);
 }
