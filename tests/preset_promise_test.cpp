@@ -353,10 +353,11 @@ TEST_F(GlPresetPromise, ImperfectShadowMapsErrWhereCubeMapsDoNot) {
 
 
 
-// --- participating media (CPU) ----------------------------------------------------------------------------------------
+// --- participating media -------------------------------------------------------------------------------------------
 // The media presets show the CPU renders beside the preview (split or difference against the offline pass), so their
-// promises are measured on those renders: the exact VPL render that the preview's VPLs stand for, vpl-abc and vrl,
-// against the path-traced indirect light, at kFogSize^2 over a few VPL sets (single renders are heavy tailed).
+// promises are measured on those renders, through the render-method table as the offline pass calls it: the exact
+// VPL render that the preview's VPLs stand for, vpl-abc and vrl; and the preview's own fog where the preset shows it.
+// Against the path-traced indirect light, at kFogSize^2 over a few VPL sets (single renders are heavy tailed).
 
 constexpr int kFogSize = 32;
 constexpr int kFogSeeds = 4;
@@ -406,6 +407,38 @@ TEST(PresetPromise, MediumVplsSplotchTheFogAndTheBoundRemovesTheSplotches) {
               bounded.settings.clampBound, bounded.settings.vplCount);
   EXPECT_GT(before, 0.02) << "unbounded medium VPLs must splotch the fog";
   EXPECT_LT(after, 0.25 * before) << "the bound must remove the splotches";
+}
+
+/// The preview's indirect light (the gather through the fog plus the VPLs' in-scattering, renderer/gl/media_pass.h)
+/// with the preset's settings at kFogSize^2 for VPL set i.
+Image fogPreview(const ui::TeachingPreset& p, int set) {
+  Settings s = settingsOf(p, kFogSize);
+  s.seed = 11 + 7 * static_cast<uint32_t>(set);
+  s.threads = 2;
+  return preview(p, s, generateVpls(sceneOf(p), s)).indirect;
+}
+
+// The left half of the split and the difference view: the GL preview draws the fog, its medium VPLs and the bound as
+// the CPU render does (tests/gl_media_test.cpp), so the blobs and the darkening are the preview's too.
+TEST_F(GlPresetPromise, ThePreviewShowsTheFogsBlobsAndTheBoundsDarkening) {
+  const ui::TeachingPreset& splotches = preset("Splotches in fog");
+  const ui::TeachingPreset& bounded = preset("Bounded fog darkens");
+  const Image& truth = fogReference(splotches);
+  const double blobs = meanOverSets([&](int i) { return splotchShare(fogPreview(splotches, i), truth); });
+  const double boundedBlobs = meanOverSets([&](int i) { return splotchShare(fogPreview(bounded, i), truth); });
+  const std::vector<bool> creases =
+      creaseMask(sceneOf(bounded), settingsOf(bounded, kFogSize), 1.0f / std::sqrt(bounded.settings.clampBound));
+  const double energy = meanOverSets([&](int i) { return meanLuminance(fogPreview(bounded, i)); }) / meanLuminance(truth);
+  const double away = meanOverSets([&](int i) { return maskedEnergy(fogPreview(bounded, i), creases, false); }) /
+                      maskedEnergy(truth, creases, false);
+  std::printf("[ measured ] cornell-fog %d^2, GL preview, %d sets: pixels over 2x the reference's indirect light "
+              "%.2f %% unbounded, %.2f %% with b = %g; bounded indirect energy against the reference %.3f (%.3f away "
+              "from creases)\n",
+              kFogSize, kFogSeeds, 100.0 * blobs, 100.0 * boundedBlobs, bounded.settings.clampBound, energy, away);
+  EXPECT_GT(blobs, 0.02) << "unbounded medium VPLs must splotch the preview's fog";
+  EXPECT_LT(boundedBlobs, 0.25 * blobs) << "the bound must remove the splotches";
+  EXPECT_LT(energy, 0.9) << "the bound must darken the preview's fog";
+  EXPECT_LT(away, 0.92) << "everywhere, not only in the corners";
 }
 
 /// Indirect energy against the reference over all pixels and over those away from surfaces' creases (no other surface

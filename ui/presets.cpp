@@ -189,10 +189,10 @@ const std::vector<TeachingPreset>& teachingPresets() {
           s.clampBound = kInfinity;
         },
         "Light paths scatter in the fog and leave medium VPLs there, each lighting the air and the walls around it "
-        "with 1/d^2 and no cosine to soften it (the phase function is all there is). On the right, the exact render "
-        "of these VPLs through the fog: bright blobs float in the haze where a medium VPL sits close to what the "
-        "camera sees, besides the corner splotches of the surface VPLs. More VPLs make the blobs smaller, not "
-        "gone."));
+        "with 1/d^2 and no cosine to soften it (the phase function is all there is). The preview (left) and the "
+        "exact render of the same VPLs (right) agree: bright blobs float in the haze where a medium VPL sits close "
+        "to what the camera sees, besides the corner splotches of the surface VPLs. More VPLs make the blobs "
+        "smaller, not gone."));
     list.push_back(make(
         {"Bounded fog darkens", "cornell-fog.gltf", ViewMode::Difference, PresetOffline::Reference, true},
         [](Settings& s) {
@@ -213,9 +213,9 @@ const std::vector<TeachingPreset>& teachingPresets() {
         },
         "Engelhardt et al. 2012 add back what the bound removed with one extra bounce per shading point: a point "
         "sampled inside the bound's ball, the medium there taken as homogeneous and unoccluded, lit by the VPLs "
-        "with the residual max(0, G - b). On the right, the exact render with that compensation (vpl-abc): the "
-        "haze comes back to about the reference's brightness without Kollig-Keller's recursive paths. What it "
-        "misses is light that needs more than one bounce inside 1/sqrt(b), or a wall inside the ball."));
+        "with the residual max(0, G - b). Left, the preview with the bound alone; right, the exact render with that "
+        "compensation (vpl-abc): most of the missing haze comes back, without Kollig-Keller's recursive paths. "
+        "What it misses is light that needs more than one bounce inside 1/sqrt(b), or a wall inside the ball."));
     list.push_back(make(
         {"Ray lights", "cornell-fog.gltf", ViewMode::Split, PresetOffline::Chosen, false, false, false, false,
          Method::Vrl},
@@ -226,9 +226,9 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "Virtual ray lights (Novak et al. 2012a): instead of points where light scattered, each light path's "
         "segment through the fog lights the medium all along its length. Integrating along a ray and a camera "
         "ray turns the medium VPLs' 1/d^2 into a far weaker singularity, so the floating blobs of 'Splotches in "
-        "fog' are gone at the same number of light paths, without a bound. On the right, the CPU VRL render (vrl, "
-        "pass by pass); the surfaces are still lit by unbounded surface VPLs, so their corner splotches stay. The "
-        "offline panel also offers vbl: beams that shrink pass after pass."));
+        "fog' (still in the preview on the left) are gone at the same number of light paths, without a bound. On "
+        "the right, the CPU VRL render (vrl, pass by pass); the surfaces are still lit by unbounded surface VPLs, so "
+        "their corner splotches stay. The offline panel also offers vbl: beams that shrink pass after pass."));
     return list;
   }();
   return presets;
