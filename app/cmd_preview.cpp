@@ -59,6 +59,7 @@ int cmdPreview(const Args& args) {
   // The context first: the machine's GL limits are checked before any work.
   HeadlessGlContext context(backend);
   Scene scene = cli::loadSceneForCommand("preview", cl.positional()[0], settings.stage);
+  resolveClampBound(settings, scene.bounds.diagonal());
   // Image size, shadow maps and tiles against what this context holds (texture sizes, layers, memory), before the
   // VPLs are traced.
   if (std::string problem = previewFitProblem(scene, settings.vplCount, settings, queryGlLimits()); !problem.empty())
@@ -83,9 +84,19 @@ int cmdPreview(const Args& args) {
   const VplStats& st = vpls.stats;
   std::printf("gl          %s\n", context.description().c_str());
   std::printf("scene       %s\n", cli::sceneSummary(scene).c_str());
-  std::printf("preview     %dx%d, k = %d, b = %g, ssbc %d, shadow maps %d, direct samples %d, seed %u\n",
-              settings.width, settings.height, settings.interleave, settings.clampBound, settings.ssbcSteps,
-              settings.shadowMapSize, settings.directLightSamples, settings.seed);
+  const float diagonal = scene.bounds.diagonal();
+  std::printf("preview     %dx%d, k = %d, b = %g (%g / diagonal^2), ssbc %d, shadow maps %d, direct samples %d, "
+              "seed %u\n",
+              settings.width, settings.height, settings.interleave, settings.clampBound,
+              settings.clampBound * diagonal * diagonal, settings.ssbcSteps, settings.shadowMapSize,
+              settings.directLightSamples, settings.seed);
+  // What `auto` picked, and why (resolveVisibility).
+  std::string visibility = toString(renderer.visibilityInUse());
+  if (settings.visibility == VisibilityMethod::Auto)
+    visibility += " (auto: " + std::to_string(scene.triangles.size()) + " triangles x " +
+                  std::to_string(vpls.vpls.size()) + " VPLs " +
+                  (renderer.visibilityInUse() == VisibilityMethod::Cube ? "<=" : ">") + " 2^20)";
+  std::printf("visibility  %s\n", visibility.c_str());
   std::printf("vpls        %llu accepted of %llu candidates from %llu light paths (acceptance %.1f%%%s), "
               "generated in %.3f s\n",
               static_cast<unsigned long long>(st.accepted), static_cast<unsigned long long>(st.candidates),

@@ -26,6 +26,7 @@
 #include <vector>
 
 #include "bench/bench_args.h"
+#include "evaluation/direct_light_cases.h"
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image_io.h"
@@ -46,99 +47,12 @@ struct Case {
   std::function<Scene()> make;
 };
 
-bool isCeiling(const Scene& s, const glm::uvec3& v, float y) {
-  return s.positions[v.x].y > y && s.positions[v.y].y > y && s.positions[v.z].y > y;
-}
-
-// The scene without the triangles `drop` selects.
-Scene withoutTriangles(Scene scene, const std::function<bool(std::size_t)>& drop) {
-  std::vector<glm::uvec3> triangles;
-  std::vector<uint32_t> materials;
-  for (std::size_t t = 0; t < scene.triangles.size(); ++t) {
-    if (drop(t)) continue;
-    triangles.push_back(scene.triangles[t]);
-    materials.push_back(scene.triangleMaterials[t]);
-  }
-  scene.triangles = std::move(triangles);
-  scene.triangleMaterials = std::move(materials);
-  return scene;
-}
-
-bool emissive(const Scene& s, std::size_t t) {
-  return s.materials[s.triangleMaterials[t]].emission != glm::vec3(0.0f);
-}
-
 std::vector<Case> builtInCases(const std::string& assets) {
   const std::string box = assets + "/cornell-box.gltf";
-  std::vector<Case> cases;
-  cases.push_back({"cornell-box", [box] { return loadScene(box); }});
-  cases.push_back({"cornell-large", [box] {
-                     // Grow the emitter about its centre to 40 x 40 cm, its radiance scaled to keep its power.
-                     Scene s = loadScene(box);
-                     glm::vec3 lo(1e30f), hi(-1e30f);
-                     std::vector<bool> moved(s.positions.size(), false);
-                     for (std::size_t t = 0; t < s.triangles.size(); ++t)
-                       if (emissive(s, t))
-                         for (int k = 0; k < 3; ++k) {
-                           lo = glm::min(lo, s.positions[s.triangles[t][k]]);
-                           hi = glm::max(hi, s.positions[s.triangles[t][k]]);
-                         }
-                     const glm::vec3 centre = 0.5f * (lo + hi);
-                     const glm::vec2 scale(0.4f / (hi.x - lo.x), 0.4f / (hi.z - lo.z));
-                     for (std::size_t t = 0; t < s.triangles.size(); ++t)
-                       if (emissive(s, t))
-                         for (int k = 0; k < 3; ++k) {
-                           uint32_t v = s.triangles[t][k];
-                           if (moved[v]) continue;
-                           moved[v] = true;
-                           glm::vec3& p = s.positions[v];
-                           p.x = centre.x + (p.x - centre.x) * scale.x;
-                           p.z = centre.z + (p.z - centre.z) * scale.y;
-                         }
-                     for (Material& m : s.materials) m.emission /= scale.x * scale.y;
-                     s.finalize();
-                     return s;
-                   }});
-  cases.push_back({"cornell-spot", [box] {
-                     Scene s = loadScene(box);
-                     s = withoutTriangles(s, [&](std::size_t t) { return emissive(s, t); });
-                     PunctualLight spot;
-                     spot.name = "spot";
-                     spot.type = PunctualLight::Type::Spot;
-                     spot.position = glm::vec3(0.28f, 0.53f, 0.28f);
-                     spot.direction = glm::normalize(glm::vec3(0.1f, -1.0f, 0.15f));
-                     spot.innerConeAngle = 0.4f;
-                     spot.outerConeAngle = 0.7f;
-                     spot.intensity = glm::vec3(1.5f);
-                     s.punctualLights.push_back(spot);
-                     s.finalize();
-                     return s;
-                   }});
-  cases.push_back({"cornell-sun", [box] {
-                     Scene s = loadScene(box);
-                     s = withoutTriangles(s, [&](std::size_t t) { return isCeiling(s, s.triangles[t], 0.5f); });
-                     PunctualLight sun;
-                     sun.name = "sun";
-                     sun.type = PunctualLight::Type::Directional;
-                     sun.direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.4f));
-                     sun.intensity = glm::vec3(2.0f);
-                     s.punctualLights.push_back(sun);
-                     s.finalize();
-                     return s;
-                   }});
-  return cases;
-}
-
-// A point light two bounding radii above the model's centre, giving it the irradiance pi (the editor's "+ point").
-void addPointLightAbove(Scene& scene) {
-  const Bounds& b = scene.geometryBounds;
-  const float radius = std::max(0.5f * b.diagonal(), 1e-3f);
-  PunctualLight l;
-  l.name = "point above";
-  l.position = b.center() + glm::vec3(0.0f, 2.0f * radius, 0.0f);
-  l.intensity = glm::vec3(kPi * 4.0f * radius * radius);
-  scene.punctualLights.push_back(l);
-  scene.updateBounds();
+  return {{"cornell-box", [box] { return loadScene(box); }},
+          {"cornell-large", [box] { return cornellWithLargeEmitter(box, 0.4f); }},
+          {"cornell-spot", [box] { return cornellWithSpotLight(box); }},
+          {"cornell-sun", [box] { return cornellUnderSun(box); }}};
 }
 
 std::vector<Case> modelCases(const std::string& file) {
@@ -151,10 +65,7 @@ std::vector<Case> modelCases(const std::string& file) {
                    }});
   cases.push_back({stem + " lambert", [file] {
                      Scene s = loadScene(file);
-                     for (Material& m : s.materials) {
-                       m.metallic = 0.0f;
-                       m.specular = 0.0f;
-                     }
+                     makeLambert(s);
                      addPointLightAbove(s);
                      return s;
                    }});

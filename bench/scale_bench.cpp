@@ -35,6 +35,7 @@
 #include <vector>
 
 #include "bench/bench_args.h"
+#include "evaluation/direct_light_cases.h"
 #include "renderer/core/sampling.h"
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
@@ -60,20 +61,6 @@ double processCpuMs() {
   timespec ts{};
   clock_gettime(CLOCK_PROCESS_CPUTIME_ID, &ts);
   return ts.tv_sec * 1e3 + ts.tv_nsec * 1e-6;
-}
-
-// A point light two bounding radii above the geometry's centre, giving it the irradiance pi (as the editor's
-// "+ point" does).
-void addPointLightAbove(Scene& scene) {
-  const Bounds& b = scene.geometryBounds;
-  const float radius = std::max(0.5f * b.diagonal(), 1e-3f);
-  PunctualLight l;
-  l.name = "bench point light";
-  l.type = PunctualLight::Type::Point;
-  l.position = b.center() + glm::vec3(0.0f, 2.0f * radius, 0.0f);
-  l.intensity = glm::vec3(kPi * 4.0f * radius * radius);
-  scene.punctualLights.push_back(l);
-  scene.updateBounds();
 }
 
 double median(std::vector<double> v) {

@@ -97,7 +97,7 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   // The bound b acts in the gather only (section 4): VPLs and shadow maps stay. The offline methods that clamp go
   // stale (their table row says which): the VPL render, KK compensation (its region depends on b) and approximate
   // compensation in media; the VSL, VRL and beam methods do not clamp.
-  if (a.clampBound != b.clampBound) {
+  if (a.clampBound != b.clampBound || a.clampBoundRelative != b.clampBoundRelative) {
     s.gather = true;
     s.offline |= renderMethod(method).usesClampBound;
   }

@@ -1,5 +1,6 @@
 #include "renderer/settings.h"
 
+#include <algorithm>
 #include <cctype>
 #include <cerrno>
 #include <cmath>
@@ -89,6 +90,9 @@ const std::vector<SettingInfo>& settingsTable() {
       {"mirEpsilon", &Settings::mirEpsilon, 0, 1, "e", "metropolis: defensive share of the target", kUseGeneration},
       {"clampBound", &Settings::clampBound, 0, kInfinity, "b", "clamp bound b on the geometry term, 1/m^2, inf = none",
        kUseVplGather},
+      {"clampBoundRelative", &Settings::clampBoundRelative, 0, kInfinity, "B",
+       "clamp bound in units of 1/diagonal^2 of the scene: b = B / diagonal^2, replaces --clamp-bound; 0 = off",
+       kUseVplGather},
       {"ssbcSteps", &Settings::ssbcSteps, 0, 2, "0|1|2", "screen-space bias compensation steps", kUseGl},
       {"ssbcCoarseRings", &Settings::ssbcCoarseRings, 0, 0, "", "SSBC rings >= 4 px away on a 4 px grid", kUseGl},
       {"vslRadius", &Settings::vslRadius, 0, kMaxFloat, "r", "virtual spherical light radius in metres, 0 = points",
@@ -115,8 +119,9 @@ const std::vector<SettingInfo>& settingsTable() {
       {"shadowMapSize", &Settings::shadowMapSize, 16, 2048, "S", "VPL shadow-map resolution in texels", kUseGl},
       {"shadowBias", &Settings::shadowBias, 0, 0.1, "B", "VPL shadow depth bias, fraction of the scene diagonal",
        kUseGl},
-      {"visibility", choice<VisibilityMethod, 2, &Settings::visibility>(), 0, 0, "cube|ism",
-       "VPL visibility: cube shadow maps or imperfect shadow maps", kUseGl},
+      {"visibility", choice<VisibilityMethod, 3, &Settings::visibility>(), 0, 0, "cube|ism|auto",
+       "VPL visibility: cube shadow maps, imperfect shadow maps, or auto: cube maps while triangles x VPLs <= 2^20",
+       kUseGl},
       {"ismTileSize", &Settings::ismTileSize, 16, 512, "T", "imperfect shadow map tile, texels per side", kUseGl, true,
        SettingBound::PowerOfTwo},
       {"ismPointBudget", &Settings::ismPointBudget, 1024, 1 << 25, "P",
@@ -285,12 +290,27 @@ const char* toString(VisibilityMethod visibility) {
   switch (visibility) {
     case VisibilityMethod::Cube: return "cube";
     case VisibilityMethod::Ism: return "ism";
+    case VisibilityMethod::Auto: return "auto";
   }
   return "?";
 }
 
+void resolveClampBound(Settings& settings, float sceneDiagonal) {
+  if (!(settings.clampBoundRelative > 0.0f)) return;
+  const double diagonal = std::max(static_cast<double>(sceneDiagonal), 1e-12);
+  settings.clampBound = static_cast<float>(
+      std::min(static_cast<double>(settings.clampBoundRelative) / (diagonal * diagonal), kMaxFloat));
+}
+
+VisibilityMethod resolveVisibility(VisibilityMethod requested, std::size_t triangles, std::size_t vplCount) {
+  if (requested != VisibilityMethod::Auto) return requested;
+  return static_cast<double>(triangles) * static_cast<double>(vplCount) <= kAutoCubeTriangleVpls
+             ? VisibilityMethod::Cube
+             : VisibilityMethod::Ism;
+}
+
 bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out) {
-  for (VisibilityMethod v : {VisibilityMethod::Cube, VisibilityMethod::Ism})
+  for (VisibilityMethod v : {VisibilityMethod::Cube, VisibilityMethod::Ism, VisibilityMethod::Auto})
     if (text == toString(v)) {
       out = v;
       return true;

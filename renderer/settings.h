@@ -29,7 +29,17 @@ enum class VisibilityMethod {
   Cube,  ///< one rasterised cube shadow map per VPL: sharp, the reference for the others; costs VPLs x triangles
   Ism,   ///< imperfect shadow maps (Ritschel et al. 2008): a point-splatted paraboloid tile per VPL, cost independent
          ///< of the triangle count; leaks light through thin occluders and near the VPL
+  Auto,  ///< Cube while triangles x VPLs is at most kAutoCubeTriangleVpls, else Ism (resolveVisibility)
 };
+
+/// The largest triangles x VPLs for which `auto` keeps cube maps: there the first preview with cube maps costs about
+/// what it costs with ISM, and above it the cube maps' cost, which grows with the product, soon dominates
+/// (docs/benchmarks.md "VPL visibility: auto").
+inline constexpr double kAutoCubeTriangleVpls = 1 << 20;
+
+/// The technique the preview uses for `requested` on a scene of `triangles` triangles with `vplCount` VPLs: Cube or
+/// Ism as asked, and for Auto the one its rule picks.
+VisibilityMethod resolveVisibility(VisibilityMethod requested, std::size_t triangles, std::size_t vplCount);
 
 /// How VPLs are generated (docs/methods.md, "VPL generation"; the list with names, labels and colours is
 /// renderer/vpl/generation_methods.h, the one place a new method is added).
@@ -155,6 +165,11 @@ struct Settings {
   // --- bounded geometry term (section 4) and bias compensation (sections 5, 6) ------------------------------
   /// Clamp bound b on G = cos1 cos2 / d^2, in 1/m^2 [0, inf]; inf = no clamp. Default inf.
   float clampBound = kInfinity;
+  /// The clamp bound relative to the scene, in units of 1/diagonal^2 [0, inf]: when > 0, b = this / diagonal^2 of
+  /// the scene's bounds replaces clampBound once the scene is known (resolveClampBound). G's unit is 1/m^2, so b = 20
+  /// bounds a 1.5 m box and clamps nothing on a model 700 units wide; 20 / diagonal^2 does the same to both. 0 = use
+  /// clampBound. Default 0.
+  float clampBoundRelative = 0.0f;
   /// Screen-space bias compensation steps in the GL preview (Novak et al. 2011) [0, 2]. Default 0.
   int ssbcSteps = 0;
   /// Multi-resolution rings: the compensation's rings at least 4 px away from a pixel are evaluated at every 4th pixel
@@ -212,8 +227,9 @@ struct Settings {
   int shadowMapSize = 256;
   /// Depth bias of VPL shadow lookups, as a fraction of the scene diagonal [0, 0.1]. Default 0.002.
   float shadowBias = 0.002f;
-  /// VPL visibility technique of the preview. Default Cube.
-  VisibilityMethod visibility = VisibilityMethod::Cube;
+  /// VPL visibility technique of the preview. Default Auto: cube maps on small scenes, ISM where they would cost
+  /// seconds (resolveVisibility).
+  VisibilityMethod visibility = VisibilityMethod::Auto;
   /// Imperfect shadow maps: texels per side of each VPL's paraboloid tile, a power of two [16, 512]. Default 64
   /// (docs/benchmarks.md "Imperfect shadow maps": 32 darkens by 4-12 %; 128 halves the error behind a door but adds
   /// about 100 ms to every VPL change at 256 VPLs).
@@ -300,6 +316,10 @@ const char* toString(Method method);
 const char* toString(Components components);
 const char* toString(Stage stage);
 const char* toString(VisibilityMethod visibility);
+
+/// Sets clampBound from clampBoundRelative for a scene whose bounds' diagonal is `sceneDiagonal` (nothing when
+/// clampBoundRelative is 0).
+void resolveClampBound(Settings& settings, float sceneDiagonal);
 /// Parses "cube", "ism"; returns false on anything else.
 bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out);
 const char* toString(VplGeneration generation);

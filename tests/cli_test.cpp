@@ -294,7 +294,7 @@ TEST(CliFlags, ErrorsNameTheFlagTyped) {
   EXPECT_TRUE(contains(choice.out, "option --visibility: 'rays': expected one of cube, ism")) << choice.out;
   CliRun old = vplab("render " + kScene + " -o " + test::tmpPath("f.exr") + " --clamp 3");
   EXPECT_EQ(old.status, 2);
-  EXPECT_TRUE(contains(old.out, "did you mean --clamp-bound?")) << old.out;
+  EXPECT_TRUE(contains(old.out, "did you mean --clamp-bound or --clamp-bound-relative?")) << old.out;
   CliRun bool7 = vplab("preview " + kScene + " -o " + test::tmpPath("f.png") + " --ssbc-coarse-rings=7");
   EXPECT_EQ(bool7.status, 2);
   EXPECT_TRUE(contains(bool7.out, "--ssbc-coarse-rings")) << bool7.out;

@@ -63,6 +63,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.shadowMapSize = 128;
   s.shadowBias = 0.01f;
   s.visibility = VisibilityMethod::Ism;
+  s.clampBoundRelative = 12.5f;
   s.ismTileSize = 32;
   s.ismPointBudget = 5000;
 
@@ -73,6 +74,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_EQ(back.components, Components::Indirect);
   EXPECT_EQ(back.stage, Stage::Studio);
   EXPECT_FLOAT_EQ(back.clampBound, 3.75f);
+  EXPECT_FLOAT_EQ(back.clampBoundRelative, 12.5f);
   EXPECT_TRUE(back.vslRadiusFromDensity);
   EXPECT_EQ(back.visibility, VisibilityMethod::Ism);
   EXPECT_EQ(back.mirBootstrapPaths, 333);
@@ -87,7 +89,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_THROW(applySettingsJson("{\"generation\": \"bidirectional\", \"rejection\": true}", back),
                SettingsJsonError);
   // Every key the writer emits must be one the reader knows, and none may be missing.
-  EXPECT_EQ(settingsJsonKeys().size(), 46u);
+  EXPECT_EQ(settingsJsonKeys().size(), 47u);
 }
 
 TEST(SettingsJson, InfiniteClampIsWrittenAsStringAndReadBack) {

@@ -37,6 +37,7 @@ EditorState::EditorState(const std::string& scenePath, const Settings& settings,
   scene_ = loadScene(scenePath);
   stageScene(scene_, settings_.stage);
   applyLightsSidecar(scene_);
+  resolveClampBound(settings_, scene_.bounds.diagonal());
   sceneCamera_ = scene_.camera;
   media_ = scene_.media;
   rebuildAcceleration();
@@ -65,6 +66,7 @@ bool EditorState::openScene(const std::string& path) {
   activePreset_ = nullptr;  // a preset that wants it sets itself again after this
   pendingOffline_ = PresetOffline::None;
   scene_ = std::move(loaded);
+  resolveClampBound(settings_, scene_.bounds.diagonal());
   sceneCamera_ = scene_.camera;
   media_ = scene_.media;
   mediaPending_ = false;
@@ -156,8 +158,10 @@ void EditorState::resetCamera() {
 
 // --- settings -----------------------------------------------------------------------------------------------------
 
-void EditorState::changeSettings(const Settings& next) {
-  if (!validateSettings(next).empty()) return;
+void EditorState::changeSettings(const Settings& requested) {
+  if (!validateSettings(requested).empty()) return;
+  Settings next = requested;
+  resolveClampBound(next, scene_.bounds.diagonal());
   Staleness s = staleAfterSettingsChange(settings_, next, offlineMethod_);
   if (!s.vpls && (next.vslRadius != settings_.vslRadius || next.vslRadiusFromDensity != settings_.vslRadiusFromDensity))
     vslRadiiStale_ = true;

@@ -71,7 +71,8 @@ bool settingCheckbox(Settings& s, const char* key) {
 
 }  // namespace
 
-bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRemoved) {
+bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRemoved, VisibilityMethod visibilityInUse,
+                        float sceneDiagonal) {
   bool changed = false;
   ImGui::TextDisabled("VPL generation");
   if (settingCombo(s, "generation")) {
@@ -118,22 +119,41 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   ImGui::Separator();
   ImGui::TextDisabled("Bounded geometry term G_b = min(G, b)");
   bool bounded = !std::isinf(s.clampBound);
+  // b in 1/m^2, or relative to the scene (units of 1/diagonal^2), which means the same on a box and on a model in
+  // millimetres; the other unit is shown beside it. Switched on, b starts at 20 / diagonal^2.
+  const double diagonal2 = std::max(static_cast<double>(sceneDiagonal) * sceneDiagonal, 1e-12);
   if (ImGui::Checkbox("clamp", &bounded)) {
-    s.clampBound = bounded ? 20.0f : kInfinity;
+    s.clampBoundRelative = bounded ? 20.0f : 0.0f;
+    s.clampBound = bounded ? static_cast<float>(20.0 / diagonal2) : kInfinity;
     changed = true;
   }
   settingTooltip("clampBound", "off: clampBound = inf");
   if (bounded) {
-    changed |= settingSliderFloat(s, "clampBound", 0.01f, 10000.0f, "%.3g", ImGuiSliderFlags_Logarithmic,
-                                  "b on cos1 cos2 / d^2; the residual is local: d < 1/sqrt(b)");
+    bool relative = s.clampBoundRelative > 0.0f;
+    ImGui::SameLine();
+    if (ImGui::Checkbox("relative to the scene", &relative)) {
+      s.clampBoundRelative = relative ? static_cast<float>(s.clampBound * diagonal2) : 0.0f;
+      changed = true;
+    }
+    settingTooltip("clampBoundRelative");
+    if (relative) {
+      changed |= settingSliderFloat(s, "clampBoundRelative", 0.01f, 100000.0f, "%.3g", ImGuiSliderFlags_Logarithmic,
+                                    "b = this / diagonal^2");
+      ImGui::Text("b = %.3g 1/m^2 (diagonal %.3g m)", s.clampBoundRelative / diagonal2, sceneDiagonal);
+    } else {
+      changed |= settingSliderFloat(s, "clampBound", 0.01f, 10000.0f, "%.3g", ImGuiSliderFlags_Logarithmic,
+                                    "b on cos1 cos2 / d^2; the residual is local: d < 1/sqrt(b)");
+      ImGui::Text("= %.3g / diagonal^2 (diagonal %.3g m)", s.clampBound * diagonal2, sceneDiagonal);
+    }
     ImGui::Text("residual range 1/sqrt(b) = %.3g m", 1.0 / std::sqrt(std::max(s.clampBound, 1e-6f)));
   }
   if (clampEnergyRemoved >= 0.0) {
     ImGui::Text("clamp removes ~%.1f %% at sample points", 100.0 * clampEnergyRemoved);
     if (ImGui::IsItemHovered())
-      ImGui::SetTooltip("An estimate while you edit: over at most 256 camera-visible points on a coarse grid, the\n"
-                        "luminance min(G, b) loses against G, summed over every VPL each point sees. The exact VPL\n"
-                        "render measures the same over every pixel (shown under this panel once it ran).");
+      ImGui::SetTooltip(
+          "An estimate while you edit: over at most 256 camera-visible points on a coarse grid, the\n"
+          "luminance min(G, b) loses against G, summed over every VPL each point sees. The exact VPL\n"
+          "render measures the same over every pixel (shown under this panel once it ran).");
   } else {
     ImGui::TextDisabled("clamp energy removed: not measured");
   }
@@ -160,7 +180,9 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   changed |= settingSliderInt(s, "indirectDownscale", 1, 4);
   changed |= settingCombo(s, "visibility",
                           "cube: one rasterised map per VPL, sharp, costs VPLs x triangles; ism: a point-splatted "
-                          "tile per VPL, cost independent of the triangle count, leaks through thin walls");
+                          "tile per VPL, cost independent of the triangle count, leaks through thin walls; auto: cube "
+                          "maps while triangles x VPLs <= 2^20");
+  if (s.visibility == VisibilityMethod::Auto) ImGui::TextDisabled("auto picked %s", toString(visibilityInUse));
   // A power-of-two size: the slider moves its exponent.
   auto powerOfTwoSlider = [&](const char* key, int minLog, int maxLog) {
     int& value = s.*std::get<int Settings::*>(settingRow(key).member);
@@ -173,7 +195,7 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     ImGui::SameLine();
     ImGui::Text("%d", value);
   };
-  if (s.visibility == VisibilityMethod::Ism) {
+  if (visibilityInUse == VisibilityMethod::Ism) {
     powerOfTwoSlider("ismTileSize", 4, 8);
     powerOfTwoSlider("ismPointBudget", 10, 25);
   } else {

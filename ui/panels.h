@@ -15,7 +15,9 @@ namespace vplab::ui {
 /// generation did (acceptance with the pilot's predicted spread, warnings); clamp bound b (log slider, with the
 /// fraction of energy it removes); VSL radius r (log slider, 0 = off); SSBC steps; interleave k; shadow-map size
 /// and bias; direct-light samples; exposure. `clampEnergyRemoved` < 0 means "not measured yet".
-bool drawManyLightPanel(Settings& settings, const VplStats& stats, double clampEnergyRemoved);
+/// visibilityInUse: what `auto` picked; sceneDiagonal: shows the clamp bound relative to the scene.
+bool drawManyLightPanel(Settings& settings, const VplStats& stats, double clampEnergyRemoved,
+                        VisibilityMethod visibilityInUse, float sceneDiagonal);
 
 /// Image size, samples per pixel and path depth of the offline pass.
 bool drawOfflineSettingsPanel(Settings& settings);

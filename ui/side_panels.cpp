@@ -229,7 +229,10 @@ void drawLeftPanel(EditorState& state, PanelState& panels) {
   }
   if (ImGui::CollapsingHeader("Many lights", ImGuiTreeNodeFlags_DefaultOpen)) {
     Settings next = state.settings();
-    if (drawManyLightPanel(next, state.vpls().stats, state.clampEnergyRemoved())) state.changeSettings(next);
+    const std::size_t triangles = state.scene().triangles.size(), vplCount = state.vpls().vpls.size();
+    if (drawManyLightPanel(next, state.vpls().stats, state.clampEnergyRemoved(),
+                           resolveVisibility(next.visibility, triangles, vplCount), state.scene().bounds.diagonal()))
+      state.changeSettings(next);
     if (!state.offlineImage().empty() && renderMethod(state.offlineImageMethod()).usesClampBound) {
       ImGui::TextDisabled("exact render: clamp removed %.1f %% (all pixels)", 100.0 * state.offlineClampEnergy());
       if (ImGui::IsItemHovered())

@@ -194,15 +194,15 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
     }
     // Samples of one emitter next to each other, then split into cells, each behind its own map: up to
     // kAreaShadowCells per emitter while the emitters' maps stay within kMaxAreaGroups in all (what previewFitProblem
-    // budgets), and with at least k^2 samples per cell, so that every interleaved subset has one.
+    // budgets), and with at least 4 samples per cell. Not by the interleaving: a change of k redraws no map (a cell
+    // with fewer samples than k^2 leaves some subsets without one, which the merge averages over).
     std::stable_sort(samples.begin(), samples.end(),
                      [](const DirectLightGpu& a, const DirectLightGpu& b) { return a.shadow.x < b.shadow.x; });
-    const int subsets = settings.interleave * settings.interleave;
     for (std::size_t begin = 0; begin < samples.size();) {
       std::size_t end = begin;
       while (end < samples.size() && samples[end].shadow.x == samples[begin].shadow.x) ++end;
       const int cells = std::max(1, std::min({kAreaShadowCells, kMaxAreaGroups / static_cast<int>(groups.size()),
-                                              static_cast<int>(end - begin) / subsets}));
+                                              static_cast<int>(end - begin) / 4}));
       splitIntoCells(samples, begin, end, cells, casters_);
       begin = end;
     }

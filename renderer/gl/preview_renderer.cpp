@@ -241,7 +241,8 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
         << " exceeds this GL context's largest render target " << largest << ": lower --size";
     return why.str();
   }
-  VisibilityFootprint vplMaps = visibilityFootprint(settings.visibility, static_cast<int>(vplCount), settings, limits);
+  const VisibilityMethod visibility = resolveVisibility(settings.visibility, scene.triangles.size(), vplCount);
+  VisibilityFootprint vplMaps = visibilityFootprint(visibility, static_cast<int>(vplCount), settings, limits);
   if (!vplMaps.problem.empty()) return vplMaps.problem;
   // The screen targets (Targets: G-buffer, interleaved and merged results, compensation mips and rings), counted as 40
   // RGBA32F-sized texels per pixel, an upper bound, and as many again per texel of the indirect light's own grid.
@@ -316,16 +317,19 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // change is what renderer/invalidation.h says (the direct light's transmittance and all the VPLs do).
   if (const Staleness mediaEdit = staleAfterMediumEdit(uploadedMedia_, scene.media);
       mediaEdit.anyPreview() || !haveFrame_) {
-    media_.upload(scene);
+    media_.upload(scene, settings.clampBound);
     direct_.useMedia(media_.count());
     uploadedMedia_ = scene.media;
     stale |= mediaEdit;
   }
   lightsDirty_ = false;
-  if (settings.visibility != visibilityMethod_ || media_.count() != gatherMedia_) {
-    useVisibility(settings.visibility, media_.count());
+  const VisibilityMethod visibility = resolveVisibility(settings.visibility, scene.triangles.size(), vpls.vpls.size());
+  if (visibility != visibilityMethod_ || media_.count() != gatherMedia_) {
+    useVisibility(visibility, media_.count());
     vplsDirty_ = true;
   }
+  // The compensation factors depend on the bound (a change of which the gather's staleness covers).
+  if (media_.active() && settings.clampBound != media_.uploadedBound()) media_.upload(scene, settings.clampBound);
   if (media_.active()) media_.bind();
   if (!shadowsValid_) vplVisibility_->resetScene();
   // The renderer does not generate VPLs: a new or edited set is uploaded and gathered again. Its maps depend on the

@@ -116,6 +116,8 @@ class PreviewRenderer {
   /// Linear radiance (before tonemapping) of the last render, row 0 at the top. Direct and Indirect are de-interleaved
   /// from the last render's interleaved results when asked for (a frame merges only their sum).
   Image readLinear(PreviewOutput which = PreviewOutput::Final);
+  /// The VPL visibility technique of the last render: Settings::visibility, `auto` resolved (resolveVisibility).
+  VisibilityMethod visibilityInUse() const { return visibilityMethod_; }
   /// Tonemapped (exposure, sRGB-encoded, [0, 1]) image of the last render, row 0 at the top.
   Image readTonemapped() const;
 

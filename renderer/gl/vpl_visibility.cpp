@@ -31,7 +31,8 @@ int ismFillLevels(int tileSize) {
 std::unique_ptr<VplVisibility> makeVplVisibility(VisibilityMethod method) {
   switch (method) {
     case VisibilityMethod::Ism: return std::make_unique<IsmVisibility>();
-    case VisibilityMethod::Cube: break;
+    case VisibilityMethod::Cube:
+    case VisibilityMethod::Auto: break;  // resolved by the caller (resolveVisibility)
   }
   return std::make_unique<CubeVisibility>();
 }
