@@ -154,6 +154,54 @@ TEST_P(GlMedia, FogCornellSingleScatteringMatchesCpu) {
   expectSingleScatteringMatchesCpu("cornell-fog", 64);
 }
 
+// Approximate bias compensation in the medium (media_pass.h, Engelhardt et al. 2012): the light the bound removes from
+// the medium's scattering (the preview's own unbounded scattering of the same VPLs minus the bounded one) against what
+// the compensation returns; and the whole image with compensation against the CPU's vpl-kk (exact compensation,
+// Kollig & Keller on surfaces, Raab et al. in media) and vpl-abc on the same VPLs.
+TEST_P(GlMedia, CompensationReturnsTheEnergyTheBoundRemoves) {
+  auto l = test::loadAssetScene("cornell-fog");
+  Settings s = test::indirectSettings(32, 256);
+  s.components = Components::All;
+  VplSet vpls = generateVpls(*l, s);
+  auto scattered = [&](float bound, int ssbcSteps) {
+    Settings t = s;
+    t.clampBound = bound;
+    t.ssbcSteps = ssbcSteps;
+    return meanLuminance(previewDownscaled(l->scene(), vpls, t, PreviewOutput::Scattered));
+  };
+  const float bound = 20.0f;
+  const double unbounded = scattered(kInfinity, 0), bounded = scattered(bound, 0), compensated = scattered(bound, 2);
+  const double removed = unbounded - bounded, returned = compensated - bounded;
+  std::printf(
+      "[ measured ] cornell-fog medium, b = %g: the bound removes %.1f %% of the scattered light, the "
+      "compensation returns %.0f %% of that\n",
+      bound, 100.0 * removed / unbounded, 100.0 * returned / removed);
+  EXPECT_GT(removed, 0.02 * unbounded);
+  // One bounce of the residual applied to the bounded light (no recursion, as the CPU's vpl-abc) returns less than
+  // the bound removes, but most of it.
+  EXPECT_GT(returned / removed, 0.4);
+  EXPECT_LT(returned / removed, 1.1);
+
+  Settings t = s;
+  t.clampBound = bound;
+  const Image withoutCompensation = previewDownscaled(l->scene(), vpls, t, PreviewOutput::Final);
+  t.ssbcSteps = 2;
+  const Image withCompensation = previewDownscaled(l->scene(), vpls, t, PreviewOutput::Final);
+  Settings c = t;
+  c.samplesPerPixel = 64;
+  const PixelMask emitters = emitterMask(l->embree(), s.width, s.height, 1);
+  const Image kk = renderVpl(*l, vpls, Method::VplKK, c).image;
+  const Image abc = renderVpl(*l, vpls, Method::VplAbc, c).image;
+  const double before = meanRatioExcludingEmitters(withoutCompensation, kk, emitters);
+  const double after = meanRatioExcludingEmitters(withCompensation, kk, emitters);
+  const double againstAbc = meanRatioExcludingEmitters(withCompensation, abc, emitters);
+  std::printf("[ measured ] cornell-fog b = %g, whole image / CPU vpl-kk: %.4f without compensation, %.4f with (SSBC "
+              "and the media's); with / CPU vpl-abc %.4f; CPU vpl-abc / vpl-kk %.4f\n",
+              bound, before, after, againstAbc, meanRatioExcludingEmitters(abc, kk, emitters));
+  EXPECT_GT(after, before + 0.05);
+  EXPECT_NEAR(againstAbc, 1.0, 0.07);
+}
+
 // Same scene, settings and seed: the same image, bit for bit (the media passes draw no random numbers of their own
 // but per-pixel hashes).
 TEST_P(GlMedia, SameSettingsGiveTheSameImage) {

@@ -3,6 +3,7 @@
 #include <glad/gl.h>
 
 #include <algorithm>
+#include <cmath>
 
 #include "renderer/gl/light_table.h"
 #include "renderer/gl/texture_units.h"
@@ -14,6 +15,7 @@ namespace {
 struct MediumGpu {
   glm::vec4 sigmaT, sigmaS;
   glm::mat4 boxFromWorld;
+  glm::vec4 compensation;
 };
 struct MediaTableGpu {
   MediumGpu media[kPreviewMaxMedia];
@@ -34,15 +36,39 @@ std::string mediaFitProblem(const Scene& scene) {
 
 MediaPass::MediaPass() : merge_({"preview/fullscreen.vert.glsl", "preview/media_merge.frag.glsl"}) {}
 
-void MediaPass::upload(const Scene& scene) {
+glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound) {
+  if (!std::isfinite(clampBound) || !(clampBound > 0.0f)) return glm::vec3(0.0f);
+  const double r = 1.0 / std::sqrt(static_cast<double>(clampBound)), b = clampBound;
+  glm::vec3 c(0.0f);
+  for (int i = 0; i < 3; ++i) {
+    const double a = medium.sigmaT()[i], ar = a * r;
+    // I0 = integral of e^(-a t), I2 = of t^2 e^(-a t), over [0, r]; by their series where a r is small (no
+    // cancellation).
+    double i0, i2;
+    if (ar < 1e-3) {
+      i0 = r - a * r * r / 2.0;
+      i2 = r * r * r / 3.0 - a * r * r * r * r / 4.0;
+    } else {
+      const double e = std::exp(-ar);
+      i0 = (1.0 - e) / a;
+      i2 = (2.0 - e * (ar * ar + 2.0 * ar + 2.0)) / (a * a * a);
+    }
+    c[i] = static_cast<float>(medium.sigmaS[i] * (i0 - b * i2));
+  }
+  return c;
+}
+
+void MediaPass::upload(const Scene& scene, float clampBound) {
   MediaTableGpu gpu{};
   count_ = 0;
   for (const Medium& m : scene.media) {
     // Media that neither absorb nor scatter change nothing (mediumIntervals leaves them out too).
     if (m.isVacuum() || count_ == kPreviewMaxMedia) continue;
-    gpu.media[count_++] = {glm::vec4(m.sigmaT(), m.fillsSpace ? 1.0f : 0.0f), glm::vec4(m.sigmaS, m.g), m.boxFromWorld};
+    gpu.media[count_++] = {glm::vec4(m.sigmaT(), m.fillsSpace ? 1.0f : 0.0f), glm::vec4(m.sigmaS, m.g), m.boxFromWorld,
+                           glm::vec4(approximateCompensationFactor(m, clampBound), 0.0f)};
   }
   table_.assign(&gpu, sizeof(gpu));
+  uploadedBound_ = clampBound;
   if (count_ > 0 && count_ != composeCount_) {
     compose_ = std::make_unique<ShaderProgram>(
         std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/media_compose.frag.glsl"},
@@ -83,7 +109,7 @@ void MediaPass::ensureTargets(const InterleavedLayout& layout) {
 
 void MediaPass::draw(const Frame& frame, const Settings& settings, const InterleavedLayout& layout,
                      const DirectLightPass& direct, const VplGatherPass& gather, const VplVisibility& visibility,
-                     const GlVertexArray& vao) {
+                     const GlVertexArray& vao, bool lights, bool vpls) {
   ensureTargets(layout);
   const int k = layout.k, k2 = k * k;
   auto common = [&](ShaderProgram& p) {
@@ -96,57 +122,61 @@ void MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
 
   // The lights' single scattering: every subset draws every punctual and directional light and its share of the area
   // samples, from the direct pass's table, in ranges of one uniform block.
-  const DirectLightPass::TableView table = direct.bindTable();
-  if (!lights_ || lightsLayoutCapacity_ != table.layout.capacity || lightsCount_ != count_) {
-    lights_ = std::make_unique<ShaderProgram>(
-        std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/media_lights.frag.glsl"},
-        std::vector<std::string>{uniformTableDefine("DIRECT_UBO_LIGHTS", table.layout), mediaDefine(count_)});
-    lightsLayoutCapacity_ = table.layout.capacity;
-    lightsCount_ = count_;
-  }
-  ShaderProgram& lights = *lights_;
-  common(lights);
-  lights.set("uMediaSteps", kMediaLightSteps);
-  lights.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
-  lights.set("uSceneCentre", frame.sceneCentre);
-  lights.set("uSceneRadius", frame.sceneRadius);
-  lights.set("uDirectionalShadowTexel", 2.0f * frame.sceneRadius / static_cast<float>(kDirectionalShadowSize));
-  lights.set("uPunctualEnd", table.punctualEnd);
-  lightsRaw_->framebuffer.bind(rawWidth_, rawHeight_);
-  lightsRaw_->framebuffer.clearColor(0, glm::vec4(0.0f));
-  glEnable(GL_BLEND);
-  glBlendFunc(GL_ONE, GL_ONE);
-  const int step =
-      std::max(table.layout.alignment, table.layout.capacity / table.layout.alignment * table.layout.alignment);
-  for (int base = 0; base < table.count; base += step) {
-    const int end = std::min(table.count, base + step);
-    table.buffer->bindUniformRange(binding(BufferBinding::DirectLights),
-                                   static_cast<std::size_t>(base) * table.layout.elementBytes,
-                                   static_cast<std::size_t>(end - base) * table.layout.elementBytes);
-    lights.set("uUboBase", base);
-    lights.set("uLightBegin", base);
-    lights.set("uLightEnd", end);
-    lights.set("uAreaEnd", std::min(end, table.areaEnd));
-    for (int subset = 0; subset < k2; ++subset) {
-      const int sx = subset % k, sy = subset / k;
-      const glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
-      glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
-      lights.set("uSubsetXY", glm::ivec2(sx, sy));
-      lights.set("uBlockOrigin", origin);
-      // The first area sample of this subset (index = subset mod k^2) from `base` on.
-      lights.set("uAreaFirst", base + ((subset - base % k2) % k2 + k2) % k2);
-      drawFullscreen(lights, vao);
+  if (lights) {
+    const DirectLightPass::TableView table = direct.bindTable();
+    if (!lights_ || lightsLayoutCapacity_ != table.layout.capacity || lightsCount_ != count_) {
+      lights_ = std::make_unique<ShaderProgram>(
+          std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/media_lights.frag.glsl"},
+          std::vector<std::string>{uniformTableDefine("DIRECT_UBO_LIGHTS", table.layout), mediaDefine(count_)});
+      lightsLayoutCapacity_ = table.layout.capacity;
+      lightsCount_ = count_;
     }
+    ShaderProgram& program = *lights_;
+    common(program);
+    program.set("uMediaSteps", kMediaLightSteps);
+    program.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
+    program.set("uSceneCentre", frame.sceneCentre);
+    program.set("uSceneRadius", frame.sceneRadius);
+    program.set("uDirectionalShadowTexel", 2.0f * frame.sceneRadius / static_cast<float>(kDirectionalShadowSize));
+    program.set("uPunctualEnd", table.punctualEnd);
+    lightsRaw_->framebuffer.bind(rawWidth_, rawHeight_);
+    lightsRaw_->framebuffer.clearColor(0, glm::vec4(0.0f));
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
+    const int step =
+        std::max(table.layout.alignment, table.layout.capacity / table.layout.alignment * table.layout.alignment);
+    for (int base = 0; base < table.count; base += step) {
+      const int end = std::min(table.count, base + step);
+      table.buffer->bindUniformRange(binding(BufferBinding::DirectLights),
+                                     static_cast<std::size_t>(base) * table.layout.elementBytes,
+                                     static_cast<std::size_t>(end - base) * table.layout.elementBytes);
+      program.set("uUboBase", base);
+      program.set("uLightBegin", base);
+      program.set("uLightEnd", end);
+      program.set("uAreaEnd", std::min(end, table.areaEnd));
+      for (int subset = 0; subset < k2; ++subset) {
+        const int sx = subset % k, sy = subset / k;
+        const glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
+        glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
+        program.set("uSubsetXY", glm::ivec2(sx, sy));
+        program.set("uBlockOrigin", origin);
+        // The first area sample of this subset (index = subset mod k^2) from `base` on.
+        program.set("uAreaFirst", base + ((subset - base % k2) % k2 + k2) % k2);
+        drawFullscreen(program, vao);
+      }
+    }
+    glDisable(GL_BLEND);
   }
-  glDisable(GL_BLEND);
 
   // The VPLs' in-scattering, with the gather's table and maps.
-  ShaderProgram& vpls = (*vpls_)[frame.lambertOnly];
-  common(vpls);
-  vpls.set("uClampBound", settings.clampBound);
-  vpls.set("uShadowFar", frame.far);
-  vpls.set("uShadowBias", frame.bias);
-  gather.drawTable(vpls, visibility, *vplsRaw_, layout, vao);
+  if (vpls) {
+    ShaderProgram& program = (*vpls_)[frame.lambertOnly];
+    common(program);
+    program.set("uClampBound", settings.clampBound);
+    program.set("uShadowFar", frame.far);
+    program.set("uShadowBias", frame.bias);
+    gather.drawTable(program, visibility, *vplsRaw_, layout, vao);
+  }
 
   // The merge of the k x k subsets, both results at once.
   merged_->framebuffer.bind(layout.width, layout.height);
@@ -159,7 +189,7 @@ void MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
   drawFullscreen(merge_, vao);
 }
 
-void MediaPass::compose(const Frame& frame, const GlTexture& surface, glm::vec3 weights, int width, int height,
+void MediaPass::compose(const Frame& frame, const GlTexture& surface, glm::vec4 weights, int width, int height,
                         GlFramebuffer& out, const GlVertexArray& vao) {
   if (!surfaceCopy_ || surfaceCopy_->texture.width() != width || surfaceCopy_->texture.height() != height)
     surfaceCopy_ = std::make_unique<Target>(width, height);

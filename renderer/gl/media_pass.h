@@ -34,13 +34,25 @@ inline constexpr int kMediaLightSteps = 4;
 /// One sentence when the scene holds more media than the preview draws, else empty.
 std::string mediaFitProblem(const Scene& scene);
 
+/// The approximate bias compensation in a medium (Engelhardt et al. 2012, docs/theory.md §18), "GPU friendly": the
+/// bound b removes from a medium point x the transfer from the ball |y - x| < r = 1/sqrt(b), where G = 1/d^2 > b, the
+/// part (1 - b/G) of it. Taking the medium homogeneous and unbounded over the ball (as the CPU's vpl-abc does: no
+/// surfaces, no visibility inside it) and the bounded radiance leaving the points y toward x equal to the one leaving
+/// x itself (the local smoothness the method rests on), the residual is that radiance times, per channel,
+///   C = sigma_s integral over [0, r] of e^(-sigma_t t) (1 - b t^2) dt       (the phase function integrates to 1),
+/// in closed form; so the compensation along a camera ray is C times the light the medium scatters into it under the
+/// bound (the lights' and the VPLs'), with no pass of its own. 0 without a bound.
+glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound);
+
 class MediaPass {
  public:
   MediaPass();
 
-  /// Uploads the scene's media (at most kPreviewMaxMedia, mediaFitProblem()); active() tells whether it has any that
-  /// absorb or scatter.
-  void upload(const Scene& scene);
+  /// Uploads the scene's media (at most kPreviewMaxMedia, mediaFitProblem()) with their compensation factors for the
+  /// bound b; active() tells whether it has any that absorb or scatter.
+  void upload(const Scene& scene, float clampBound);
+  /// The bound the last upload() computed the compensation factors for.
+  float uploadedBound() const { return uploadedBound_; }
   bool active() const { return count_ > 0; }
   int count() const { return count_; }
   /// Binds the media's table for every pass compiled with PREVIEW_MEDIA (the direct pass and the gather too).
@@ -56,14 +68,17 @@ class MediaPass {
     glm::vec3 sceneCentre;
     float sceneDiagonal, sceneRadius, far, bias;
   };
-  /// Draws both scattering passes on the grid whose G-buffer is bound (layout: its size and k) and merges them.
+  /// Draws the scattering passes asked for on the grid whose G-buffer is bound (layout: its size and k) and merges
+  /// them with the other's last result: the lights' does not depend on the VPLs, so a new VPL set redoes the VPLs'
+  /// only.
   void draw(const Frame& frame, const Settings& settings, const InterleavedLayout& layout,
             const DirectLightPass& direct, const VplGatherPass& gather, const VplVisibility& visibility,
-            const GlVertexArray& vao);
+            const GlVertexArray& vao, bool lights, bool vpls);
   /// Draws into `out` (width x height, the full G-buffer bound) weights.x T(camera, surface) `surface` + weights.y the
-  /// lights' single scattering + weights.z the VPLs' in-scattering of the last draw(). `surface` may be out's own
-  /// texture: it is copied.
-  void compose(const Frame& frame, const GlTexture& surface, glm::vec3 weights, int width, int height,
+  /// lights' single scattering + weights.z the VPLs' in-scattering of the last draw() + weights.w the approximate
+  /// compensation of both (approximateCompensationFactor, of the first medium the ray meets). `surface` may be out's
+  /// own texture: it is copied.
+  void compose(const Frame& frame, const GlTexture& surface, glm::vec4 weights, int width, int height,
                GlFramebuffer& out, const GlVertexArray& vao);
 
  private:
@@ -71,6 +86,7 @@ class MediaPass {
 
   GlBuffer table_;
   int count_ = 0;
+  float uploadedBound_ = 0.0f;
   std::unique_ptr<ShaderProgram> lights_;
   int lightsLayoutCapacity_ = 0;
   std::unique_ptr<BrdfVariants> vpls_;

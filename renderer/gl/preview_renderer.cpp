@@ -273,7 +273,7 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
         << settings.height << " targets and up to " << cubes + squares << " light shadow map(s) the preview needs "
         << formatBytes(total) << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
         << limits.memorySource << "): lower --vpl-count, --size or "
-        << (settings.visibility == VisibilityMethod::Ism ? "--ism-tile-size"
+        << (visibility == VisibilityMethod::Ism ? "--ism-tile-size"
                                                          : "--shadow-map-size, or use --visibility ism");
   return why.str();
 }
@@ -363,7 +363,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // A gather sliced over earlier calls starts over when what it depends on changed again.
   if (stale.gather) gather_.restart();
   pending_.gather |= stale.gather;
-  pending_.media |= media_.active() && (stale.direct || stale.gather);
+  pending_.mediaLights |= media_.active() && stale.direct;
+  pending_.mediaVpls |= media_.active() && stale.gather;
   pending_.merge |= stale.direct || stale.gather;
   pending_.ssbc |= stale.ssbc;
   pending_.tonemap |= stale.tonemap;
@@ -505,14 +506,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // the gather pass (in the direct pass when only that one ran).
   // The media's scattering along camera rays, on the indirect light's grid: after the lights' and the VPLs' maps and
   // the passes that use them.
-  if (pending_.media && !pending_.directMaps && !pending_.vplMaps && !pending_.direct && !pending_.gather &&
+  if (pending_.media() && !pending_.directMaps && !pending_.vplMaps && !pending_.direct && !pending_.gather &&
       !outOfBudget) {
     t.mediaMs = timed(timer_, t.mediaWallMs, [&] {
       grid.g.bind();
-      media_.draw(mediaFrame(camera, settings), settings, grid.interleaved(), direct_, gather_, *vplVisibility_, vao_);
+      media_.draw(mediaFrame(camera, settings), settings, grid.interleaved(), direct_, gather_, *vplVisibility_, vao_,
+                  pending_.mediaLights, pending_.mediaVpls);
     });
     ++counters_.media;
-    finished(pending_.media);
+    pending_.mediaLights = false;
+    finished(pending_.mediaVpls);
   }
 
   if (pending_.merge && !pending_.direct && !pending_.gather && !outOfBudget) {
@@ -546,7 +549,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
 
   // Pass 5: R1 = T_r(I0) (I0 = direct + indirect, merged by the de-interleave), R2 = T_r(R1), final = Le + I0 + R1
   // + R2 (the final composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
-  if (pending_.ssbc && !pending_.merge && !pending_.media && !outOfBudget) {
+  if (pending_.ssbc && !pending_.merge && !pending_.media() && !outOfBudget) {
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       grid.g.bind();
       residualSteps_ =
@@ -568,7 +571,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       // Through media: the surfaces' image attenuated along the camera rays, plus the light scattered into them.
       if (media_.active()) {
         tg.full.g.bind();
-        media_.compose(mediaFrame(camera, settings), tg.linear.texture, glm::vec3(1.0f), tg.width, tg.height,
+        // With compensation on (ssbcSteps > 0), the media's approximate bias compensation (media_pass.h) too.
+        const float compensate = settings.ssbcSteps > 0 ? 1.0f : 0.0f;
+        media_.compose(mediaFrame(camera, settings), tg.linear.texture, glm::vec4(1.0f, 1.0f, 1.0f, compensate),
+                       tg.width, tg.height,
                        tg.linear.framebuffer, vao_);
       }
     });
@@ -644,7 +650,7 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   drawFullscreen(upsample_, vao_);
 }
 
-void PreviewRenderer::throughMedia(Target& target, glm::vec3 weights) {
+void PreviewRenderer::throughMedia(Target& target, glm::vec4 weights) {
   if (!media_.active() || !haveFrame_) return;
   targets_->full.g.bind();
   media_.compose(mediaFrame(lastCamera_, lastSettings_), target.texture, weights, targets_->width, targets_->height,
@@ -657,7 +663,7 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
   if (which == PreviewOutput::Scattered) {
     if (!media_.active()) return Image(tg.width, tg.height);
     tg.full.indirect.texture.copyFrom(tg.linear.texture);
-    throughMedia(tg.full.indirect, glm::vec3(0.0f, 1.0f, 1.0f));
+    throughMedia(tg.full.indirect, glm::vec4(0.0f, 1.0f, 1.0f, lastSettings_.ssbcSteps > 0 ? 1.0f : 0.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(tg.full.indirect.framebuffer, 0, tg.width, tg.height);
   }
@@ -666,7 +672,7 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     const bool residual = which == PreviewOutput::Residual;
     upsample(glm::vec4(0.0f, !residual, residual && residualSteps_ >= 1, residual && residualSteps_ >= 2),
              lastCamera_.position, tg.full.indirect.framebuffer);
-    throughMedia(tg.full.indirect, residual ? glm::vec3(1.0f, 0.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 1.0f));
+    throughMedia(tg.full.indirect, residual ? glm::vec4(1.0f, 0.0f, 0.0f, 0.0f) : glm::vec4(1.0f, 0.0f, 1.0f, 0.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(tg.full.indirect.framebuffer, 0, tg.width, tg.height);
   }
@@ -685,7 +691,7 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     const bool direct = which == PreviewOutput::Direct;
     Target& out = direct ? tg.direct : tg.full.indirect;
     mergeInterleaved(tg.full, direct ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f, 1.0f), out.framebuffer);
-    throughMedia(out, direct ? glm::vec3(1.0f, 1.0f, 0.0f) : glm::vec3(1.0f, 0.0f, 1.0f));
+    throughMedia(out, direct ? glm::vec4(1.0f, 1.0f, 0.0f, 0.0f) : glm::vec4(1.0f, 0.0f, 1.0f, 0.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(out.framebuffer, 0, tg.width, tg.height);
   }

@@ -69,11 +69,13 @@ struct PreviewCounters {
 
 /// Which image readLinear() returns.
 enum class PreviewOutput {
-  Final,     ///< Le + direct + indirect + compensation (through media: attenuated, plus their scattered light)
+  Final,     ///< Le + direct + indirect + compensation (through media: attenuated, plus their scattered light and its
+             ///< approximate compensation, media_pass.h)
   Direct,    ///< direct light (reflected) only; through media attenuated, plus the lights' single scattering
   Indirect,  ///< de-interleaved VPL gather only; through media attenuated, plus the VPLs' in-scattering
   Residual,  ///< screen-space compensation R1 + R2 only
-  Scattered,  ///< the light the media scatter into camera rays only (0 without media): the lights' and the VPLs'
+  Scattered,  ///< the light the media scatter into camera rays only (0 without media): the lights' and the VPLs', and
+              ///< with compensation on (ssbcSteps > 0) its approximate compensation
 };
 
 /// Whether the preview of `scene` with `vplCount` VPLs under `settings` fits the context's limits: an empty string, or
@@ -135,8 +137,9 @@ class PreviewRenderer {
   /// media when Settings::visibility or whether the scene has media changed.
   void useVisibility(VisibilityMethod method, int mediaCount);
   /// Through the scene's media (none: nothing to do): target = weights.x T(camera, surface) target + weights.y the
-  /// lights' single scattering + weights.z the VPLs' in-scattering, for the last frame (MediaPass::compose).
-  void throughMedia(Target& target, glm::vec3 weights);
+  /// lights' single scattering + weights.z the VPLs' in-scattering + weights.w their approximate compensation, for the
+  /// last frame (MediaPass::compose).
+  void throughMedia(Target& target, glm::vec4 weights);
   /// What the media passes need of this frame's camera and scene.
   MediaPass::Frame mediaFrame(const Camera& camera, const Settings& settings) const;
 
@@ -186,9 +189,13 @@ class PreviewRenderer {
 
   /// Passes that are stale and have not run yet (render() with a budget can leave some for the next call).
   struct PendingPasses {
-    bool gbuffer = false, directMaps = false, vplMaps = false, direct = false, gather = false, media = false,
-         merge = false, ssbc = false, tonemap = false;
-    int count() const { return gbuffer + directMaps + vplMaps + direct + gather + media + merge + ssbc + tonemap; }
+    // mediaLights, mediaVpls: the media's scattering of the lights and of the VPLs (media_pass.h).
+    bool gbuffer = false, directMaps = false, vplMaps = false, direct = false, gather = false, mediaLights = false,
+         mediaVpls = false, merge = false, ssbc = false, tonemap = false;
+    bool media() const { return mediaLights || mediaVpls; }
+    int count() const {
+      return gbuffer + directMaps + vplMaps + direct + gather + media() + merge + ssbc + tonemap;
+    }
     bool any() const { return count() > 0; }
   };
   PendingPasses pending_;

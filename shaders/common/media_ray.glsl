@@ -67,14 +67,26 @@ vec3 cameraTransmittance(MediaRay r, float t) {
   return exp(-depth);
 }
 
-// A distance in [a, b) drawn equiangularly around p from the uniform number u: t = delta + h tan(theta), theta uniform
-// between the span's angles, pdf h / ((thetaB - thetaA)(h^2 + (t - delta)^2)), which cancels a 1/d^2 toward p.
-float equiangularDistance(MediaRay r, vec3 p, float u, float minH, out float pdf) {
-  float delta = dot(p - r.origin, r.dir);
-  float h = max(minH, length(r.origin + r.dir * delta - p));
-  float thetaA = atan(r.a - delta, h), thetaB = atan(r.b - delta, h);
-  float t = delta + h * tan(mix(thetaA, thetaB, u));
-  pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
+// Equiangular distances in [a, b) around p: t = delta + h tan(theta), theta uniform between the span's angles seen
+// from p, pdf h / ((thetaB - thetaA)(h^2 + (t - delta)^2)), which cancels a 1/d^2 toward p. The angles are set up
+// once per point (two arc tangents), each distance then costs one tangent.
+struct Equiangular {
+  float delta, h, thetaA, thetaB;
+};
+
+Equiangular equiangularAround(MediaRay r, vec3 p, float minH) {
+  Equiangular e;
+  e.delta = dot(p - r.origin, r.dir);
+  e.h = max(minH, length(r.origin + r.dir * e.delta - p));
+  e.thetaA = atan(r.a - e.delta, e.h);
+  e.thetaB = atan(r.b - e.delta, e.h);
+  return e;
+}
+
+// The distance of the uniform number u, and its pdf.
+float equiangularDistance(Equiangular e, float u, out float pdf) {
+  float t = e.delta + e.h * tan(mix(e.thetaA, e.thetaB, u));
+  pdf = e.h / ((e.thetaB - e.thetaA) * (e.h * e.h + (t - e.delta) * (t - e.delta)));
   return t;
 }
 

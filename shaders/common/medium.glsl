@@ -18,6 +18,7 @@ struct GlMedium {
   vec4 sigmaT;        // rgb sigma_a + sigma_s, w: 1 when the medium fills all space
   vec4 sigmaS;        // rgb sigma_s, w: Henyey-Greenstein g
   mat4 boxFromWorld;  // maps the medium's box onto the cube [-1, 1]^3
+  vec4 compensation;  // rgb: the approximate bias compensation's factor C for the bound b (renderer/gl/media_pass.h)
 };
 layout(std140, binding = BINDING_MEDIA) uniform Media { GlMedium media[MEDIA_MAX]; };
 

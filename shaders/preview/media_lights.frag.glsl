@@ -49,6 +49,7 @@ const int kAreaLight = 0, kPunctualLight = 1, kDirectionalLight = 2;
 // a constant at every call, so each loop below is compiled without the other kinds' code.
 vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, float minH) {
   vec3 sum = vec3(0.0);
+  Equiangular around = equiangularAround(r, l.position.xyz, minH);
   for (int j = 0; j < uMediaSteps; ++j) {
     float u = (float(j) + rotation) / float(uMediaSteps);
     float pdf, t;
@@ -56,7 +57,7 @@ vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, f
       t = mix(r.a, r.b, u);
       pdf = 1.0 / (r.b - r.a);
     } else {
-      t = equiangularDistance(r, l.position.xyz, u, minH, pdf);
+      t = equiangularDistance(around, u, pdf);
     }
     int m = mediumAlong(r, t);
     int medium = max(m, 0);

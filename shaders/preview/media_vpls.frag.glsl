@@ -30,7 +30,7 @@ void main() {
     GlVpl vpl = vpls[i - uUboBase];
     vec3 x2 = vpl.position.xyz;
     float pdf;
-    float t = equiangularDistance(r, x2, fract(jitter + 0.618034 * float(i)), minH, pdf);
+    float t = equiangularDistance(equiangularAround(r, x2, minH), fract(jitter + 0.618034 * float(i)), pdf);
     int m = mediumAlong(r, t);
     int medium = max(m, 0);
     vec3 x = r.origin + r.dir * t;
