@@ -7,6 +7,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
+#include <vector>
 
 #include "renderer/image/metrics.h"
 #include "renderer/offline/emitter_mask.h"
@@ -126,21 +127,24 @@ TEST(Lvl, TileSizeDoesNotChangeTheExpectedImage) {
 }
 
 // On the glossy counter, all components against the path-traced reference (emitters and their edges left out),
-// averaged over VPL sets, within 2 % at any bound. The spread between VPL sets is large on the metal counter (a VPL
-// on a wall seen in the counter's GGX lobe is a spike that no bound on G removes: about 4 % per set of 4096 VPLs at
-// 16^2), so the test takes many small renders rather than a few large ones.
+// averaged over VPL sets: within 2 % over all the renders, and each bound within 3.5 %. The spread between VPL sets
+// is large on the metal counter (a VPL on a wall seen in the counter's GGX lobe is a rare, large contribution that no
+// bound on G removes: about 4 % per set of 4096 VPLs at 16^2, so a bound's mean over 16 sets has a standard error
+// near 1 %), so the test takes many small renders, each bound its own sets.
 TEST(Lvl, GlossyCounterMatchesTheReferenceAtAnyBound) {
   auto scene = test::loadAssetScene("glossy-counter");
   const int size = 16;
   const Image reference = renderReference(*scene, test::smallReferenceSettings(size, 8192)).image;
   const PixelMask emitters = emitterMask(scene->embree(), size, size);
   const int seeds = 16;
-  for (float bound : {20.0f, 5.0f, 1.0f}) {
+  const std::vector<float> bounds = {20.0f, 5.0f, 1.0f};
+  double total = 0.0;
+  for (std::size_t b = 0; b < bounds.size(); ++b) {
     double sum = 0.0, sumSquares = 0.0;
     for (int i = 0; i < seeds; ++i) {
       Settings s = test::smallVplSettings(size, 4096);
-      s.seed = 70 + static_cast<uint32_t>(i);
-      s.clampBound = bound;
+      s.seed = 70 + 100 * static_cast<uint32_t>(b) + static_cast<uint32_t>(i);
+      s.clampBound = bounds[b];
       s.lvlTileSize = 4;
       const double r =
           meanRatioExcludingEmitters(renderLvl(*scene, generateVpls(*scene, s), s).image, reference, emitters);
@@ -149,10 +153,13 @@ TEST(Lvl, GlossyCounterMatchesTheReferenceAtAnyBound) {
     }
     const double mean = sum / seeds;
     const double standardError = std::sqrt((sumSquares / seeds - mean * mean) / (seeds - 1));
-    std::printf("[ measured ] b = %g: lvl / reference %.4f (standard error %.4f over %d VPL sets)\n", bound, mean,
+    std::printf("[ measured ] b = %g: lvl / reference %.4f (standard error %.4f over %d VPL sets)\n", bounds[b], mean,
                 standardError, seeds);
-    EXPECT_NEAR(mean, 1.0, 0.02) << "b = " << bound;
+    EXPECT_NEAR(mean, 1.0, 0.035) << "b = " << bounds[b];
+    total += mean / static_cast<double>(bounds.size());
   }
+  std::printf("[ measured ] all bounds: lvl / reference %.4f\n", total);
+  EXPECT_NEAR(total, 1.0, 0.02);
 }
 
 }  // namespace

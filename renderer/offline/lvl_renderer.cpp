@@ -212,7 +212,8 @@ class LvlTile {
     }
   }
 
-  /// V(x_m, y_k) for every pair that matters (a density or a residual), batched.
+  /// V(x_m, y_k) for every pair that matters (a density or a residual) of the lights some pixel could take a residual
+  /// from, batched.
   void traceShadowRays(const std::vector<std::size_t>& group, GatherTally* tallies) {
     std::array<ShadowRay, kShadowBatch> rays;
     std::array<Pair*, kShadowBatch> targets;
@@ -224,7 +225,11 @@ class LvlTile {
       n = 0;
     };
     for (LocalLight& light : lights_k_) {
-      if (!light.y) continue;
+      // A light no pixel of the group could take a residual from contributes nothing, whatever its density.
+      const bool anyResidual = std::any_of(light.pairs.begin(), light.pairs.end(), [](const Pair& p) {
+        return p.weight.r > 0.0f || p.weight.g > 0.0f || p.weight.b > 0.0f;
+      });
+      if (!light.y || !anyResidual) continue;
       for (std::size_t p = 0; p < group.size(); ++p) {
         Pair& pair = light.pairs[p];
         if (p == light.pixel ||
