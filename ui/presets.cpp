@@ -99,6 +99,20 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "and stay still; on the right is the exact CPU render of the same VSLs. Increase r to see the price: sharp "
         "indirect features blur."));
     list.push_back(make(
+        {"Glossy contact reflections", "glossy-counter.gltf", ViewMode::Split, PresetOffline::Chosen, false, false,
+         false, false, Method::Lvl},
+        [](Settings& s) {
+          s.vplCount = 256;
+          s.clampBound = 2.0f;
+        },
+        "The counter is brushed metal: near each box's foot it reflects the box, light that travels a few "
+        "centimetres, where G = cos cos / d^2 exceeds the bound b = 2. On the left the preview with bounded VPLs: "
+        "those reflections go dark. On the right local virtual lights (Davidovic et al. 2010, lvl): per tile of "
+        "pixels, BRDF samples from the tile's pixels find points on the boxes, which are lit by the light and the "
+        "VPLs and then light every pixel of the tile with the residual (1 - b/G): the reflections come back, without "
+        "bias. Choose vsl in the offline panel (with a VSL radius) to see spheres blur the reflections instead, or "
+        "vpl-kk for the same residual path-traced pixel by pixel."));
+    list.push_back(make(
         {"Wasted VPLs (two rooms)", "two-rooms.gltf", ViewMode::VplOverlay},
         [](Settings& s) {
           s.vplCount = 128;
