@@ -3,6 +3,7 @@
 
 #include "renderer/image/metrics.h"
 #include "renderer/offline/embree_scene.h"
+#include "renderer/offline/emitter_mask.h"
 #include "renderer/offline/light_sampler.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vpl_renderer.h"
@@ -313,17 +314,31 @@ TEST(VplVsl, TinyRadiusMatchesPointVpls) {
   EXPECT_LT(m.relMse, 1e-4);
 }
 
+// r = 0.05 spreads each VPL over a sphere larger than the box's creases are sharp: the mean over 4 VPL sets must still
+// match the unclamped point VPLs', as its sibling below holds r = 0.03 (both without the emitter and its edge).
+// Measured 1.0003 (it was one set on 16^2 pixels within 10 %); bounded at 1 %, so a 3 % loss in the VSL transfer fails.
 TEST(VplVsl, LargeRadiusIsFiniteAndKeepsEnergy) {
   auto l = load("cornell-box");
-  Settings s = smallSettings(16, 128);
+  Settings s = smallSettings(32, 128);
   s.components = Components::Indirect;
   s.samplesPerPixel = 2;
-  VplSet set = generate(*l, s);
-  double unclamped = meanLuminance(render(*l, set, Method::Vpl, s).image);
-  s.vslRadius = 0.05f;
-  Image vsl = render(*l, set, Method::Vsl, s).image;
-  EXPECT_EQ(nonFinite(vsl), 0u);
-  EXPECT_NEAR(meanLuminance(vsl) / unclamped, 1.0, 0.1);
+  const PixelMask emitters = emitterMask(l->embree(), 32, 32);
+  double point = 0.0, vsl = 0.0;
+  VplSet set;
+  for (uint32_t seed = 1; seed <= 4; ++seed) {
+    s.seed = seed;
+    s.vslRadius = 0.0f;
+    set = generate(*l, s);
+    point += meanLuminanceExcluding(render(*l, set, Method::Vpl, s).image, emitters);
+    s.vslRadius = 0.05f;
+    for (Vpl& v : set.vpls) v.radius = s.vslRadius;
+    Image image = render(*l, set, Method::Vsl, s).image;
+    EXPECT_EQ(nonFinite(image), 0u);
+    vsl += meanLuminanceExcluding(image, emitters);
+  }
+  std::printf("[ measured ] cornell-box r = 0.05, 4 seeds: VSL / unclamped point VPL indirect mean %.4f\n",
+              vsl / point);
+  EXPECT_NEAR(vsl / point, 1.0, 0.01);
   // Radius from the VPL density (scaled by vslRadius): finite too.
   s.vslRadius = 1.0f;
   s.vslRadiusFromDensity = true;
