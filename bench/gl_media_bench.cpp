@@ -181,6 +181,12 @@ int main(int argc, char** argv) {
           << "," << median(m.direct) << "," << median(m.vplShadows) << "," << median(m.gather) << "," << median(m.media)
           << "," << median(m.ssbc) << "\n";
   }
+  // What virtual ray lights would need in the preview (docs/methods.md "Participating media in the preview"): their
+  // count per set, against the VPLs whose maps the set's change costs.
+  std::size_t inMedium = 0;
+  for (const Vpl& v : sets[0].vpls) inMedium += v.inMedium;
+  std::printf("\nset of %zu VPLs (%zu in media) holds %zu VRLs; VPL maps %.2f ms per VPL\n", sets[0].vpls.size(),
+              inMedium, sets[0].vrls.size(), median(vplChange.vplShadows) / static_cast<double>(sets[0].vpls.size()));
   std::printf(
       "\nwhole headless preview (context, scene, VPLs, first frame, read back): %.0f ms; reference 256^2, 16 "
       "spp: %.0f ms; ratio %.2f\n",
