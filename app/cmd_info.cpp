@@ -89,6 +89,16 @@ int cmdInfo(const Args& args) {
   std::printf("degenerate triangles dropped  %zu\n", scene.degenerateTrianglesDropped);
   std::printf("bounds     %s .. %s  (extent %s, diagonal %.4g)\n", vec(scene.bounds.lower).c_str(),
               vec(scene.bounds.upper).c_str(), vec(scene.bounds.extent()).c_str(), scene.bounds.diagonal());
+  // What the preview's `--visibility auto` picks here (resolveVisibility), and b relative to the scene.
+  const Settings defaults;
+  const auto cubeUpTo = static_cast<long long>(kAutoCubeTriangleVpls / std::max<std::size_t>(scene.triangles.size(), 1));
+  std::printf("preview    visibility auto: %s at the default %d VPLs (cube maps up to %lld VPLs here: triangles x "
+              "VPLs <= 2^20); --clamp-bound-relative B is b = B x %.4g (1 / geometry diagonal^2)\n",
+              toString(resolveVisibility(VisibilityMethod::Auto, scene.triangles.size(),
+                                         static_cast<std::size_t>(defaults.vplCount))),
+              defaults.vplCount, cubeUpTo,
+              1.0 / std::max(1e-24, static_cast<double>(scene.geometryBounds.diagonal()) *
+                                        scene.geometryBounds.diagonal()));
 
   // A Lambertian emitter of radiance L and area A emits pi * L * A from its front side (L: the mean over the triangle
   // when the emission is textured).

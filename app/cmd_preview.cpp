@@ -59,7 +59,7 @@ int cmdPreview(const Args& args) {
   // The context first: the machine's GL limits are checked before any work.
   HeadlessGlContext context(backend);
   Scene scene = cli::loadSceneForCommand("preview", cl.positional()[0], settings.stage);
-  resolveClampBound(settings, scene.bounds.diagonal());
+  resolveClampBound(settings, scene.geometryBounds.diagonal());
   // Image size, shadow maps and tiles against what this context holds (texture sizes, layers, memory), before the
   // VPLs are traced.
   if (std::string problem = previewFitProblem(scene, settings.vplCount, settings, queryGlLimits()); !problem.empty())
@@ -84,7 +84,7 @@ int cmdPreview(const Args& args) {
   const VplStats& st = vpls.stats;
   std::printf("gl          %s\n", context.description().c_str());
   std::printf("scene       %s\n", cli::sceneSummary(scene).c_str());
-  const float diagonal = scene.bounds.diagonal();
+  const float diagonal = scene.geometryBounds.diagonal();
   std::printf("preview     %dx%d, k = %d, b = %g (%g / diagonal^2), ssbc %d, shadow maps %d, direct samples %d, "
               "seed %u\n",
               settings.width, settings.height, settings.interleave, settings.clampBound,

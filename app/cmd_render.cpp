@@ -83,7 +83,7 @@ int cmdRender(const Args& args) {
     reference = cli::readReference(*refPath, settings, cli::renderInfo(settings, toString(method), 0), "render");
 
   Scene scene = cli::loadSceneForCommand("render", cl.positional()[0], settings.stage);
-  resolveClampBound(settings, scene.bounds.diagonal());
+  resolveClampBound(settings, scene.geometryBounds.diagonal());
   OfflineScene offline(scene);
 
   RenderControl genControl;
@@ -117,7 +117,7 @@ int cmdRender(const Args& args) {
   std::printf("vpls        %s\n", describeVplStats(st).c_str());
   for (const std::string& w : st.warnings) std::fprintf(stderr, "vplab render: warning: %s\n", w.c_str());
   std::printf("clamp       b = %g (%g / diagonal^2), energy removed %.2f%%\n", settings.clampBound,
-              settings.clampBound * scene.bounds.diagonal() * scene.bounds.diagonal(),
+              settings.clampBound * scene.geometryBounds.diagonal() * scene.geometryBounds.diagonal(),
               100.0 * result.clampEnergyRemoved);
   std::printf("time        %.3f s on %d threads (%llu VPL shadow rays, %.2f Mrays/s)\n", result.seconds,
               resolveThreadCount(settings.threads), static_cast<unsigned long long>(result.shadowRays),

@@ -166,7 +166,7 @@ struct Settings {
   /// Clamp bound b on G = cos1 cos2 / d^2, in 1/m^2 [0, inf]; inf = no clamp. Default inf.
   float clampBound = kInfinity;
   /// The clamp bound relative to the scene, in units of 1/diagonal^2 [0, inf]: when > 0, b = this / diagonal^2 of
-  /// the scene's bounds replaces clampBound once the scene is known (resolveClampBound). G's unit is 1/m^2, so b = 20
+  /// the scene's geometry (its triangles' bounds) replaces clampBound once the scene is known (resolveClampBound). G's unit is 1/m^2, so b = 20
   /// bounds a 1.5 m box and clamps nothing on a model 700 units wide; 20 / diagonal^2 does the same to both. 0 = use
   /// clampBound. Default 0.
   float clampBoundRelative = 0.0f;

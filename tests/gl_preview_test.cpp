@@ -562,6 +562,7 @@ TEST(GlPreviewFit, RenderThrowsBeforeAnyPass) {
   vpls.vpls.assign(1 << 20, oneVpl(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(1.0f)).vpls[0]);
   Settings settings = smallSettings();
   settings.shadowMapSize = 2048;
+  settings.visibility = VisibilityMethod::Cube;  // `auto` would take ISM for a million VPLs
   settings.vplCount = static_cast<int>(vpls.vpls.size());
   PreviewRenderer renderer;
   try {

@@ -37,7 +37,7 @@ EditorState::EditorState(const std::string& scenePath, const Settings& settings,
   scene_ = loadScene(scenePath);
   stageScene(scene_, settings_.stage);
   applyLightsSidecar(scene_);
-  resolveClampBound(settings_, scene_.bounds.diagonal());
+  resolveClampBound(settings_, scene_.geometryBounds.diagonal());
   sceneCamera_ = scene_.camera;
   media_ = scene_.media;
   rebuildAcceleration();
@@ -66,7 +66,7 @@ bool EditorState::openScene(const std::string& path) {
   activePreset_ = nullptr;  // a preset that wants it sets itself again after this
   pendingOffline_ = PresetOffline::None;
   scene_ = std::move(loaded);
-  resolveClampBound(settings_, scene_.bounds.diagonal());
+  resolveClampBound(settings_, scene_.geometryBounds.diagonal());
   sceneCamera_ = scene_.camera;
   media_ = scene_.media;
   mediaPending_ = false;
@@ -161,7 +161,7 @@ void EditorState::resetCamera() {
 void EditorState::changeSettings(const Settings& requested) {
   if (!validateSettings(requested).empty()) return;
   Settings next = requested;
-  resolveClampBound(next, scene_.bounds.diagonal());
+  resolveClampBound(next, scene_.geometryBounds.diagonal());
   Staleness s = staleAfterSettingsChange(settings_, next, offlineMethod_);
   if (!s.vpls && (next.vslRadius != settings_.vslRadius || next.vslRadiusFromDensity != settings_.vslRadiusFromDensity))
     vslRadiiStale_ = true;

@@ -231,7 +231,7 @@ void drawLeftPanel(EditorState& state, PanelState& panels) {
     Settings next = state.settings();
     const std::size_t triangles = state.scene().triangles.size(), vplCount = state.vpls().vpls.size();
     if (drawManyLightPanel(next, state.vpls().stats, state.clampEnergyRemoved(),
-                           resolveVisibility(next.visibility, triangles, vplCount), state.scene().bounds.diagonal()))
+                           resolveVisibility(next.visibility, triangles, vplCount), state.scene().geometryBounds.diagonal()))
       state.changeSettings(next);
     if (!state.offlineImage().empty() && renderMethod(state.offlineImageMethod()).usesClampBound) {
       ImGui::TextDisabled("exact render: clamp removed %.1f %% (all pixels)", 100.0 * state.offlineClampEnergy());
