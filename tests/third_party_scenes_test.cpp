@@ -8,6 +8,7 @@
 #include "renderer/gl/context.h"
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/metrics.h"
+#include "renderer/offline/emitter_mask.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/scene/gltf_loader.h"
@@ -17,6 +18,7 @@
 #include <gtest/gtest.h>
 
 #include <algorithm>
+#include <cstdio>
 #include <filesystem>
 #include <optional>
 #include <string>
@@ -117,7 +119,10 @@ TEST(GlThirdPartyScenes, EveryLoadableFileGivesAFiniteStagedPreview) {
 
 /// Staged models that have no lights of their own: the studio must light them, and the preview's mean must agree with
 /// the path-traced reference's within `tolerance` (relative) at `vplCount` VPLs.
-void expectStagedPreviewMatchesReference(const std::string& file, int vplCount, double tolerance) {
+// The staged model's preview against the reference: its direct light alone (the preview at 4x box-filtered, the
+// emitters and their edges left out) within directTolerance, and the whole image within tolerance.
+void expectStagedPreviewMatchesReference(const std::string& file, int vplCount, double directTolerance,
+                                         double tolerance) {
   std::optional<Scene> scene = loadStaged(kModels + "/" + file);
   ASSERT_TRUE(scene.has_value());
   ASSERT_FALSE(scene->staging.empty());
@@ -133,21 +138,38 @@ void expectStagedPreviewMatchesReference(const std::string& file, int vplCount, 
   EXPECT_GT(reference, 0.1) << "the staged scene is (nearly) black";
   HeadlessGlContext context;
   PreviewRenderer renderer;
+
+  Settings direct = s;
+  direct.width = 4 * s.width;
+  direct.height = 4 * s.height;
+  renderer.render(*scene, VplSet{}, direct, scene->camera);  // no VPLs: Le + direct
+  const Image previewDirect = blockAverage(renderer.readLinear(), 4);
+  direct = s;
+  direct.components = Components::Direct;
+  direct.samplesPerPixel = 64;
+  const double directRatio =
+      meanRatioExcludingEmitters(previewDirect, renderReference(offline, direct).image,
+                                 emitterMask(offline.embree(), s.width, s.height));
+  std::printf("[ measured ] %s staged: direct light preview / reference %.4f\n", file.c_str(), directRatio);
+  EXPECT_NEAR(directRatio, 1.0, directTolerance);
+
   renderer.render(*scene, generateVpls(offline, s), s, scene->camera);
   double preview = meanLuminance(renderer.readLinear());
+  std::printf("[ measured ] %s staged: whole image preview / reference %.4f\n", file.c_str(), preview / reference);
   EXPECT_NEAR(preview / reference, 1.0, tolerance) << "preview " << preview << ", reference " << reference;
 }
 
-// Measured: preview / reference 0.99 (1024 VPLs; direct 1.005, indirect 0.99).
+// Measured: preview / reference 0.9921 (1024 VPLs), direct alone 0.9964.
 TEST(GlThirdPartyScenes, StagedBoxTexturedPreviewMatchesReference) {
-  expectStagedPreviewMatchesReference("BoxTextured-glTF/BoxTextured.gltf", 1024, 0.05);
+  expectStagedPreviewMatchesReference("BoxTextured-glTF/BoxTextured.gltf", 1024, 0.03, 0.05);
 }
 
-// 110k triangles: on llvmpipe the cube shadow maps of 64 VPLs already take most of this test's 35 s, so only 64. The engine's
-// indirect light (30 % of the image) is then a heavy-tailed estimate: the exact CPU render of 256 VPLs gives
-// 0.70 and 0.89 of the reference's indirect for seeds 1 and 2. Measured for the whole image at 64 VPLs: 0.86.
+// 110k triangles under the studio's area light, whose soft shadows fall across the cooling fins: the direct light is
+// held to 2.5 % (measured 0.9869 at 32^2; 0.895 before the area lights' shadows were tested per sample in cells). The
+// indirect light of 64 VPLs (30 % of the image) is a heavy-tailed estimate: the exact CPU render of 256 VPLs gives 0.70
+// and 0.89 of the reference's indirect for seeds 1 and 2, so the whole image keeps a loose bound (measured 0.878).
 TEST(GlThirdPartyScenes, StagedEnginePreviewMatchesReference) {
-  expectStagedPreviewMatchesReference("2CylinderEngine-glTF-Binary/2CylinderEngine.glb", 64, 0.2);
+  expectStagedPreviewMatchesReference("2CylinderEngine-glTF-Binary/2CylinderEngine.glb", 64, 0.025, 0.2);
 }
 
 }  // namespace
