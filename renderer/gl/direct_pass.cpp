@@ -53,9 +53,9 @@ void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std
   if (normalLength > 0.5f * static_cast<float>(end - begin))
     centre += normal / normalLength * (1e-3f * radius + 1e-5f * glm::length(centre));
   const float map = static_cast<float>(casters.size());
-  casters.push_back({centre, radius});
+  casters.push_back({centre});
   for (std::size_t i = begin; i < end; ++i) {
-    samples[i].shadow = glm::vec4(map, radius, 0.0f, 0.0f);
+    samples[i].shadow = glm::vec4(map, 0.0f, 0.0f, 0.0f);
     samples[i].centre = glm::vec4(centre, 0.0f);
   }
 }
@@ -213,7 +213,7 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
     if (l.isDirectional()) continue;
     bool spot = l.type == PunctualLight::Type::Spot;
     const float cube = static_cast<float>(casters_.size());
-    casters_.push_back({l.position, 0.0f});
+    casters_.push_back({l.position});
     add({glm::vec4(l.position, spot ? 2.0f : 1.0f), glm::vec4(l.direction, std::cos(l.outerConeAngle)),
          glm::vec4(l.intensity, std::cos(l.innerConeAngle)), glm::vec4(cube, 0.0f, 0.0f, 0.0f),
          glm::vec4(l.position, 0.0f)},

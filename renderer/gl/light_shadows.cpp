@@ -63,10 +63,6 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
     }
     g.power = static_cast<float>(power);
     if (power > 0.0) g.centre = glm::vec3(weighted / power);
-    g.radius = 0.0f;
-    for (uint32_t t : g.triangles)
-      for (int c = 0; c < 3; ++c)
-        g.radius = std::max(g.radius, glm::length(scene.positions[scene.triangles[t][c]] - g.centre));
   };
   for (AreaLightGroup& g : groups) measure(g);
   std::sort(groups.begin(), groups.end(),

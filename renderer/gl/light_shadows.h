@@ -24,19 +24,17 @@
 
 namespace vplab {
 
-/// A point the light's cube map is rendered from, and the radius of the emitter around it (0: a punctual light).
+/// A point a light's cube map is rendered from (a punctual light, or the centre of an area-light cell).
 struct LightShadowCaster {
   glm::vec3 position;
-  float radius = 0.0f;
 };
 
 /// An emitter made of emissive triangles: a connected group (triangles sharing vertices), merged into the nearest of
 /// the kMaxAreaGroups most powerful groups when there are more.
 struct AreaLightGroup {
   std::vector<uint32_t> triangles;
-  /// Power-weighted centre (luminance(Le) x area) and the largest distance from it to a vertex of the group.
+  /// Power-weighted centre (luminance(Le) x area): where weaker groups join the nearest.
   glm::vec3 centre{0.0f};
-  float radius = 0.0f;
   float power = 0.0f;
 };
 

@@ -29,8 +29,8 @@ struct DirectLight {
   vec4 position;  // xyz, w: 0 area sample, 1 point, 2 spot, 3 directional (xyz unused)
   vec4 axis;      // emitter normal (area), spot axis or a directional light's direction of travel; w: cos(outer cone)
   vec4 weight;    // rgb: Le / (K p_A) (area), intensity in candela, or irradiance in lux (directional); w: cos(inner)
-  vec4 shadow;    // x: the light's cube shadow map (its orthographic map for a directional light), y: radius of its
-                  // emitter (0: punctual)
+  vec4 shadow;    // x: the light's cube shadow map (its orthographic map for a directional light, its cell's map
+                  // for an area-light sample)
   vec4 centre;    // xyz: where that shadow map was rendered from (the emitter's centre, or the punctual light)
 };
 // A uniform block of at most DIRECT_UBO_LIGHTS lights (set by the renderer), bound from light uUboBase on: llvmpipe
