@@ -14,8 +14,10 @@
 //   <model> lambert     the same with every material Lambert (no GGX lobe)
 //   <model> studio      staged as the commands stage a model without lights (ground, backdrop, studio area light)
 //
-// usage: vplab_bench_direct_bench [--gl auto|egl|osmesa] [--size N] [--spp S] [--samples K] [--csv out.csv]
-//                                 [--images DIR] [--only NAME] [--model FILE]...
+// usage: vplab_bench_direct_bench [--gl auto|egl|osmesa] [--size N] [--spp S] [--samples K] [--interleave k]
+//                                 [--csv out.csv] [--images DIR] [--only NAME] [--model FILE]...
+// --interleave k renders the preview with k x k interleaved samples (the editor's default k = 4: each pixel takes
+// K / k^2 of the area-light samples and the geometry-aware merge recombines them).
 
 #include <chrono>
 #include <cstdio>
@@ -81,7 +83,7 @@ std::vector<Case> modelCases(const std::string& file) {
 
 int main(int argc, char** argv) {
   GlBackend backend = GlBackend::Auto;
-  int size = 128, spp = 256, samples = 64;
+  int size = 128, spp = 256, samples = 64, interleave = 1;
   std::string csvPath = "direct_bench.csv", imagesDir, only;
   std::vector<std::string> models;
   for (int i = 1; i < argc; ++i) {
@@ -97,6 +99,8 @@ int main(int argc, char** argv) {
       spp = std::stoi(benchOptionValue(argc, argv, i));
     } else if (a == "--samples") {
       samples = std::stoi(benchOptionValue(argc, argv, i));
+    } else if (a == "--interleave") {
+      interleave = std::stoi(benchOptionValue(argc, argv, i));
     } else if (a == "--csv") {
       csvPath = benchOptionValue(argc, argv, i);
     } else if (a == "--images") {
@@ -107,8 +111,8 @@ int main(int argc, char** argv) {
       models.push_back(benchOptionValue(argc, argv, i));
     } else {
       std::fprintf(stderr,
-                   "usage: %s [--gl auto|egl|osmesa] [--size N] [--spp S] [--samples K] [--csv out.csv] [--images DIR] "
-                   "[--only NAME] [--model FILE]...\n",
+                   "usage: %s [--gl auto|egl|osmesa] [--size N] [--spp S] [--samples K] [--interleave k] "
+                   "[--csv out.csv] [--images DIR] [--only NAME] [--model FILE]...\n",
                    argv[0]);
       return 2;
     }
@@ -120,8 +124,8 @@ int main(int argc, char** argv) {
 
   HeadlessGlContext context(backend);
   std::ofstream csv(csvPath);
-  csv << "case,triangles,size,spp,direct_samples,mean_ratio,relmse,block_mean_ratio,block_relmse,excluded_pixels,"
-         "preview_ms,reference_ms\n";
+  csv << "case,triangles,size,spp,direct_samples,interleave,mean_ratio,relmse,block_mean_ratio,block_relmse,"
+         "excluded_pixels,preview_ms,reference_ms\n";
   std::printf("%-26s %9s %10s %9s %11s %9s %10s %10s\n", "case", "triangles", "mean ratio", "relMSE", "4x4 relMSE",
               "excluded", "preview", "reference");
   for (const Case& c : cases) {
@@ -132,6 +136,7 @@ int main(int argc, char** argv) {
     s.width = s.height = 4 * size;
     s.threads = 0;
     s.directLightSamples = samples;
+    s.interleave = interleave;
     PreviewRenderer renderer;
     renderer.render(scene, VplSet{}, s, scene.camera);  // compiles the shaders and draws the maps
     renderer.invalidateScene();
@@ -154,8 +159,8 @@ int main(int argc, char** argv) {
                 m.energyRatioOverall, m.relMse, blocks.relMse, emitters.count(), previewMs, referenceMs);
     std::fflush(stdout);
     csv << '"' << c.name << "\"," << scene.triangles.size() << ',' << size << ',' << spp << ',' << samples << ','
-        << m.energyRatioOverall << ',' << m.relMse << ',' << blocks.energyRatioOverall << ',' << blocks.relMse << ','
-        << emitters.count() << ',' << previewMs << ',' << referenceMs << '\n';
+        << interleave << ',' << m.energyRatioOverall << ',' << m.relMse << ',' << blocks.energyRatioOverall << ','
+        << blocks.relMse << ',' << emitters.count() << ',' << previewMs << ',' << referenceMs << '\n';
     if (!imagesDir.empty()) {
       std::string base = imagesDir + "/" + c.name;
       for (char& ch : base)

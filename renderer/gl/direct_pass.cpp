@@ -18,7 +18,8 @@ struct DirectLightGpu {
 
 namespace {
 // Splits an emitter's samples [begin, end) into `cells` cells of nearby samples (median splits across the longest
-// extent, recursively), each behind a new caster at its samples' centroid: shadow.x is its map, centre its position.
+// extent, recursively), each behind a new caster at its samples' centroid: shadow.x is its map, centre its position
+// (shadow.y, the emitter, stays).
 void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std::size_t end, int cells,
                     std::vector<LightShadowCaster>& casters) {
   if (cells > 1 && end - begin >= 2) {
@@ -55,7 +56,7 @@ void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std
   const float map = static_cast<float>(casters.size());
   casters.push_back({centre});
   for (std::size_t i = begin; i < end; ++i) {
-    samples[i].shadow = glm::vec4(map, 0.0f, 0.0f, 0.0f);
+    samples[i].shadow.x = map;
     samples[i].centre = glm::vec4(centre, 0.0f);
   }
 }
@@ -136,11 +137,10 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
   std::vector<DirectLightGpu> lights;
   runs_.clear();
   // Appends a light behind a map of `kind`: a run goes on while the kind stays the same, and for area-light samples
-  // while the map does (the shader filters it once per run).
+  // while the emitter does (the shader's blocker search runs once per run, over the maps of the emitter's cells).
   auto add = [&](const DirectLightGpu& light, MapKind kind) {
-    const int map = static_cast<int>(light.shadow.x), index = static_cast<int>(lights.size());
-    if (runs_.empty() || runs_.back().kind != kind ||
-        (kind == AreaMap && static_cast<int>(lights.back().shadow.x) != map))
+    const int index = static_cast<int>(lights.size());
+    if (runs_.empty() || runs_.back().kind != kind || (kind == AreaMap && lights.back().shadow.y != light.shadow.y))
       runs_.push_back({index, index, kind});
     lights.push_back(light);
     runs_.back().end = index + 1;
@@ -190,17 +190,17 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
       glm::vec3 weight =
           scene.emissionAt(scene.triangleMaterials[tri], scene.uvAt(tri, b)) / (static_cast<float>(k) * pdfA);
       samples.push_back({glm::vec4(y, 0.0f), glm::vec4(scene.geometricNormal(tri), 0.0f), glm::vec4(weight, 0.0f),
-                         glm::vec4(static_cast<float>(groupOf.at(tri)), 0.0f, 0.0f, 0.0f), glm::vec4(0.0f)});
+                         glm::vec4(glm::vec2(static_cast<float>(groupOf.at(tri))), 0.0f, 0.0f), glm::vec4(0.0f)});
     }
     // Samples of one emitter next to each other, then split into cells, each behind its own map: up to
     // kAreaShadowCells per emitter while the emitters' maps stay within kMaxAreaGroups in all (what previewFitProblem
     // budgets), and with at least 4 samples per cell. Not by the interleaving: a change of k redraws no map (a cell
     // with fewer samples than k^2 leaves some subsets without one, which the merge averages over).
     std::stable_sort(samples.begin(), samples.end(),
-                     [](const DirectLightGpu& a, const DirectLightGpu& b) { return a.shadow.x < b.shadow.x; });
+                     [](const DirectLightGpu& a, const DirectLightGpu& b) { return a.shadow.y < b.shadow.y; });
     for (std::size_t begin = 0; begin < samples.size();) {
       std::size_t end = begin;
-      while (end < samples.size() && samples[end].shadow.x == samples[begin].shadow.x) ++end;
+      while (end < samples.size() && samples[end].shadow.y == samples[begin].shadow.y) ++end;
       const int cells = std::max(1, std::min({kAreaShadowCells, kMaxAreaGroups / static_cast<int>(groups.size()),
                                               static_cast<int>(end - begin) / 4}));
       splitIntoCells(samples, begin, end, cells, casters_);

@@ -57,16 +57,18 @@ float pointLightVisibility(int cube, vec3 lightPos, vec3 x, vec3 ng, float rotat
   return lit / float(kSharpShadowTaps);
 }
 
-// Soft shadows of an area emitter's cell of samples (renderer/gl/light_shadows.h) from the cube map at the cell's centre
-// c, per area-light sample y (percentage-closer
-// soft shadows, Fernando 2005, with the emitter's own samples as the filter). A blocker at distance z_b from c blocks
-// the segment from y to the receiver x where that segment is z_b away from c along c->x: the map is read in the
-// direction of that point, so each sample's shadow test follows the emitter's real shape and orientation as seen from
-// x. A disc of the emitter's radius around c->x instead (the textbook filter) reached behind the emitter's plane for
-// receivers near its horizon and found the ceiling the emitter hangs under: walls of the Cornell box got half their
-// light there, and a large emitter darkened the whole room (docs/methods.md "Direct light in the preview").
-// Nothing behind the emitter's plane can block light it emits, so directions within two texels of that plane are not
-// tested (a texel's ray there may hit the ceiling).
+// Soft shadows of an area emitter from the cube maps of its cells (renderer/gl/light_shadows.h), per area-light sample y
+// (percentage-closer soft shadows, Fernando 2005, with the emitter's own samples as the filter). A blocker at point b
+// blocks the segment from y to the receiver x where that segment is as far from the cell's centre c along c->x as b
+// is: the map is read in the direction of that point, so each sample's shadow test follows the emitter's real shape and
+// orientation as seen from x. A disc of the emitter's radius around c->x instead (the textbook filter) reached behind
+// the emitter's plane for receivers near its horizon and found the ceiling the emitter hangs under: walls of the
+// Cornell box got half their light there, and a large emitter darkened the whole room (docs/methods.md "Direct light
+// in the preview").
+// The blocker search runs once per emitter, not once per cell: its taps are spread over all the emitter's samples,
+// each read from its own cell's map, and it keeps the mean blocker as a point, which each cell measures from its own
+// centre. Nothing behind the emitter's plane can block light it emits, so directions within two texels of that plane
+// are not tested (a texel's ray there may hit the ceiling).
 struct AreaShadow {
   int cube;
   vec3 centre;
@@ -75,12 +77,10 @@ struct AreaShadow {
   float dist;
   vec3 ng;
   float planeOffset, wn;  // the receiver's plane, for tapReference
-  float blockerSum;
-  int blockers;
-  float blockerDepth;  // mean distance from the centre of the blockers the search found
 };
 
-AreaShadow areaShadowBegin(int cube, vec3 centre, vec3 x, vec3 ng) {
+// A cell's view of the receiver x (geometric normal ng) from its map at `centre`.
+AreaShadow areaShadowCell(int cube, vec3 centre, vec3 x, vec3 ng) {
   AreaShadow a;
   a.cube = cube;
   a.centre = centre;
@@ -94,9 +94,6 @@ AreaShadow areaShadowBegin(int cube, vec3 centre, vec3 x, vec3 ng) {
   a.ng = ng;
   a.planeOffset = dot(d, ng);
   a.wn = dot(a.w, ng);
-  a.blockerSum = 0.0;
-  a.blockers = 0;
-  a.blockerDepth = a.dist;
   return a;
 }
 
@@ -110,33 +107,42 @@ bool areaShadowOccluded(AreaShadow a, vec3 u, float reach, vec3 emitterNormal, o
          stored < min(reach, tapReference(u, a.ng, a.planeOffset, a.wn, a.dist));
 }
 
-// One tap of the blocker search: the point a fraction t of the way from emitter sample y to the receiver. Occluders
-// up to half as far again count (a blocker's surface seen from the centre lies before the segment's crossing).
-void areaShadowSearch(inout AreaShadow a, vec3 y, vec3 emitterNormal, float t) {
+// The blocker search's mean blocker point, accumulated over taps.
+struct BlockerSearch {
+  vec3 pointSum;
+  int blockers;
+};
+
+BlockerSearch blockerSearchBegin() { return BlockerSearch(vec3(0.0), 0); }
+
+// One tap of the blocker search: the point a fraction t of the way from emitter sample y to the receiver, read from
+// the map of y's cell a. Occluders up to half as far again count (a blocker's surface seen from the centre lies before
+// the segment's crossing).
+void blockerSearchTap(inout BlockerSearch search, AreaShadow a, vec3 y, vec3 emitterNormal, float t) {
   vec3 p = mix(y, a.receiver, t) - a.centre;
   float reach = length(p);
+  vec3 u = p / reach;
   float stored;
-  bool blocked = areaShadowOccluded(a, p / reach, 1.5 * reach, emitterNormal, stored);
-  a.blockerSum += blocked ? stored : 0.0;
-  a.blockers += blocked ? 1 : 0;
+  bool blocked = areaShadowOccluded(a, u, 1.5 * reach, emitterNormal, stored);
+  search.pointSum += blocked ? a.centre + stored * u : vec3(0.0);
+  search.blockers += blocked ? 1 : 0;
 }
 
-void areaShadowEndSearch(inout AreaShadow a) {
-  a.blockerDepth = a.blockers > 0 ? a.blockerSum / float(a.blockers) : a.dist;
-}
-
-// 1 when the segment from emitter sample y (normal emitterNormal) to the receiver is clear, 0 when blocked: the map is
-// read toward the segment's point at the blockers' mean distance, and an occluder there (within a quarter again)
-// blocks it. The factors 1.5 and 1.25 and the receiver's normal offset of a quarter texel are those that kept every
-// case of vplab_bench_direct_bench within about 1 % (docs/benchmarks.md "Direct light in the preview").
-float areaSampleVisibility(AreaShadow a, vec3 y, vec3 emitterNormal) {
+// 1 when the segment from emitter sample y (normal emitterNormal) of cell a to the receiver is clear, 0 when blocked:
+// the map is read toward the segment's point as far from the centre along c->x as the mean blocker, and an occluder
+// there (within a quarter again) blocks it. The factors 1.5 and 1.25 and the receiver's normal offset of a quarter
+// texel are those that kept every case of vplab_bench_direct_bench within about 1 % (docs/benchmarks.md "Direct light
+// in the preview").
+float areaSampleVisibility(BlockerSearch search, AreaShadow a, vec3 y, vec3 emitterNormal) {
+  vec3 blocker = search.pointSum / float(max(search.blockers, 1));
+  float blockerDepth = dot(blocker - a.centre, a.w);
   vec3 yc = y - a.centre;
   float along = dot(yc, a.w);
-  float t = clamp((a.blockerDepth - along) / max(a.dist - along, 1e-6 * a.dist), 0.0, 1.0);
+  float t = clamp((blockerDepth - along) / max(a.dist - along, 1e-6 * a.dist), 0.0, 1.0);
   vec3 p = mix(yc, a.receiver - a.centre, t);
   float reach = length(p);
   float stored;
-  return a.blockers > 0 && areaShadowOccluded(a, p / reach, 1.25 * reach, emitterNormal, stored) ? 0.0 : 1.0;
+  return search.blockers > 0 && areaShadowOccluded(a, p / reach, 1.25 * reach, emitterNormal, stored) ? 0.0 : 1.0;
 }
 
 // Visibility of a directional light (rays travelling along `direction`) from x: percentage-closer filtering over a

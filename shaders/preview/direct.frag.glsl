@@ -10,10 +10,10 @@
 // (deinterleave.frag.glsl): interleaving one point light over k x k subsets would leave it at one pixel in k^2, and the
 // merge would turn its sharp shadow edges into k-pixel stair-steps.
 // The renderer draws the table in runs of one kind of shadow map each (DIRECT_MAP_KIND; renderer/gl/direct_pass.cpp):
-// the samples of one area emitter, which share its map, or all punctual or all directional lights, a map each. The
-// emitter's map is filtered once per pixel, before the loop; a punctual light's inside it. llvmpipe runs the body of a
-// branch for the whole SIMD group whatever its condition, so filtering inside the loop only when the map changes would
-// cost one filter per sample; for the same reason the loop body has no branches.
+// the samples of one area emitter, whose cells' maps share one blocker search, or all punctual or all directional
+// lights, a map each. The emitter's blocker search runs once per pixel, before the loop; a punctual light's filter
+// inside it. llvmpipe runs the body of a branch for the whole SIMD group whatever its condition, so filtering inside the
+// loop only when the map changes would cost one filter per sample; for the same reason the loop body has no branches.
 #define DIRECT_MAP_AREA 0         // an area emitter's cube map: soft shadows
 #define DIRECT_MAP_PUNCTUAL 1     // a point or spot light's cube map
 #define DIRECT_MAP_DIRECTIONAL 2  // a directional light's orthographic map
@@ -30,8 +30,8 @@ struct DirectLight {
   vec4 axis;      // emitter normal (area), spot axis or a directional light's direction of travel; w: cos(outer cone)
   vec4 weight;    // rgb: Le / (K p_A) (area), intensity in candela, or irradiance in lux (directional); w: cos(inner)
   vec4 shadow;    // x: the light's cube shadow map (its orthographic map for a directional light, its cell's map
-                  // for an area-light sample)
-  vec4 centre;    // xyz: where that shadow map was rendered from (the emitter's centre, or the punctual light)
+                  // for an area-light sample); y: an area-light sample's emitter
+  vec4 centre;    // xyz: where that shadow map was rendered from (the sample's cell centre, or the punctual light)
 };
 // A uniform block of at most DIRECT_UBO_LIGHTS lights (set by the renderer), bound from light uUboBase on: llvmpipe
 // reads a UBO faster than a storage buffer; a longer list is drawn in ranges.
@@ -52,18 +52,19 @@ void main() {
   // Filter rotation per pixel (interleaved gradient noise, Jimenez 2014): deterministic, and the de-interleave blurs it.
   float rotation = 6.2831853 * fract(52.9829189 * fract(dot(vec2(s.px), vec2(0.06711056, 0.00583715))));
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA
-  // The samples in [uLightBegin, uLightEnd) are one emitter's, all behind its map; the blocker search reads the
-  // map toward points on the segments from kLightShadowTaps of them (spread over the range) to x1, at fractions
-  // t in [0.15, 0.85] of the way, rotated per pixel.
-  DirectLight first = lights[uLightBegin - uUboBase];
-  AreaShadow shadow = areaShadowBegin(int(first.shadow.x), first.centre.xyz, x1, ng);
+  // The samples in [uLightBegin, uLightEnd) are one emitter's, each behind its cell's map. The blocker search reads
+  // the maps toward points on the segments from kLightShadowTaps of the samples (spread over the range, so over every
+  // cell in proportion to its samples) to x1, at fractions t in [0.15, 0.85] of the way, rotated per pixel. A cell's
+  // view of x1 is set up again for each tap: a loop per cell, with the cell's state set up once, cost 20-30 % more on
+  // llvmpipe than this loop of a fixed count.
+  BlockerSearch search = blockerSearchBegin();
   int runLength = uLightEnd - uLightBegin;
   for (int j = 0; j < kLightShadowTaps; ++j) {
     DirectLight tap = lights[uLightBegin + (j * runLength) / kLightShadowTaps - uUboBase];
     float t = 0.15 + 0.7 * fract(0.618034 * (float(j) + 0.5) + rotation / 6.2831853);
-    areaShadowSearch(shadow, tap.position.xyz, tap.axis.xyz, t);
+    blockerSearchTap(search, areaShadowCell(int(tap.shadow.x), tap.centre.xyz, x1, ng), tap.position.xyz,
+                     tap.axis.xyz, t);
   }
-  areaShadowEndSearch(shadow);
 #endif
   for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
     DirectLight l = lights[i - uUboBase];
@@ -90,7 +91,8 @@ void main() {
 #elif DIRECT_MAP_KIND == DIRECT_MAP_PUNCTUAL
     float visibility = pointLightVisibility(int(l.shadow.x), l.centre.xyz, x1, ng, rotation);
 #else
-    float visibility = areaSampleVisibility(shadow, l.position.xyz, l.axis.xyz);
+    float visibility = areaSampleVisibility(search, areaShadowCell(int(l.shadow.x), l.centre.xyz, x1, ng),
+                                            l.position.xyz, l.axis.xyz);
 #endif
     // One-sided receiver: the light must be on the side the geometric normal faces.
     float cos1 = dot(n1, w);
