@@ -316,7 +316,9 @@ TEST(EditorTimings, AChangeCostsFromItselfUntilTheImageConvergedOverEveryFrame) 
   PreviewTimings partial, rest;
   partial.complete = false;
   partial.vplShadowMs = 40.0;
+  partial.mediaMs = 30.0;  // a pass sliced over both frames
   rest.gatherMs = 25.0;
+  rest.mediaMs = 12.0;
   rest.tonemapMs = 1.0;
   timer.changed(10.0);
   timer.vplsGenerated(5.0);
@@ -330,6 +332,7 @@ TEST(EditorTimings, AChangeCostsFromItselfUntilTheImageConvergedOverEveryFrame) 
   EXPECT_EQ(timer.lastFrames(), 2);
   EXPECT_EQ(timer.lastPasses().vplShadowMs, 40.0);
   EXPECT_EQ(timer.lastPasses().gatherMs, 25.0);
+  EXPECT_EQ(timer.lastPasses().mediaMs, 42.0);
   EXPECT_EQ(timer.lastPasses().gbufferMs, 0.0) << "a pass that did not run is cached, not timed";
   EXPECT_EQ(timer.lastVplGenerationMs(), 5.0);
   // Rendering without a change (an idle redraw) does not touch the last change's figures.

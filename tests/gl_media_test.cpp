@@ -254,6 +254,57 @@ TEST_P(GlMedia, PassesFollowTheInvalidationModel) {
   EXPECT_GT(test::differingPixels(renderer.readLinear(), before), 0u);
 }
 
+// The editor's budgeted render through fog (PreviewRenderer::render): with a zero budget every call stops after one
+// slice, a draw or a band of rows of one, so the direct light, the media and the compensation each span many calls; a
+// medium edit while the direct light is half drawn and a new bound while the media are half drawn restart what they
+// change. The image at the end is the one an unbudgeted call gives, bit for bit. The benchmark's layout (k = 4 on the
+// half-resolution grid), at a size whose blocks are not a multiple of the first bands' rows.
+TEST_P(GlMedia, BudgetedRenderGivesTheUnbudgetedImage) {
+  auto l = test::loadAssetScene("cornell-fog");
+  Scene scene = l->scene();
+  Settings s = test::indirectSettings(40, 64);
+  s.height = 36;
+  s.components = Components::All;
+  s.clampBound = 20.0f;
+  s.ssbcSteps = 2;
+  s.interleave = 4;
+  s.indirectDownscale = 2;
+  VplSet vpls = generateVpls(*l, s);
+  PreviewRenderer stepped;
+  int calls = 0, directCalls = 0, mediaCalls = 0, ssbcCalls = 0;
+  bool mediumEdited = false, boundChanged = false;
+  PreviewTimings t;
+  do {
+    t = stepped.render(scene, vpls, s, scene.camera, 0.0);
+    const bool direct = t.directWallMs > 0.0, media = t.mediaWallMs > 0.0;
+    directCalls += direct;
+    mediaCalls += media;
+    ssbcCalls += t.ssbcWallMs > 0.0;
+    if (direct && directCalls == 3 && !t.complete) {
+      scene.media[0].sigmaS *= 0.8f;  // an edit in place, as the editor's media panel makes
+      mediumEdited = true;
+    }
+    if (media && mediaCalls == 3 && !t.complete && !boundChanged) {
+      s.clampBound = 10.0f;
+      boundChanged = true;
+    }
+  } while (!t.complete && ++calls < 5000);
+  ASSERT_TRUE(t.complete);
+  EXPECT_TRUE(mediumEdited);
+  EXPECT_TRUE(boundChanged);
+  EXPECT_GE(directCalls, 8) << "the direct light is drawn a subset (and a band) per call";
+  EXPECT_GE(mediaCalls, 8) << "the media are drawn a subset (and a band) per call";
+  EXPECT_GE(ssbcCalls, 8) << "the compensation is drawn a draw (and a band) per call";
+  std::printf("[ measured ] %d calls: direct light in %d, media in %d, compensation in %d\n", calls, directCalls,
+              mediaCalls, ssbcCalls);
+  PreviewRenderer whole;
+  ASSERT_TRUE(whole.render(scene, vpls, s, scene.camera).complete);
+  EXPECT_EQ(test::differingPixels(stepped.readLinear(), whole.readLinear()), 0u);
+  EXPECT_EQ(test::differingPixels(stepped.readLinear(PreviewOutput::Scattered),
+                                  whole.readLinear(PreviewOutput::Scattered)),
+            0u);
+}
+
 VPLAB_GL_BACKENDS(GlMedia);
 
 }  // namespace

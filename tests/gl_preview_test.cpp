@@ -6,7 +6,9 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <functional>
 #include <string>
+#include <vector>
 
 #include "renderer/core/sampling.h"
 #include "renderer/gl/context.h"
@@ -296,6 +298,31 @@ TEST(GlPreview, BudgetedRenderConvergesToTheUnbudgetedImage) {
   Image a = stepped.readLinear(), b = whole.readLinear();
   ASSERT_EQ(a.pixels.size(), b.pixels.size());
   for (std::size_t i = 0; i < a.pixels.size(); ++i) ASSERT_EQ(a.pixels[i], b.pixels[i]) << i;
+}
+
+// A pass's slices (screen_pass.h): each call replays the pass, skipping the steps that ran; a call that is out of time
+// after a step stops there, and the run ends once every step has run, after which the next call starts over.
+TEST(PassSlices, RunsEachStepOnceAcrossCallsThatStopAfterEveryStep) {
+  PassSlices slices;
+  std::vector<int> ran;
+  auto pass = [&](bool budget) {
+    slices.begin(budget ? std::function<bool()>([] { return true; }) : std::function<bool()>());
+    for (int i = 0; i < 4; ++i) slices.step([&ran, i] { ran.push_back(i); });
+    return slices.end();
+  };
+  EXPECT_FALSE(pass(true));
+  EXPECT_EQ(ran, std::vector<int>({0}));
+  EXPECT_FALSE(pass(true));
+  EXPECT_TRUE(pass(false)) << "no budget: the remaining steps all run";
+  EXPECT_EQ(ran, std::vector<int>({0, 1, 2, 3}));
+  ran.clear();
+  EXPECT_FALSE(pass(true));
+  slices.restart();  // what the pass reads changed: its run starts over
+  EXPECT_FALSE(pass(true));
+  EXPECT_EQ(ran, std::vector<int>({0, 0}));
+  for (int call = 0; call < 3; ++call) pass(true);
+  EXPECT_EQ(ran, std::vector<int>({0, 0, 1, 2, 3}));
+  EXPECT_TRUE(slices.starting());
 }
 
 // The lights' shadow maps are split a cube face (or directional map) at a time under a budget; the stepped maps shade

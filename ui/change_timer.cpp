@@ -29,6 +29,7 @@ void ChangeTimer::rendered(double seconds, const PreviewTimings& t) {
   passes_.directMs += t.directMs;
   passes_.vplShadowMs += t.vplShadowMs;
   passes_.gatherMs += t.gatherMs;
+  passes_.mediaMs += t.mediaMs;
   passes_.ssbcMs += t.ssbcMs;
   passes_.tonemapMs += t.tonemapMs;
   if (!t.complete) return;

@@ -334,6 +334,7 @@ void EditorState::updateWork(double budgetMs) {
   keep(lastPassMs_.directMs, timings_.directMs);
   keep(lastPassMs_.vplShadowMs, timings_.vplShadowMs);
   keep(lastPassMs_.gatherMs, timings_.gatherMs);
+  keep(lastPassMs_.mediaMs, timings_.mediaMs);
   keep(lastPassMs_.ssbcMs, timings_.ssbcMs);
   keep(lastPassMs_.tonemapMs, timings_.tonemapMs);
   if (startUpdate) {

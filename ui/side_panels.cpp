@@ -123,6 +123,7 @@ void drawChartSection(EditorState& state, PanelState& panels) {
         {"direct", t.directMs, last.directMs},
         {"VPL shadows", t.vplShadowMs, last.vplShadowMs},
         {"gather", t.gatherMs, last.gatherMs},
+        {"media", t.mediaMs, last.mediaMs},
         {"SSBC", t.ssbcMs, last.ssbcMs},
         {"tonemap", t.tonemapMs, last.tonemapMs},
         {"VPL generation (CPU)", timer.lastVplGenerationMs(), state.vpls().stats.generationSeconds * 1e3}};

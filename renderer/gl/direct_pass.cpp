@@ -110,8 +110,9 @@ bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, f
   return true;
 }
 
-void DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius,
-                           Target& raw, const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao) {
+bool DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius,
+                           Target& raw, const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao,
+                           const std::function<bool()>& outOfTime) {
   for (BrdfVariants& variants : programs_) {
     ShaderProgram& direct = variants[lambertOnly];
     direct.set("uCameraPosition", camera.position);
@@ -128,9 +129,11 @@ void DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sce
   for (const MapRun& run : runs_)
     (run.kind == AreaMap ? area : exact)
         .chunks.push_back({run.begin, run.end, 0, 0, &programs_[run.kind][lambertOnly]});
-  drawInterleavedLightTable(programs_[AreaMap][lambertOnly], raw, layout, area, vao);
+  drawSlices_.begin(outOfTime);
+  drawInterleavedLightTable(programs_[AreaMap][lambertOnly], raw, layout, area, vao, drawSlices_);
   const InterleavedLayout everyPixel{layout.width, layout.height, 1, layout.width, layout.height};
-  drawInterleavedLightTable(programs_[PunctualMap][lambertOnly], punctual, everyPixel, exact, vao);
+  drawInterleavedLightTable(programs_[PunctualMap][lambertOnly], punctual, everyPixel, exact, vao, drawSlices_);
+  return drawSlices_.end();
 }
 
 void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings) {

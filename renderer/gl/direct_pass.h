@@ -35,9 +35,14 @@ class DirectLightPass {
   void restartMaps() { mapsStarted_ = false; }
   /// Draws the direct light, reading the G-buffer bound at its units: the area-light samples' into the interleaved
   /// layout of `raw` (merged with the gather), the punctual lights' at every pixel of `punctual` (layout's width and
-  /// height; added after the merge, deinterleave.frag.glsl). Both targets are cleared first.
-  void draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius, Target& raw,
-            const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao);
+  /// height; added after the merge, deinterleave.frag.glsl). Both targets are cleared first. With outOfTime, stops
+  /// after the draw (or band of one) at which it says so and returns false; the next call goes on from there, and the
+  /// image is the same as one call's.
+  bool draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius, Target& raw,
+            const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao,
+            const std::function<bool()>& outOfTime = {});
+  /// The next draw() starts from its first draw (what it reads changed while it was under way).
+  void restartDraw() { drawSlices_.restart(); }
   /// Whether the lights uploaded by the last renderMaps() include area-light samples (else `raw` stays 0).
   bool hasAreaSamples() const { return !runs_.empty() && runs_.front().kind == AreaMap; }
   /// Compiles the passes with the transmittance of the scene's `mediaCount` media toward each light
@@ -75,6 +80,8 @@ class DirectLightPass {
   bool mapsStarted_ = false;
   int mediaCount_ = 0;
   int nextFace_ = 0, nextDirectional_ = 0;
+  // Where a draw() cut short goes on.
+  PassSlices drawSlices_;
 };
 
 }  // namespace vplab

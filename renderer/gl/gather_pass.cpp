@@ -76,12 +76,12 @@ void VplGatherPass::upload(const Scene& scene, const VplSet& set, const std::vec
 }
 
 void VplGatherPass::drawTable(ShaderProgram& program, const VplVisibility& visibility, Target& raw,
-                              const InterleavedLayout& layout, const GlVertexArray& vao) const {
+                              const InterleavedLayout& layout, const GlVertexArray& vao, PassSlices& slices) const {
   LightTable table{&table_, BufferBinding::Vpls, tableLayout_, {},
                    [&](int maps, ShaderProgram& p) { visibility.bindChunk(maps, p); }};
   for (int c = 0; c < visibility.chunkCount(); ++c)
     table.chunks.push_back({visibility.chunkBegin(c), visibility.chunkEnd(c), c, visibility.chunkBegin(c), nullptr});
-  drawInterleavedLightTable(program, raw, layout, table, vao);
+  drawInterleavedLightTable(program, raw, layout, table, vao, slices);
 }
 
 bool VplGatherPass::draw(bool lambertOnly, const Camera& camera, const Settings& settings, float far, float bias,
@@ -120,7 +120,9 @@ bool VplGatherPass::draw(bool lambertOnly, const Camera& camera, const Settings&
     if (split > begin) table.chunks.push_back({begin, split, c, begin, sphereLambertVpls_.get()});
     if (end > split) table.chunks.push_back({split, end, c, begin, nullptr});
   }
-  return drawInterleavedLightTable(gather, raw, layout, table, vao, &nextDraw_, outOfTime);
+  slices_.begin(outOfTime);
+  drawInterleavedLightTable(gather, raw, layout, table, vao, slices_);
+  return slices_.end();
 }
 
 }  // namespace vplab

@@ -34,16 +34,16 @@ class VplGatherPass {
   /// The defines the gather was compiled with: the media pass (media_pass.h) reads the same table and maps.
   const std::vector<std::string>& defines() const { return defines_; }
   /// Draws `program` over the uploaded VPLs, interleaved into `raw` as the point-VPL gather is (same table, chunks and
-  /// visibility maps; the program's own uniforms are the caller's).
+  /// visibility maps; the program's own uniforms are the caller's), as steps of the caller's `slices`.
   void drawTable(ShaderProgram& program, const VplVisibility& visibility, Target& raw, const InterleavedLayout& layout,
-                 const GlVertexArray& vao) const;
+                 const GlVertexArray& vao, PassSlices& slices) const;
   /// Uploads the VPLs with their materials, in gatherOrder().
   void upload(const Scene& scene, const VplSet& vpls, const std::vector<uint32_t>& order, int lambertCount);
   /// The next draw() starts from its first draw: what it sums over changed.
-  void restart() { nextDraw_ = 0; }
+  void restart() { slices_.restart(); }
   /// Draws the gather into the interleaved layout of `raw`, reading the G-buffer bound at its units; far and bias as
-  /// the VPL maps were built with. With outOfTime, stops after the draw at which it says so and returns false; the next
-  /// call goes on from there. The same draws in the same order either way, so the image is the same.
+  /// the VPL maps were built with. With outOfTime, stops after the draw (or band of one) at which it says so and returns
+  /// false; the next call goes on from there. The same draws in the same order either way, so the image is the same.
   bool draw(bool lambertOnly, const Camera& camera, const Settings& settings, float far, float bias,
             const VplVisibility& visibility, Target& raw, const InterleavedLayout& layout, const GlVertexArray& vao,
             const std::function<bool()>& outOfTime = {});
@@ -59,8 +59,8 @@ class VplGatherPass {
   bool haveRadius_ = false;
   /// How many of the uploaded VPLs lead with a Lambert material.
   int lambertCount_ = 0;
-  /// The first draw of a gather that outOfTime cut short (0: none pending).
-  int nextDraw_ = 0;
+  /// Where a gather that outOfTime cut short goes on.
+  PassSlices slices_;
 };
 
 }  // namespace vplab

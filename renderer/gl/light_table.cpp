@@ -46,9 +46,8 @@ std::string uniformTableDefine(const char* name, const UniformTableLayout& layou
   return std::string(name) + " " + std::to_string(layout.capacity);
 }
 
-bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const InterleavedLayout& layout,
-                               const LightTable& table, const GlVertexArray& vao, int* cursor,
-                               const std::function<bool()>& outOfTime) {
+void drawInterleavedLightTable(ShaderProgram& program, Target& raw, const InterleavedLayout& layout,
+                               const LightTable& table, const GlVertexArray& vao, PassSlices& slices) {
   struct Range {
     int chunk, base, begin, end;
   };
@@ -59,11 +58,10 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
   auto programOf = [&](const LightChunk& c) -> ShaderProgram& { return c.program ? *c.program : program; };
   const int k = layout.k;
   const int perSubset = static_cast<int>(ranges.size()), total = k * k * perSubset;
-  const int first = cursor ? *cursor : 0;
   raw.framebuffer.bind(layout.blockWidth * k, layout.blockHeight * k);
   // Draws add up (several ranges per subset) or are left out (a subset without lights in a range: a scene with fewer
   // punctual lights than k^2 subsets draws only the subsets that have one), so the blocks start from zero.
-  if (first == 0) raw.framebuffer.clearColor(0, glm::vec4(0.0f));
+  slices.step([&] { raw.framebuffer.clearColor(0, glm::vec4(0.0f)); });
   for (const LightChunk& c : table.chunks) {
     programOf(c).set("uInterleave", k);
     programOf(c).set("uImageSize", glm::ivec2(layout.width, layout.height));
@@ -72,9 +70,8 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
   }
-  bool done = true;
   int boundChunk = -1;
-  for (int draw = first; draw < total; ++draw) {
+  for (int draw = 0; draw < total; ++draw) {
     const int subset = draw / perSubset;
     const Range& r = ranges[static_cast<std::size_t>(draw % perSubset)];
     const LightChunk& chunk = table.chunks[static_cast<std::size_t>(r.chunk)];
@@ -82,31 +79,27 @@ bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
     const int offset = subsetOffset(r.begin, subset, k);
     if (r.begin + offset >= r.end && !table.drawEmptySubsets) continue;
     const int sx = subset % k, sy = subset / k;
-    glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
-    glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
-    p.set("uSubsetXY", glm::ivec2(sx, sy));
-    p.set("uBlockOrigin", origin);
-    if (r.chunk != boundChunk) {
-      if (table.bindChunk) table.bindChunk(chunk.maps, p);
-      p.set("uFirstLight", chunk.mapsBegin);
-      boundChunk = r.chunk;
-    }
-    table.buffer->bindUniformRange(binding(table.binding), static_cast<std::size_t>(r.base) * table.layout.elementBytes,
-                                   static_cast<std::size_t>(r.end - r.base) * table.layout.elementBytes);
-    p.set("uUboBase", r.base);
-    p.set("uLightBegin", r.begin);
-    p.set("uSubsetOffset", offset);
-    p.set("uLightEnd", r.end);
-    drawFullscreen(p, vao);
-    if (cursor && outOfTime && draw + 1 < total && outOfTime()) {
-      *cursor = draw + 1;
-      done = false;
-      break;
-    }
+    const glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
+    slices.bands(glm::ivec4(origin, layout.blockWidth, layout.blockHeight), [&] {
+      glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
+      p.set("uSubsetXY", glm::ivec2(sx, sy));
+      p.set("uBlockOrigin", origin);
+      if (r.chunk != boundChunk) {
+        if (table.bindChunk) table.bindChunk(chunk.maps, p);
+        p.set("uFirstLight", chunk.mapsBegin);
+        boundChunk = r.chunk;
+      }
+      table.buffer->bindUniformRange(binding(table.binding),
+                                     static_cast<std::size_t>(r.base) * table.layout.elementBytes,
+                                     static_cast<std::size_t>(r.end - r.base) * table.layout.elementBytes);
+      p.set("uUboBase", r.base);
+      p.set("uLightBegin", r.begin);
+      p.set("uSubsetOffset", offset);
+      p.set("uLightEnd", r.end);
+      drawFullscreen(p, vao);
+    });
   }
-  if (done && cursor) *cursor = 0;
   glDisable(GL_BLEND);
-  return done;
 }
 
 }  // namespace vplab

@@ -52,12 +52,10 @@ struct LightTable {
 
 /// Draws `table` with `program` (or each chunk's own) into the interleaved layout of `raw`: for each subset, one draw
 /// per uniform-block range of each chunk. A single draw per subset replaces its block's texels (every fragment writes),
-/// so it needs neither a clear nor blending; several draws add up. With a cursor, the draws from *cursor on run until
-/// outOfTime() says stop after one (a draw's sum is complete on its own, so the rest can follow later): returns false
-/// and leaves *cursor at the first draw not made, or true after the last one. The draws and their order do not depend
-/// on where it stopped.
-bool drawInterleavedLightTable(ShaderProgram& program, Target& raw, const InterleavedLayout& layout,
-                               const LightTable& table, const GlVertexArray& vao, int* cursor = nullptr,
-                               const std::function<bool()>& outOfTime = {});
+/// so it needs neither a clear nor blending; several draws add up. Each draw is a step of `slices`, drawn in bands
+/// under a budget (a draw's sum is complete on its own and a pixel's draws keep their order, so the rest can follow
+/// later and the texels do not depend on where a call stopped).
+void drawInterleavedLightTable(ShaderProgram& program, Target& raw, const InterleavedLayout& layout,
+                               const LightTable& table, const GlVertexArray& vao, PassSlices& slices);
 
 }  // namespace vplab

@@ -107,10 +107,11 @@ void MediaPass::ensureTargets(const InterleavedLayout& layout) {
   }
 }
 
-void MediaPass::draw(const Frame& frame, const Settings& settings, const InterleavedLayout& layout,
+bool MediaPass::draw(const Frame& frame, const Settings& settings, const InterleavedLayout& layout,
                      const DirectLightPass& direct, const VplGatherPass& gather, const VplVisibility& visibility,
-                     const GlVertexArray& vao, bool lights, bool vpls) {
+                     const GlVertexArray& vao, bool lights, bool vpls, const std::function<bool()>& outOfTime) {
   ensureTargets(layout);
+  slices_.begin(outOfTime);
   const int k = layout.k, k2 = k * k;
   auto common = [&](ShaderProgram& p) {
     p.set("uCameraPosition", frame.camera.position);
@@ -140,29 +141,31 @@ void MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
     program.set("uDirectionalShadowTexel", 2.0f * frame.sceneRadius / static_cast<float>(kDirectionalShadowSize));
     program.set("uPunctualEnd", table.punctualEnd);
     lightsRaw_->framebuffer.bind(rawWidth_, rawHeight_);
-    lightsRaw_->framebuffer.clearColor(0, glm::vec4(0.0f));
+    slices_.step([&] { lightsRaw_->framebuffer.clearColor(0, glm::vec4(0.0f)); });
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
     const int step =
         std::max(table.layout.alignment, table.layout.capacity / table.layout.alignment * table.layout.alignment);
     for (int base = 0; base < table.count; base += step) {
       const int end = std::min(table.count, base + step);
-      table.buffer->bindUniformRange(binding(BufferBinding::DirectLights),
-                                     static_cast<std::size_t>(base) * table.layout.elementBytes,
-                                     static_cast<std::size_t>(end - base) * table.layout.elementBytes);
-      program.set("uUboBase", base);
-      program.set("uLightBegin", base);
-      program.set("uLightEnd", end);
-      program.set("uAreaEnd", std::min(end, table.areaEnd));
       for (int subset = 0; subset < k2; ++subset) {
         const int sx = subset % k, sy = subset / k;
         const glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
-        glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
-        program.set("uSubsetXY", glm::ivec2(sx, sy));
-        program.set("uBlockOrigin", origin);
-        // The first area sample of this subset (index = subset mod k^2) from `base` on.
-        program.set("uAreaFirst", base + ((subset - base % k2) % k2 + k2) % k2);
-        drawFullscreen(program, vao);
+        slices_.bands(glm::ivec4(origin, layout.blockWidth, layout.blockHeight), [&] {
+          table.buffer->bindUniformRange(binding(BufferBinding::DirectLights),
+                                         static_cast<std::size_t>(base) * table.layout.elementBytes,
+                                         static_cast<std::size_t>(end - base) * table.layout.elementBytes);
+          program.set("uUboBase", base);
+          program.set("uLightBegin", base);
+          program.set("uLightEnd", end);
+          program.set("uAreaEnd", std::min(end, table.areaEnd));
+          glViewport(origin.x, origin.y, layout.blockWidth, layout.blockHeight);
+          program.set("uSubsetXY", glm::ivec2(sx, sy));
+          program.set("uBlockOrigin", origin);
+          // The first area sample of this subset (index = subset mod k^2) from `base` on.
+          program.set("uAreaFirst", base + ((subset - base % k2) % k2 + k2) % k2);
+          drawFullscreen(program, vao);
+        });
       }
     }
     glDisable(GL_BLEND);
@@ -175,10 +178,10 @@ void MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
     program.set("uClampBound", settings.clampBound);
     program.set("uShadowFar", frame.far);
     program.set("uShadowBias", frame.bias);
-    gather.drawTable(program, visibility, *vplsRaw_, layout, vao);
+    gather.drawTable(program, visibility, *vplsRaw_, layout, vao, slices_);
   }
 
-  // The merge of the k x k subsets, both results at once.
+  // The merge of the k x k subsets, both results at once: after every band of both, whose neighbours it reads.
   merged_->framebuffer.bind(layout.width, layout.height);
   lightsRaw_->texture.bind(unit(TextureUnit::PassInput0));
   vplsRaw_->texture.bind(unit(TextureUnit::PassInput1));
@@ -186,14 +189,15 @@ void MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
   merge_.set("uBlockSize", glm::ivec2(layout.blockWidth, layout.blockHeight));
   merge_.set("uImageSize", glm::ivec2(layout.width, layout.height));
   merge_.set("uCameraPosition", frame.camera.position);
-  drawFullscreen(merge_, vao);
+  slices_.bands(glm::ivec4(0, 0, layout.width, layout.height), [&] { drawFullscreen(merge_, vao); });
+  return slices_.end();
 }
 
 void MediaPass::compose(const Frame& frame, const GlTexture& surface, glm::vec4 weights, int width, int height,
-                        GlFramebuffer& out, const GlVertexArray& vao) {
+                        GlFramebuffer& out, const GlVertexArray& vao, PassSlices& slices) {
   if (!surfaceCopy_ || surfaceCopy_->texture.width() != width || surfaceCopy_->texture.height() != height)
     surfaceCopy_ = std::make_unique<Target>(width, height);
-  surfaceCopy_->texture.copyFrom(surface);
+  slices.step([&] { surfaceCopy_->texture.copyFrom(surface); });
   out.bind(width, height);
   surfaceCopy_->texture.bind(unit(TextureUnit::PassInput0));
   merged_->texture.bind(unit(TextureUnit::PassInput1));
@@ -204,7 +208,7 @@ void MediaPass::compose(const Frame& frame, const GlTexture& surface, glm::vec4 
   compose.set("uSceneDiagonal", frame.sceneDiagonal);
   compose.set("uWeights", weights);
   compose.set("uImageSize", glm::ivec2(width, height));
-  drawFullscreen(compose, vao);
+  slices.bands(glm::ivec4(0, 0, width, height), [&] { drawFullscreen(compose, vao); });
 }
 
 }  // namespace vplab

@@ -70,16 +70,19 @@ class MediaPass {
   };
   /// Draws the scattering passes asked for on the grid whose G-buffer is bound (layout: its size and k) and merges
   /// them with the other's last result: the lights' does not depend on the VPLs, so a new VPL set redoes the VPLs'
-  /// only.
-  void draw(const Frame& frame, const Settings& settings, const InterleavedLayout& layout,
+  /// only. With outOfTime, stops after the draw (or band of one) at which it says so and returns false; the next call
+  /// goes on from there with the same `lights` and `vpls`, and the result is the same as one call's.
+  bool draw(const Frame& frame, const Settings& settings, const InterleavedLayout& layout,
             const DirectLightPass& direct, const VplGatherPass& gather, const VplVisibility& visibility,
-            const GlVertexArray& vao, bool lights, bool vpls);
+            const GlVertexArray& vao, bool lights, bool vpls, const std::function<bool()>& outOfTime = {});
+  /// The next draw() starts from its first draw (what it reads changed while it was under way).
+  void restartDraw() { slices_.restart(); }
   /// Draws into `out` (width x height, the full G-buffer bound) weights.x T(camera, surface) `surface` + weights.y the
   /// lights' single scattering + weights.z the VPLs' in-scattering of the last draw() + weights.w the approximate
-  /// compensation of both (approximateCompensationFactor, of the first medium the ray meets). `surface` may be out's
-  /// own texture: it is copied.
+  /// compensation of both (approximateCompensationFactor, of the first medium the ray meets), as steps of `slices`.
+  /// `surface` may be out's own texture: it is copied.
   void compose(const Frame& frame, const GlTexture& surface, glm::vec4 weights, int width, int height,
-               GlFramebuffer& out, const GlVertexArray& vao);
+               GlFramebuffer& out, const GlVertexArray& vao, PassSlices& slices);
 
  private:
   void ensureTargets(const InterleavedLayout& layout);
@@ -99,6 +102,8 @@ class MediaPass {
   std::unique_ptr<Target> lightsRaw_, vplsRaw_, merged_, surfaceCopy_;
   std::unique_ptr<GlTexture> mergedVpls_;
   int rawWidth_ = 0, rawHeight_ = 0, gridWidth_ = 0, gridHeight_ = 0;
+  // Where a draw() cut short goes on.
+  PassSlices slices_;
 };
 
 }  // namespace vplab

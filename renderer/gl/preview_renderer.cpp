@@ -359,9 +359,15 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (stale.lightShadowMaps) direct_.restartMaps();
   pending_.directMaps |= stale.lightShadowMaps;
   pending_.vplMaps |= stale.vplShadowMaps;
+  // A pass sliced over earlier calls starts over when what it reads changed again.
+  if (stale.direct) direct_.restartDraw();
   pending_.direct |= stale.direct;
-  // A gather sliced over earlier calls starts over when what it depends on changed again.
   if (stale.gather) gather_.restart();
+  if (stale.direct || stale.gather) {
+    media_.restartDraw();
+    mergeSlices_.restart();
+  }
+  if (stale.ssbc) ssbcSlices_.restart();
   pending_.gather |= stale.gather;
   pending_.mediaLights |= media_.active() && stale.direct;
   pending_.mediaVpls |= media_.active() && stale.gather;
@@ -471,16 +477,21 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   tg.full.ensureRaw(settings.interleave, true);
   if (ownGrid) grid.ensureRaw(settings.interleave, false);
 
-  // Pass 2: direct light, interleaved over the light samples.
+  // Pass 2: direct light, interleaved over the light samples, draw by draw (in bands of rows) when a budget is given.
   if (pending_.direct && !outOfBudget) {
+    bool drawn = false;
     t.directMs = timed(timer_, t.directWallMs, [&] {
       tg.full.g.bind();
-      direct_.draw(lambertOnly_, camera, scene.bounds.center(), sceneRadius, *tg.full.directRaw, tg.full.interleaved(),
-                   *tg.full.punctualDirect, vao_);
+      drawn = direct_.draw(lambertOnly_, camera, scene.bounds.center(), sceneRadius, *tg.full.directRaw,
+                           tg.full.interleaved(), *tg.full.punctualDirect, vao_, outOfTime);
     });
     tg.directMergeStale = true;
-    ++counters_.direct;
-    finished(pending_.direct);
+    if (drawn) {
+      ++counters_.direct;
+      finished(pending_.direct);
+    } else {
+      outOfBudget = true;
+    }
   }
 
   // Pass 4: VPL gather with G_b / VSL and interleaving (the de-interleave follows), draw by draw when a budget is
@@ -506,58 +517,74 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // the gather pass (in the direct pass when only that one ran).
   // The media's scattering along camera rays, on the indirect light's grid: after the lights' and the VPLs' maps and
   // the passes that use them.
+  // Sliced like the surface passes.
   if (pending_.media() && !pending_.directMaps && !pending_.vplMaps && !pending_.direct && !pending_.gather &&
       !outOfBudget) {
+    bool drawn = false;
     t.mediaMs = timed(timer_, t.mediaWallMs, [&] {
       grid.g.bind();
-      media_.draw(mediaFrame(camera, settings), settings, grid.interleaved(), direct_, gather_, *vplVisibility_, vao_,
-                  pending_.mediaLights, pending_.mediaVpls);
+      drawn = media_.draw(mediaFrame(camera, settings), settings, grid.interleaved(), direct_, gather_,
+                          *vplVisibility_, vao_, pending_.mediaLights, pending_.mediaVpls, outOfTime);
     });
-    ++counters_.media;
-    pending_.mediaLights = false;
-    finished(pending_.mediaVpls);
+    if (drawn) {
+      ++counters_.media;
+      pending_.mediaLights = false;
+      finished(pending_.mediaVpls);
+    } else {
+      outOfBudget = true;
+    }
   }
 
+  // The merge reads k x k neighbours of the interleaved results: it starts once every band of them is drawn. Each of
+  // its draws is a slice (in bands of rows) of its own.
   if (pending_.merge && !pending_.direct && !pending_.gather && !outOfBudget) {
     double wallMs = 0.0;
+    mergeSlices_.begin(outOfTime);
     double gpuMs = timed(timer_, wallMs, [&] {
       if (!ownGrid) {
-        mergeInterleaved(tg.full, glm::vec2(1.0f), tg.full.i0.framebuffer);
+        mergeInterleaved(tg.full, glm::vec2(1.0f), tg.full.i0.framebuffer, mergeSlices_);
         return;
       }
-      if (tg.directMergeStale) {
+      // Whether the direct light is merged again is taken when the merge starts, since the merge itself clears it.
+      if (mergeSlices_.starting()) mergeDirect_ = tg.directMergeStale;
+      if (mergeDirect_) {
         // Punctual lights alone need no merge: their light is per pixel already.
         if (direct_.hasAreaSamples())
-          mergeInterleaved(tg.full, glm::vec2(1.0f, 0.0f), tg.direct.framebuffer);
+          mergeInterleaved(tg.full, glm::vec2(1.0f, 0.0f), tg.direct.framebuffer, mergeSlices_);
         else
-          tg.direct.texture.copyFrom(tg.full.punctualDirect->texture);
+          mergeSlices_.step([&] { tg.direct.texture.copyFrom(tg.full.punctualDirect->texture); });
+        mergeSlices_.step([&] { tg.directMergeStale = false; });
       }
-      tg.directMergeStale = false;
-      mergeInterleaved(grid, glm::vec2(0.0f, 1.0f), grid.indirect.framebuffer);
+      mergeInterleaved(grid, glm::vec2(0.0f, 1.0f), grid.indirect.framebuffer, mergeSlices_);
       tg.full.g.bind();
       tg.direct.texture.bind(unit(TextureUnit::PassInput0));
       grid.indirect.texture.bind(unit(TextureUnit::PassInput1));
       grid.i0.framebuffer.bind(grid.width, grid.height);
       gridInput_.set("uDownscale", tg.downscale);
-      drawFullscreen(gridInput_, vao_);
+      mergeSlices_.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridInput_, vao_); });
     });
     t.deinterleaveMs = gpuMs;
     (gatherPending ? t.gatherMs : t.directMs) += gpuMs;
     (gatherPending ? t.gatherWallMs : t.directWallMs) += wallMs;
-    finished(pending_.merge);
+    if (mergeSlices_.end())
+      finished(pending_.merge);
+    else
+      outOfBudget = true;
   }
 
   // Pass 5: R1 = T_r(I0) (I0 = direct + indirect, merged by the de-interleave), R2 = T_r(R1), final = Le + I0 + R1
   // + R2 (the final composition reads R1 and R2 itself; readLinear(PreviewOutput::Residual) sums them on demand).
+  // The compensation and the compositions after it, a draw (in bands of rows) at a time when a budget is given.
   if (pending_.ssbc && !pending_.merge && !pending_.media() && !outOfBudget) {
+    ssbcSlices_.begin(outOfTime);
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       grid.g.bind();
-      residualSteps_ =
-          ssbc_.run(lambertOnly_, camera, settings,
-                    {grid.g.position, grid.g.normal, grid.gbufferDerivedCurrent, grid.i0, grid.r1, grid.r2}, vao_);
+      residualSteps_ = ssbc_.run(lambertOnly_, camera, settings,
+                                 {grid.g.position, grid.g.normal, grid.gbufferDerivedCurrent, grid.i0, grid.r1, grid.r2},
+                                 vao_, ssbcSlices_);
       if (ownGrid) {
         upsample(glm::vec4(1.0f, 1.0f, residualSteps_ >= 1, residualSteps_ >= 2), camera.position,
-                 tg.linear.framebuffer);
+                 tg.linear.framebuffer, ssbcSlices_);
       } else {
         tg.linear.framebuffer.bind(tg.width, tg.height);
         tg.full.g.bind();
@@ -566,7 +593,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         tg.full.r2.texture.bind(unit(TextureUnit::PassInput3));
         compose_.set("uResidualSteps", residualSteps_);
         compose_.set("uCameraPosition", camera.position);
-        drawFullscreen(compose_, vao_);
+        ssbcSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(compose_, vao_); });
       }
       // Through media: the surfaces' image attenuated along the camera rays, plus the light scattered into them.
       if (media_.active()) {
@@ -574,12 +601,15 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         // With compensation on (ssbcSteps > 0), the media's approximate bias compensation (media_pass.h) too.
         const float compensate = settings.ssbcSteps > 0 ? 1.0f : 0.0f;
         media_.compose(mediaFrame(camera, settings), tg.linear.texture, glm::vec4(1.0f, 1.0f, 1.0f, compensate),
-                       tg.width, tg.height,
-                       tg.linear.framebuffer, vao_);
+                       tg.width, tg.height, tg.linear.framebuffer, vao_, ssbcSlices_);
       }
     });
-    ++counters_.ssbc;
-    finished(pending_.ssbc);
+    if (ssbcSlices_.end()) {
+      ++counters_.ssbc;
+      finished(pending_.ssbc);
+    } else {
+      outOfBudget = true;
+    }
   }
 
   // Pass 6: tonemap.
@@ -606,7 +636,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   return t;
 }
 
-void PreviewRenderer::mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFramebuffer& out) {
+void PreviewRenderer::mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFramebuffer& out, PassSlices& slices) {
   const int k = grid.rawInterleave;
   // Rows, then columns (separable: 2k neighbours per pixel instead of k^2).
   grid.rows.framebuffer.bind(grid.width, grid.height);
@@ -618,16 +648,17 @@ void PreviewRenderer::mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFr
   deinterleaveRows_.set("uInterleave", k);
   deinterleaveRows_.set("uBlockSize", glm::ivec2(grid.blockWidth, grid.blockHeight));
   deinterleaveRows_.set("uWeights", weights);
-  drawFullscreen(deinterleaveRows_, vao_);
+  slices.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(deinterleaveRows_, vao_); });
+  // The columns read the row sums of k neighbours: every band of them is drawn by now.
   out.bind(grid.width, grid.height);
   grid.rows.texture.bind(unit(TextureUnit::PassInput0));
   (grid.punctualDirect ? *grid.punctualDirect : grid.rows).texture.bind(unit(TextureUnit::PassInput1));
   deinterleaveColumns_.set("uPunctualWeight", grid.punctualDirect ? weights.x : 0.0f);
   deinterleaveColumns_.set("uInterleave", k);
-  drawFullscreen(deinterleaveColumns_, vao_);
+  slices.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(deinterleaveColumns_, vao_); });
 }
 
-void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFramebuffer& out) {
+void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFramebuffer& out, PassSlices& slices) {
   Targets& tg = *targets_;
   ScreenGrid& grid = *tg.downscaled;
   grid.g.bind();
@@ -636,7 +667,8 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   grid.r2.texture.bind(unit(TextureUnit::PassInput3));
   grid.light.framebuffer.bind(grid.width, grid.height);
   gridLight_.set("uTerms", terms);
-  drawFullscreen(gridLight_, vao_);
+  slices.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridLight_, vao_); });
+  // The upsample reads the grid's light around each pixel's representative: every band of it is drawn by now.
   tg.full.g.bind();
   tg.direct.texture.bind(unit(TextureUnit::PassInput0));
   grid.light.texture.bind(unit(TextureUnit::PassInput1));
@@ -647,14 +679,15 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   upsample_.set("uDownscale", tg.downscale);
   upsample_.set("uTerms", terms);
   upsample_.set("uCameraPosition", cameraPosition);
-  drawFullscreen(upsample_, vao_);
+  slices.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(upsample_, vao_); });
 }
 
 void PreviewRenderer::throughMedia(Target& target, glm::vec4 weights) {
   if (!media_.active() || !haveFrame_) return;
   targets_->full.g.bind();
+  PassSlices whole;
   media_.compose(mediaFrame(lastCamera_, lastSettings_), target.texture, weights, targets_->width, targets_->height,
-                 target.framebuffer, vao_);
+                 target.framebuffer, vao_, whole);
 }
 
 Image PreviewRenderer::readLinear(PreviewOutput which) {
@@ -670,8 +703,9 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
   if (tg.downscaled && (which == PreviewOutput::Residual || which == PreviewOutput::Indirect)) {
     // Upsampled from the indirect light's grid on demand.
     const bool residual = which == PreviewOutput::Residual;
+    PassSlices whole;
     upsample(glm::vec4(0.0f, !residual, residual && residualSteps_ >= 1, residual && residualSteps_ >= 2),
-             lastCamera_.position, tg.full.indirect.framebuffer);
+             lastCamera_.position, tg.full.indirect.framebuffer, whole);
     throughMedia(tg.full.indirect, residual ? glm::vec4(1.0f, 0.0f, 0.0f, 0.0f) : glm::vec4(1.0f, 0.0f, 1.0f, 0.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(tg.full.indirect.framebuffer, 0, tg.width, tg.height);
@@ -690,7 +724,8 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     if (!tg.full.directRaw) return {};
     const bool direct = which == PreviewOutput::Direct;
     Target& out = direct ? tg.direct : tg.full.indirect;
-    mergeInterleaved(tg.full, direct ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f, 1.0f), out.framebuffer);
+    PassSlices whole;
+    mergeInterleaved(tg.full, direct ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f, 1.0f), out.framebuffer, whole);
     throughMedia(out, direct ? glm::vec4(1.0f, 1.0f, 0.0f, 0.0f) : glm::vec4(1.0f, 0.0f, 1.0f, 0.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(out.framebuffer, 0, tg.width, tg.height);

@@ -1,5 +1,11 @@
 #include "renderer/gl/screen_pass.h"
 
+#include <glad/gl.h>
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+
 namespace vplab {
 
 Target::Target(int w, int h, int levels) : texture(w, h, TextureFormat::Rgba32F, levels) {
@@ -23,5 +29,76 @@ std::vector<std::string> withDefine(std::vector<std::string> defines, std::strin
 BrdfVariants::BrdfVariants(const std::string& fragmentShader, const std::vector<std::string>& defines)
     : general({"preview/fullscreen.vert.glsl", fragmentShader}, defines),
       lambertOnly({"preview/fullscreen.vert.glsl", fragmentShader}, withDefine(defines, "BRDF_LAMBERT_ONLY 1")) {}
+
+void PassSlices::begin(std::function<bool()> outOfTime) {
+  outOfTime_ = std::move(outOfTime);
+  seen_ = 0;
+  stopped_ = false;
+}
+
+bool PassSlices::stopAfterSlice() {
+  if (outOfTime_ && outOfTime_()) stopped_ = true;
+  return stopped_;
+}
+
+void PassSlices::step(const std::function<void()>& work) {
+  const int index = seen_++;
+  if (stopped_ || index < done_) return;
+  work();
+  done_ = index + 1;
+  stopAfterSlice();
+}
+
+void PassSlices::bands(glm::ivec4 rect, const std::function<void()>& draw) {
+  const int index = seen_++;
+  if (stopped_ || index < done_) return;
+  const int rows = rect.w;
+  if (!outOfTime_ || rows <= 1) {
+    // Unbudgeted, or nothing to split: whatever rows are left in one draw (all of them unless a budgeted call began).
+    if (bandRow_ > 0) {
+      glEnable(GL_SCISSOR_TEST);
+      glScissor(rect.x, rect.y + bandRow_, rect.z, rows - bandRow_);
+    }
+    draw();
+    glDisable(GL_SCISSOR_TEST);
+    bandRow_ = 0;
+    done_ = index + 1;
+    stopAfterSlice();
+    return;
+  }
+  if (msPerRow_.size() <= static_cast<std::size_t>(index)) msPerRow_.resize(static_cast<std::size_t>(index) + 1, 0.0);
+  double& msPerRow = msPerRow_[static_cast<std::size_t>(index)];
+  while (bandRow_ < rows) {
+    // An unmeasured draw starts with an eighth of its rows; then each band is sized from the last one's time.
+    const int band = msPerRow > 0.0 ? static_cast<int>(std::clamp(kSliceMs / msPerRow, 1.0, static_cast<double>(rows)))
+                                    : std::max(1, rows / 8);
+    const int height = std::min(band, rows - bandRow_);
+    const auto start = std::chrono::steady_clock::now();
+    glEnable(GL_SCISSOR_TEST);
+    glScissor(rect.x, rect.y + bandRow_, rect.z, height);
+    draw();
+    glDisable(GL_SCISSOR_TEST);
+    bandRow_ += height;
+    if (bandRow_ == rows) {
+      bandRow_ = 0;
+      done_ = index + 1;
+    }
+    // outOfTime waits for the GPU, so the time to its answer is the band's.
+    const bool stop = stopAfterSlice();
+    msPerRow = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / height;
+    if (stop || done_ == index + 1) return;
+  }
+}
+
+bool PassSlices::end() {
+  outOfTime_ = nullptr;
+  if (done_ < seen_ || bandRow_ > 0) return false;
+  done_ = 0;
+  return true;
+}
+
+void PassSlices::restart() {
+  done_ = bandRow_ = 0;
+}
 
 }  // namespace vplab

@@ -70,24 +70,30 @@ SsbcPass::SsbcPass()
 SsbcPass::~SsbcPass() = default;
 
 int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settings, const SsbcImages& images,
-                  const GlVertexArray& vao) {
+                  const GlVertexArray& vao, PassSlices& slices) {
   const bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
   if (!compensate) return 0;
   const int width = images.i0.texture.width(), height = images.i0.texture.height();
   if (!targets_ || targets_->width != width || targets_->height != height)
     targets_ = std::make_unique<Targets>(width, height);
   Targets& tg = *targets_;
+  const bool split = settings.ssbcCoarseRings;
+  if (slices.starting()) {
+    redoMips_ = !images.gbufferDerivedCurrent;
+    if (redoMips_) tg.tapsCurrent = tg.flatCurrent = false;
+    redoFlat_ = split && !tg.flatCurrent;
+    redoTaps_ = !tg.tapsCurrent;
+  }
   // Mips of position and normal feed the hierarchical compensation (coverage and normal length flag edges): made here,
   // so that a frame without compensation does not pay for them.
-  if (!images.gbufferDerivedCurrent) {
-    images.gPosition.generateMipmaps();
-    images.gNormal.generateMipmaps();
-    images.gbufferDerivedCurrent = true;
-    tg.tapsCurrent = tg.flatCurrent = false;
-  }
+  if (redoMips_)
+    slices.step([&] {
+      images.gPosition.generateMipmaps();
+      images.gNormal.generateMipmaps();
+      images.gbufferDerivedCurrent = true;
+    });
   const int steps = std::min(settings.ssbcSteps, 2);
   float focal = 0.5f * static_cast<float>(height) / std::tan(0.5f * camera.yfov);
-  const bool split = settings.ssbcCoarseRings;
   ShaderProgram& ssbc = split ? split_[lambertOnly] : ssbc_[lambertOnly];
   ShaderProgram& coarse = coarse_[lambertOnly];
   ShaderProgram& fallback = fallback_[lambertOnly];
@@ -105,14 +111,20 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   fallback.set("uScale", 1);
   fine.set("uScale", 1);
   upsample.set("uScale", 1);
-  // Draws `program` into every mip level of a full-resolution texture (one framebuffer per level), uLevel set.
+  // Draws `program` into every mip level of a full-resolution texture (one framebuffer per level), uLevel set; a level
+  // reads the level below it only through the input's mips, made before.
   auto drawEveryLevel = [&](std::vector<GlFramebuffer>& levels, ShaderProgram& program) {
     for (std::size_t level = 0; level < levels.size(); ++level) {
       const int l = static_cast<int>(level);
-      levels[level].bind(std::max(1, width >> l), std::max(1, height >> l));
+      const int w = std::max(1, width >> l), h = std::max(1, height >> l);
+      levels[level].bind(w, h);
       program.set("uLevel", l);
-      drawFullscreen(program, vao);
+      slices.bands(glm::ivec4(0, 0, w, h), [&] { drawFullscreen(program, vao); });
     }
+  };
+  // Draws `program` at every pixel of the bound `w` x `h` target.
+  auto drawWhole = [&](ShaderProgram& program, int w, int h) {
+    slices.bands(glm::ivec4(0, 0, w, h), [&] { drawFullscreen(program, vao); });
   };
   // Multi-resolution rings: adds (blending) the fine rings where they are not zero, and (withFallback) the coarse rings
   // where the pass before could not interpolate them from the coarse grid.
@@ -120,28 +132,28 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     if (!split) return;
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
-    drawFullscreen(fine, vao);
-    if (withFallback) drawFullscreen(fallback, vao);
+    drawWhole(fine, width, height);
+    if (withFallback) drawWhole(fallback, width, height);
     glDisable(GL_BLEND);
   };
-  if (split && !tg.flatCurrent) {
+  if (redoFlat_) {
     // Which coarse blocks lie on one plane: depends on the G-buffer only, once for both steps and every VPL set.
     tg.flatRows.bind(tg.flat.texture.width(), height);
-    drawFullscreen(flatRows_, vao);
+    drawWhole(flatRows_, tg.flat.texture.width(), height);
     tg.flatRowPlanes.bind(unit(TextureUnit::PassInput4));
     tg.flatRowStates.bind(unit(TextureUnit::PassInput6));
     tg.flat.framebuffer.bind(tg.flat.texture.width(), tg.flat.texture.height());
-    drawFullscreen(flatColumns_, vao);
-    tg.flatCurrent = true;
+    drawWhole(flatColumns_, tg.flat.texture.width(), tg.flat.texture.height());
+    slices.step([&] { tg.flatCurrent = true; });
   }
   if (split) tg.flat.texture.bind(unit(TextureUnit::PassInput7));
   // The tap factors depend on the camera and the G-buffer only (the camera cannot move without the G-buffer being
   // drawn again): once for both steps and every VPL set.
-  if (!tg.tapsCurrent) {
+  if (redoTaps_) {
     taps_.set("uCameraPosition", camera.position);
     taps_.set("uFocalPixels", focal);
     drawEveryLevel(tg.tapLevels, taps_);
-    tg.tapsCurrent = true;
+    slices.step([&] { tg.tapsCurrent = true; });
   }
   tg.taps.bind(unit(TextureUnit::PassInput3));
   tg.area.bind(unit(TextureUnit::PassInput5));
@@ -149,13 +161,13 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   Target* outputs[2] = {&images.r1, &images.r2};
   for (int step = 0; step < steps; ++step) {
     // The radiance factor of the taps, I dA, at every mip level of this step's input.
-    input->texture.generateMipmaps();
+    slices.step([&] { input->texture.generateMipmaps(); });
     input->texture.bind(unit(TextureUnit::PassInput0));
     drawEveryLevel(tg.radianceLevels, radiance_);
     tg.radiance.bind(unit(TextureUnit::PassInput0));
     if (split) {
       tg.coarse.framebuffer.bind(tg.coarse.texture.width(), tg.coarse.texture.height());
-      drawFullscreen(coarse, vao);
+      drawWhole(coarse, tg.coarse.texture.width(), tg.coarse.texture.height());
       tg.coarse.texture.bind(unit(TextureUnit::PassInput4));
       tg.coarseFar.bind(unit(TextureUnit::PassInput6));
     }
@@ -163,7 +175,7 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     // R2 = T_r(R1) carries about a tenth of the compensation: there the coarse rings are extrapolated along p's
     // surface where they cannot be interpolated, instead of being evaluated at those pixels.
     const bool extrapolate = split && step == 1;
-    drawFullscreen(extrapolate ? upsample : ssbc, vao);
+    drawWhole(extrapolate ? upsample : ssbc, width, height);
     addSplitPasses(!extrapolate);
     input = outputs[step];
   }

@@ -30,10 +30,11 @@ class SsbcPass {
  public:
   SsbcPass();
   ~SsbcPass();
-  /// Runs min(ssbcSteps, 2) steps when the bound is finite (else none) and returns how many ran: R1 and R2 hold the
-  /// residuals of the steps that ran.
+  /// Runs min(ssbcSteps, 2) steps when the bound is finite (else none) and returns how many: R1 and R2 hold the
+  /// residuals of those steps once `slices` has run them all. Each full-screen draw is a step of `slices`, in bands
+  /// under a budget; a draw that reads its input's neighbours or mips follows the steps that complete them.
   int run(bool lambertOnly, const Camera& camera, const Settings& settings, const SsbcImages& images,
-          const GlVertexArray& vao);
+          const GlVertexArray& vao, PassSlices& slices);
 
  private:
   struct Targets;
@@ -48,6 +49,9 @@ class SsbcPass {
   BrdfVariants split_, coarse_, fine_;
   ShaderProgram flatRows_, flatColumns_;
   BrdfVariants fallback_, upsample_;
+  // What the run under way redoes of what depends on the G-buffer alone: taken when it starts, since its own steps
+  // make these current.
+  bool redoMips_ = false, redoFlat_ = false, redoTaps_ = false;
 };
 
 }  // namespace vplab
