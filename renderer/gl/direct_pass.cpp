@@ -54,7 +54,7 @@ void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std
   if (normalLength > 0.5f * static_cast<float>(end - begin))
     centre += normal / normalLength * (1e-3f * radius + 1e-5f * glm::length(centre));
   const float map = static_cast<float>(casters.size());
-  casters.push_back({centre});
+  casters.push_back({centre, kAreaShadowFaceSize});
   for (std::size_t i = begin; i < end; ++i) {
     samples[i].shadow.x = map;
     samples[i].centre = glm::vec4(centre, 0.0f);
@@ -98,7 +98,7 @@ bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, f
     nextFace_ = nextDirectional_ = 0;
   }
   if (nextFace_ >= 0) {
-    nextFace_ = shadows_.render(scene, casters_, kLightShadowFaceSize, settings.threads, nextFace_, outOfTime);
+    nextFace_ = shadows_.render(scene, casters_, settings.threads, nextFace_, outOfTime);
     if (nextFace_ >= 0) return false;
     // The last face was a slice of its own too.
     if (!casters_.empty() && !directionalDirections_.empty() && outOfTime && outOfTime()) return false;
@@ -113,10 +113,13 @@ bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, f
 bool DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius,
                            Target& raw, const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao,
                            const std::function<bool()>& outOfTime) {
-  for (BrdfVariants& variants : programs_) {
-    ShaderProgram& direct = variants[lambertOnly];
+  // The programs of the kinds of map the scene has: a program is compiled when first asked for (BrdfVariants).
+  for (int kind = 0; kind < MapKinds; ++kind) {
+    if (std::none_of(runs_.begin(), runs_.end(), [kind](const MapRun& run) { return run.kind == kind; })) continue;
+    ShaderProgram& direct = programs_[static_cast<std::size_t>(kind)][lambertOnly];
     direct.set("uCameraPosition", camera.position);
     direct.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
+    direct.set("uAreaShadowTexel", 2.0f / static_cast<float>(kAreaShadowFaceSize));
     direct.set("uSceneCentre", sceneCentre);
     direct.set("uSceneRadius", sceneRadius);
     direct.set("uDirectionalShadowTexel", 2.0f * sceneRadius / static_cast<float>(kDirectionalShadowSize));
@@ -129,10 +132,12 @@ bool DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sce
   for (const MapRun& run : runs_)
     (run.kind == AreaMap ? area : exact)
         .chunks.push_back({run.begin, run.end, 0, 0, &programs_[run.kind][lambertOnly]});
+  // Every chunk names its program, so the tables' own is never drawn with: one the scene uses stands in for it.
+  ShaderProgram& standIn = programs_[runs_.empty() ? AreaMap : runs_.front().kind][lambertOnly];
   drawSlices_.begin(outOfTime);
-  drawInterleavedLightTable(programs_[AreaMap][lambertOnly], raw, layout, area, vao, drawSlices_);
+  drawInterleavedLightTable(standIn, raw, layout, area, vao, drawSlices_);
   const InterleavedLayout everyPixel{layout.width, layout.height, 1, layout.width, layout.height};
-  drawInterleavedLightTable(programs_[PunctualMap][lambertOnly], punctual, everyPixel, exact, vao, drawSlices_);
+  drawInterleavedLightTable(standIn, punctual, everyPixel, exact, vao, drawSlices_);
   return drawSlices_.end();
 }
 
@@ -216,7 +221,7 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
     if (l.isDirectional()) continue;
     bool spot = l.type == PunctualLight::Type::Spot;
     const float cube = static_cast<float>(casters_.size());
-    casters_.push_back({l.position});
+    casters_.push_back({l.position, kLightShadowFaceSize});
     add({glm::vec4(l.position, spot ? 2.0f : 1.0f), glm::vec4(l.direction, std::cos(l.outerConeAngle)),
          glm::vec4(l.intensity, std::cos(l.innerConeAngle)), glm::vec4(cube, 0.0f, 0.0f, 0.0f),
          glm::vec4(l.position, 0.0f)},

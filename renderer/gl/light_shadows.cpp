@@ -1,6 +1,7 @@
 #include "renderer/gl/light_shadows.h"
 
 #include <algorithm>
+#include <cassert>
 #include <cmath>
 #include <numeric>
 
@@ -84,32 +85,46 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene) {
   return groups;
 }
 
-int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCaster>& casters, int faceSize,
-                            int threads, int first, const std::function<bool()>& outOfTime) {
+int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCaster>& casters, int threads,
+                            int first, const std::function<bool()>& outOfTime) {
   count_ = static_cast<int>(casters.size());
-  // One cube at least, so that the direct pass's sampler is complete in a scene without such lights.
+  // One cube at least, so that the direct pass's sampler is complete in a scene without such lights: of one texel
+  // then, since llvmpipe zero-fills every texture it allocates (a 1024^2 placeholder cost 24 MB of page faults).
   const int cubes = std::max(count_, 1);
-  if (!cubes_ || cubes_.layers() != 6 * cubes || faceSize_ != faceSize) {
-    cubes_ = GlTexture::cubeArray(faceSize, cubes, TextureFormat::R32F);
+  int side = 1;
+  for (const LightShadowCaster& c : casters) side = std::max(side, c.faceSize);
+  if (!cubes_ || cubes_.layers() != 6 * cubes || cubes_.width() != side) {
+    cubes_ = GlTexture::cubeArray(side, cubes, TextureFormat::R32F);
     cubes_.setLinearFiltering(false);
-    faceSize_ = faceSize;
   }
   if (count_ == 0) return -1;
-  // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
-  const float maxSlopeBias = 4.0f * 2.0f / static_cast<float>(faceSize);
-  texels_.resize(static_cast<std::size_t>(faceSize) * faceSize);
   const int faces = 6 * count_;
   for (int face = first; face < faces; ++face) {
-    const glm::vec3& origin = casters[static_cast<std::size_t>(face / 6)].position;
+    const LightShadowCaster& caster = casters[static_cast<std::size_t>(face / 6)];
+    const int size = caster.faceSize;
+    assert(size > 0 && side % size == 0);
     // A cube's six faces share one binning; a render resumed inside a cube goes on with it (a change of the scene or
     // the lights starts the maps over from face 0).
-    if (face % 6 == 0 || binnedScene_ != &scene || binnedOrigin_ != origin || rasterizer_.size() != faceSize) {
-      rasterizer_.binCube(scene, origin, faceSize, threads);
+    if (face % 6 == 0 || binnedScene_ != &scene || binnedOrigin_ != caster.position || rasterizer_.size() != size) {
+      rasterizer_.binCube(scene, caster.position, size, threads);
       binnedScene_ = &scene;
-      binnedOrigin_ = origin;
+      binnedOrigin_ = caster.position;
     }
-    rasterizer_.draw(face % 6, maxSlopeBias, threads, texels_.data());
-    cubes_.uploadLayerFloat(face, texels_);
+    texels_.resize(static_cast<std::size_t>(size) * size);
+    // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
+    rasterizer_.draw(face % 6, 4.0f * 2.0f / static_cast<float>(size), threads, texels_.data());
+    if (size == side) {
+      cubes_.uploadLayerFloat(face, texels_);
+    } else {
+      // Texel (i, j) of the array's face takes texel (i / r, j / r) of the drawn one: a lookup of the array reads
+      // what nearest sampling of the drawn map would (floor(s side) / r = floor(s size)).
+      const int r = side / size;
+      repeated_.resize(static_cast<std::size_t>(side) * side);
+      for (int j = 0; j < side; ++j)
+        for (int i = 0; i < side; ++i)
+          repeated_[static_cast<std::size_t>(j) * side + i] = texels_[static_cast<std::size_t>(j / r) * size + i / r];
+      cubes_.uploadLayerFloat(face, repeated_);
+    }
     if (outOfTime && face + 1 < faces && outOfTime()) return face + 1;
   }
   return -1;
@@ -119,22 +134,21 @@ int LightShadowMaps::renderDirectional(const Scene& scene, const std::vector<glm
                                        float radius, int size, int threads, int first,
                                        const std::function<bool()>& outOfTime) {
   directionalCount_ = static_cast<int>(directions.size());
-  // A 1-layer placeholder keeps the sampler complete when there is no directional light.
+  // A 1-layer placeholder of one texel keeps the sampler complete when there is no directional light (no shader
+  // reads it then).
   const int layers = std::max(1, directionalCount_);
-  if (!planes_ || planes_.layers() != layers || planes_.width() != size) {
-    planes_ = GlTexture(size, size, TextureFormat::R32F, 1, layers);
+  const int side = directionalCount_ > 0 ? size : 1;
+  if (!planes_ || planes_.layers() != layers || planes_.width() != side) {
+    planes_ = GlTexture(side, side, TextureFormat::R32F, 1, layers);
     planes_.setLinearFiltering(false);
   }
+  if (directionalCount_ == 0) return -1;
   texels_.resize(static_cast<std::size_t>(size) * size);
   for (int i = first; i < layers; ++i) {
-    if (i >= directionalCount_) {
-      std::fill(texels_.begin(), texels_.end(), kNoOccluder);
-    } else {
-      const glm::vec3 direction = directions[static_cast<std::size_t>(i)];
-      rasterizer_.binPlane(scene, direction, centre, radius, size, threads);
-      binnedScene_ = nullptr;
-      rasterizer_.draw(0, 4.0f * 2.0f * radius / static_cast<float>(size), threads, texels_.data());
-    }
+    const glm::vec3 direction = directions[static_cast<std::size_t>(i)];
+    rasterizer_.binPlane(scene, direction, centre, radius, size, threads);
+    binnedScene_ = nullptr;
+    rasterizer_.draw(0, 4.0f * 2.0f * radius / static_cast<float>(size), threads, texels_.data());
     planes_.uploadLayerFloat(i, texels_);
     if (outOfTime && i + 1 < layers && outOfTime()) return i + 1;
   }

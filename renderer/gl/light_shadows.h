@@ -27,6 +27,9 @@ namespace vplab {
 /// A point a light's cube map is rendered from (a punctual light, or the centre of an area-light cell).
 struct LightShadowCaster {
   glm::vec3 position;
+  /// Texels per side its faces are drawn with. The array's faces are the largest caster's, a whole multiple of every
+  /// other's: a smaller map is repeated over blocks of texels there, which nearest sampling reads as the map itself.
+  int faceSize;
 };
 
 /// An emitter made of emissive triangles: a connected group (triangles sharing vertices), merged into the nearest of
@@ -47,12 +50,11 @@ std::vector<AreaLightGroup> groupAreaLights(const Scene& scene);
 
 class LightShadowMaps {
  public:
-  /// Renders one cube of faceSize^2 texels per caster (radial distance), face 6 c + f of caster c, from face `first`
-  /// on, on `threads` threads (Settings::threads). With outOfTime, stops after a face once it says so and returns the
-  /// first face not rendered (the next call's `first`); -1 when every face is rendered. The maps do not depend on where
-  /// it stopped.
-  int render(const Scene& scene, const std::vector<LightShadowCaster>& casters, int faceSize, int threads,
-             int first = 0, const std::function<bool()>& outOfTime = {});
+  /// Renders one cube per caster (radial distance), face 6 c + f of caster c, from face `first` on, on `threads`
+  /// threads (Settings::threads). With outOfTime, stops after a face once it says so and returns the first face not
+  /// rendered (the next call's `first`); -1 when every face is rendered. The maps do not depend on where it stopped.
+  int render(const Scene& scene, const std::vector<LightShadowCaster>& casters, int threads, int first = 0,
+             const std::function<bool()>& outOfTime = {});
   /// Renders one orthographic map of size^2 texels per directional light (unit direction of travel), over the disc of
   /// `radius` around `centre` perpendicular to it (the scene's bounding sphere), from map `first` on; stops and
   /// returns as render() does.
@@ -61,7 +63,6 @@ class LightShadowMaps {
   /// Binds the cube-map array and the directional maps (TextureUnit::LightShadows, DirectionalShadows).
   void bind() const;
   int count() const { return count_; }
-  int faceSize() const { return faceSize_; }
 
  private:
   GlTexture cubes_, planes_;
@@ -69,8 +70,9 @@ class LightShadowMaps {
   // The cube rasterizer_ last binned (null: none, or a directional map).
   const Scene* binnedScene_ = nullptr;
   glm::vec3 binnedOrigin_{0.0f};
-  std::vector<float> texels_;
-  int count_ = 0, faceSize_ = 0, directionalCount_ = 0;
+  // A face as drawn, and repeated up to the array's faces.
+  std::vector<float> texels_, repeated_;
+  int count_ = 0, directionalCount_ = 0;
 };
 
 }  // namespace vplab

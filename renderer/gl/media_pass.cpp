@@ -136,6 +136,7 @@ bool MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
     common(program);
     program.set("uMediaSteps", kMediaLightSteps);
     program.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
+    program.set("uAreaShadowTexel", 2.0f / static_cast<float>(kAreaShadowFaceSize));
     program.set("uSceneCentre", frame.sceneCentre);
     program.set("uSceneRadius", frame.sceneRadius);
     program.set("uDirectionalShadowTexel", 2.0f * frame.sceneRadius / static_cast<float>(kDirectionalShadowSize));

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <chrono>
 #include <cmath>
+#include <utility>
 
 namespace vplab {
 
@@ -19,16 +20,18 @@ void drawFullscreen(ShaderProgram& program, const GlVertexArray& vao) {
   drawProceduralTriangles(3);
 }
 
-namespace {
-std::vector<std::string> withDefine(std::vector<std::string> defines, std::string define) {
-  defines.push_back(std::move(define));
-  return defines;
-}
-}  // namespace
+BrdfVariants::BrdfVariants(std::string fragmentShader, std::vector<std::string> defines)
+    : fragmentShader_(std::move(fragmentShader)), defines_(std::move(defines)) {}
 
-BrdfVariants::BrdfVariants(const std::string& fragmentShader, const std::vector<std::string>& defines)
-    : general({"preview/fullscreen.vert.glsl", fragmentShader}, defines),
-      lambertOnly({"preview/fullscreen.vert.glsl", fragmentShader}, withDefine(defines, "BRDF_LAMBERT_ONLY 1")) {}
+ShaderProgram& BrdfVariants::operator[](bool lambert) {
+  ShaderProgram& program = lambert ? lambertOnly_ : general_;
+  if (!program.valid()) {
+    std::vector<std::string> defines = defines_;
+    if (lambert) defines.push_back("BRDF_LAMBERT_ONLY 1");
+    program = ShaderProgram({"preview/fullscreen.vert.glsl", fragmentShader_}, std::move(defines));
+  }
+  return program;
+}
 
 void PassSlices::begin(std::function<bool()> outOfTime) {
   outOfTime_ = std::move(outOfTime);

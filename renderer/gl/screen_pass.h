@@ -22,12 +22,19 @@ struct Target {
 /// Draws the full-screen triangle (preview/fullscreen.vert.glsl makes it from gl_VertexID) with `program`.
 void drawFullscreen(ShaderProgram& program, const GlVertexArray& vao);
 
-/// A screen pass compiled twice: for any material, and with BRDF_LAMBERT_ONLY (common/brdf.glsl) for scenes whose
-/// materials are all Lambert, where llvmpipe would otherwise run the GGX code under a lane mask.
-struct BrdfVariants {
-  ShaderProgram general, lambertOnly;
-  BrdfVariants(const std::string& fragmentShader, const std::vector<std::string>& defines = {});
-  ShaderProgram& operator[](bool lambert) { return lambert ? lambertOnly : general; }
+/// A screen pass in two variants: for any material, and with BRDF_LAMBERT_ONLY (common/brdf.glsl) for scenes whose
+/// materials are all Lambert, where llvmpipe would otherwise run the GGX code under a lane mask. Each is compiled when
+/// first asked for: a scene draws with one of them, and a program costs a cold start on llvmpipe a few milliseconds
+/// even from Mesa's shader cache (a compile error is thrown then, as ShaderError).
+class BrdfVariants {
+ public:
+  BrdfVariants(std::string fragmentShader, std::vector<std::string> defines = {});
+  ShaderProgram& operator[](bool lambert);
+
+ private:
+  std::string fragmentShader_;
+  std::vector<std::string> defines_;
+  ShaderProgram general_, lambertOnly_;
 };
 
 /// Interleaved sampling (common/interleaved.glsl): the width x height image is drawn as k x k blocks of

@@ -11,7 +11,8 @@ layout(binding = UNIT_DIRECTIONAL_SHADOWS) uniform sampler2DArray uDirectionalSh
 uniform vec3 uSceneCentre;
 uniform float uSceneRadius;
 uniform float uDirectionalShadowTexel;  // 2 uSceneRadius / map size, metres
-uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / faceSize
+uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / faceSize: a point or spot light's map
+uniform float uAreaShadowTexel;   // the same for an area-light cell's map, drawn with fewer texels
 
 // Taps of the soft shadows' blocker search (area emitters).
 const int kLightShadowTaps = 16;
@@ -87,7 +88,7 @@ AreaShadow areaShadowCell(int cube, vec3 centre, vec3 x, vec3 ng) {
   vec3 d0 = x - centre;
   // A quarter texel's footprint along the normal: the 1.5 of the point lights put a receiver between an engine's
   // cooling fins, a texel or two apart under its studio light, into the next fin's shadow.
-  vec3 d = d0 + ng * (0.25 * uLightShadowTexel * length(d0));
+  vec3 d = d0 + ng * (0.25 * uAreaShadowTexel * length(d0));
   a.receiver = centre + d;
   a.dist = length(d);
   a.w = d / a.dist;
@@ -103,7 +104,7 @@ AreaShadow areaShadowCell(int cube, vec3 centre, vec3 x, vec3 ng) {
 // engine's studio light was shadowed by the engine in directions that did not reach it (7 % too dark).
 bool areaShadowOccluded(AreaShadow a, vec3 u, float reach, vec3 emitterNormal, out float stored) {
   stored = texture(uLightShadows, vec4(u, float(a.cube))).r;
-  return dot(u, emitterNormal) > 2.0 * uLightShadowTexel &&
+  return dot(u, emitterNormal) > 2.0 * uAreaShadowTexel &&
          stored < min(reach, tapReference(u, a.ng, a.planeOffset, a.wn, a.dist));
 }
 

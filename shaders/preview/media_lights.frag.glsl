@@ -34,7 +34,8 @@ layout(binding = UNIT_DIRECTIONAL_SHADOWS) uniform sampler2DArray uDirectionalSh
 uniform vec3 uSceneCentre;
 uniform float uSceneRadius;
 uniform float uDirectionalShadowTexel;  // metres
-uniform float uLightShadowTexel;        // angle of a cube texel at a face's centre
+uniform float uLightShadowTexel;        // angle of a cube texel at a face's centre (point and spot lights)
+uniform float uAreaShadowTexel;         // the same for an area-light cell's map
 
 uniform int uMediaSteps;   // distances per light and pixel
 uniform int uAreaFirst;    // this subset's first area sample in the bound range
@@ -87,7 +88,8 @@ vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, f
       }
       vec3 fromCentre = x - l.centre.xyz;
       float stored = texture(uLightShadows, vec4(fromCentre, l.shadow.x)).r;
-      visibility = stored >= length(fromCentre) * (1.0 - 2.0 * uLightShadowTexel) ? 1.0 : 0.0;
+      float texel = kind == kAreaLight ? uAreaShadowTexel : uLightShadowTexel;
+      visibility = stored >= length(fromCentre) * (1.0 - 2.0 * texel) ? 1.0 : 0.0;
     }
     float phase = phaseHG(dot(w, r.dir), media[medium].sigmaS.w);
     vec3 term = cameraTransmittance(r, t) * media[medium].sigmaS.rgb * (phase * falloff * visibility / pdf) *
