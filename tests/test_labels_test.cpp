@@ -1,10 +1,13 @@
 // The ctest labels come from gtest filters over suite names (tests/CMakeLists.txt, VPLAB_GL_SUITES). This test keeps
 // the names and the patterns in step: every suite the gl patterns select is a GL suite by the naming rule, and
-// every GL suite is selected, so `ctest -L cpu` runs exactly the tests that need no GL context.
+// every GL suite is selected, so `ctest -L cpu` runs exactly the tests that need no GL context; and the lists of
+// statistical tests (the sanitized run leaves them out) name tests that exist, each in its own group.
 
 #include <gtest/gtest.h>
 
 #include <cctype>
+#include <fstream>
+#include <sstream>
 #include <string>
 #include <vector>
 
@@ -66,6 +69,48 @@ TEST(TestLabels, SuiteNamesSelectTheirGroupExactly) {
     }
   }
   EXPECT_GT(glTests, 0);
+}
+
+/// The full names ("Suite.Test", "Prefix/Suite.Test/Param") of every test in the binary.
+std::vector<std::string> allTestNames() {
+  const testing::UnitTest& unit = *testing::UnitTest::GetInstance();
+  std::vector<std::string> names;
+  for (int i = 0; i < unit.total_test_suite_count(); ++i) {
+    const testing::TestSuite& suite = *unit.GetTestSuite(i);
+    for (int j = 0; j < suite.total_test_count(); ++j)
+      names.push_back(std::string(suite.name()) + "." + suite.GetTestInfo(j)->name());
+  }
+  return names;
+}
+
+// Every pattern of tests/statistical-tests.txt selects at least one test, and only tests of its own group: a renamed
+// test would otherwise drop out of the list silently (and back into the sanitized run), and a GL test in the cpu list
+// would lose its GL label.
+TEST(TestLabels, StatisticalPatternsNameExistingTestsOfTheirGroup) {
+  const std::string path = std::string(VPLAB_TEST_ASSETS) + "/../tests/statistical-tests.txt";
+  std::ifstream list(path);
+  ASSERT_TRUE(list) << path;
+  const std::vector<std::string> names = allTestNames();
+  int patterns = 0;
+  std::string line;
+  while (std::getline(list, line)) {
+    std::istringstream words(line);
+    std::string group, pattern;
+    words >> group >> pattern;
+    if (group != "cpu" && group != "gl") continue;
+    ++patterns;
+    int selected = 0;
+    for (const std::string& full : names) {
+      if (!globMatches(pattern.c_str(), full.c_str())) continue;
+      ++selected;
+      const std::string suite = full.substr(0, full.find('.'));
+      const std::string bare = suite.substr(suite.find('/') == std::string::npos ? 0 : suite.find('/') + 1);
+      EXPECT_EQ(isGlSuiteName(bare), group == "gl") << pattern << " selects " << full << ", a test of the other group";
+      EXPECT_NE(bare, "EditorWindow") << pattern << ": the editor's window tests keep their own label";
+    }
+    EXPECT_GT(selected, 0) << "the statistical pattern " << pattern << " selects no test: rename it with its test";
+  }
+  EXPECT_GT(patterns, 0);
 }
 
 }  // namespace
