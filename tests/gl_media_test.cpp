@@ -255,9 +255,9 @@ TEST_P(GlMedia, PassesFollowTheInvalidationModel) {
 }
 
 // The editor's budgeted render through fog (PreviewRenderer::render): with a zero budget every call stops after one
-// slice, a draw or a band of rows of one, so the direct light, the media and the compensation each span many calls; a
-// medium edit while the direct light is half drawn and a new bound while the media are half drawn restart what they
-// change. The image at the end is the one an unbudgeted call gives, bit for bit. The benchmark's layout (k = 4 on the
+// slice, a draw or a band of rows of one, so the G-buffer, the direct light, the media and the compensation each span
+// several calls; a medium edit while the direct light is half drawn and a new bound while the media are half drawn
+// restart what they change. The image at the end is the one an unbudgeted call gives, bit for bit. The benchmark's layout (k = 4 on the
 // half-resolution grid), at a size whose blocks are not a multiple of the first bands' rows.
 TEST_P(GlMedia, BudgetedRenderGivesTheUnbudgetedImage) {
   auto l = test::loadAssetScene("cornell-fog");
@@ -271,12 +271,13 @@ TEST_P(GlMedia, BudgetedRenderGivesTheUnbudgetedImage) {
   s.indirectDownscale = 2;
   VplSet vpls = generateVpls(*l, s);
   PreviewRenderer stepped;
-  int calls = 0, directCalls = 0, mediaCalls = 0, ssbcCalls = 0;
+  int calls = 0, gbufferCalls = 0, directCalls = 0, mediaCalls = 0, ssbcCalls = 0;
   bool mediumEdited = false, boundChanged = false;
   PreviewTimings t;
   do {
     t = stepped.render(scene, vpls, s, scene.camera, 0.0);
     const bool direct = t.directWallMs > 0.0, media = t.mediaWallMs > 0.0;
+    gbufferCalls += t.gbufferWallMs > 0.0;
     directCalls += direct;
     mediaCalls += media;
     ssbcCalls += t.ssbcWallMs > 0.0;
@@ -292,6 +293,7 @@ TEST_P(GlMedia, BudgetedRenderGivesTheUnbudgetedImage) {
   ASSERT_TRUE(t.complete);
   EXPECT_TRUE(mediumEdited);
   EXPECT_TRUE(boundChanged);
+  EXPECT_GE(gbufferCalls, 2) << "the G-buffer is drawn a band per call";
   EXPECT_GE(directCalls, 8) << "the direct light is drawn a subset (and a band) per call";
   EXPECT_GE(mediaCalls, 8) << "the media are drawn a subset (and a band) per call";
   EXPECT_GE(ssbcCalls, 8) << "the compensation is drawn a draw (and a band) per call";

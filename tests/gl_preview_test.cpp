@@ -284,15 +284,18 @@ TEST(GlPreview, BudgetedRenderConvergesToTheUnbudgetedImage) {
   PreviewRenderer stepped;
   PreviewTimings t = stepped.render(scene, vpls, settings, scene.camera, 0.0);
   EXPECT_FALSE(t.complete);
-  EXPECT_GT(t.progress, 0.0f);
   EXPECT_LT(t.progress, 1.0f);
   // A change while the first is still running.
   settings.clampBound = 1.0f;
   int calls = 1;
-  do t = stepped.render(scene, vpls, settings, scene.camera, 0.0);
-  while (!t.complete && ++calls < 100);
+  bool partway = false;  // some passes done, not all
+  do {
+    t = stepped.render(scene, vpls, settings, scene.camera, 0.0);
+    partway |= !t.complete && t.progress > 0.0f && t.progress < 1.0f;
+  } while (!t.complete && ++calls < 1000);
   ASSERT_TRUE(t.complete);
-  EXPECT_GT(calls, 3) << "a zero budget runs one pass per call";
+  EXPECT_TRUE(partway);
+  EXPECT_GT(calls, 3) << "a zero budget runs one slice per call";
   PreviewRenderer whole;
   EXPECT_TRUE(whole.render(scene, vpls, settings, scene.camera).complete);
   Image a = stepped.readLinear(), b = whole.readLinear();

@@ -29,8 +29,10 @@ namespace {
 
 // Window clear colour, which is also the panels' background (see Editor's ImGui style set-up).
 constexpr float kBackground[3] = {0.07f, 0.07f, 0.075f};
-/// The preview's work is split across frames of at most about this much (plus the pass that crosses it).
-constexpr double kPreviewFrameBudgetMs = 60.0;
+/// The preview's work is split across frames of about this much, plus the slice that crosses it (at most about
+/// PassSlices::kSliceMs, 20 ms): with the UI's 5-15 ms a frame takes about 75 ms, which leaves half of a 150 ms frame for
+/// what a slice cannot split (a shader's first compile, another process taking the shared cores).
+constexpr double kPreviewFrameBudgetMs = 40.0;
 
 std::string recentFilesPath() {
   const char* home = std::getenv("HOME");

@@ -354,6 +354,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // What this call found stale joins what earlier calls left undone (a budget cut them short); the passes then run in
   // order from the first pending one until the budget is spent.
   const bool jobRunning = pending_.any();
+  if (stale.gbuffer) gbufferSlices_.restart();
   pending_.gbuffer |= stale.gbuffer;
   // Maps cut short by a budget start over when the lights or their samples changed again.
   if (stale.lightShadowMaps) direct_.restartMaps();
@@ -406,42 +407,50 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   glDisable(GL_BLEND);
   glDisable(GL_DEPTH_TEST);
 
-  // Pass 1: G-buffer.
+  // Pass 1: G-buffer, in bands of rows when a budget is given (each band clears and rasterises its own rows).
   if (pending_.gbuffer) {
+    gbufferSlices_.begin(outOfTime);
     t.gbufferMs = timed(timer_, t.gbufferWallMs, [&] {
       GlFramebuffer& gbuffer = tg.full.g.framebuffer;
       gbuffer.bind(tg.width, tg.height);
-      // Background texels are marked by w = 0 in position and merge key; the normal's mips must average zeros there
-      // (a short averaged normal flags an edge). The other targets are only read where position.w > 0.
-      for (int i : {0, 1, 5}) gbuffer.clearColor(i, glm::vec4(0.0f));
       // Reversed depth: depth 1 at the near plane falling as 1/z to 0 at infinity, in a float buffer, resolves
       // surfaces a millimetre apart at any distance. A glTF camera's znear of 5 cm with GL's usual depth left 3 mm
       // steps at 1.6 m, and a top plate lost to the part 5 mm beneath it (docs/methods.md "Direct light in the preview").
       glClipControl(GL_LOWER_LEFT, GL_ZERO_TO_ONE);
-      gbuffer.clearDepth(0.0f);
-      glEnable(GL_DEPTH_TEST);
       glDepthFunc(GL_GREATER);
       glDisable(GL_CULL_FACE);
       glScene_->bind();
       gbuffer_.set("uViewProj", reversedDepthProjection(camera.yfov, aspect, camera.znear) * view);
       gbuffer_.set("uCameraPosition", camera.position);
-      gbuffer_.use();
-      vao_.bind();
-      drawProceduralTriangles(3 * glScene_->triangleCount());
-      glDisable(GL_DEPTH_TEST);
+      gbufferSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] {
+        // Background texels are marked by w = 0 in position and merge key; the normal's mips must average zeros
+        // there (a short averaged normal flags an edge). The other targets are only read where position.w > 0.
+        for (int i : {0, 1, 5}) gbuffer.clearColor(i, glm::vec4(0.0f));
+        gbuffer.clearDepth(0.0f);
+        glEnable(GL_DEPTH_TEST);
+        gbuffer_.use();
+        vao_.bind();
+        drawProceduralTriangles(3 * glScene_->triangleCount());
+        glDisable(GL_DEPTH_TEST);
+      });
       glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);
       tg.full.gbufferDerivedCurrent = false;
       if (ownGrid) {
-        // The indirect light's grid takes the G-buffer's texels at its representatives.
+        // The indirect light's grid takes the G-buffer's texels at its representatives: once every band is drawn.
         tg.full.g.bind();
         grid.g.framebuffer.bind(grid.width, grid.height);
         gridGbuffer_.set("uDownscale", tg.downscale);
-        drawFullscreen(gridGbuffer_, vao_);
+        gbufferSlices_.bands(glm::ivec4(0, 0, grid.width, grid.height),
+                             [&] { drawFullscreen(gridGbuffer_, vao_); });
         grid.gbufferDerivedCurrent = false;
       }
     });
-    ++counters_.gbuffer;
-    finished(pending_.gbuffer);
+    if (gbufferSlices_.end()) {
+      ++counters_.gbuffer;
+      finished(pending_.gbuffer);
+    } else {
+      outOfBudget = true;
+    }
   }
 
   // The lights' shadow maps, a cube face at a time when a budget is given.

@@ -98,13 +98,13 @@ class PreviewRenderer {
   /// call invalidateScene() / invalidateVpls() after editing them in place.
   /// budgetMs splits long work across calls (the editor's frames): passes run in order until one finishes after the
   /// budget is spent; the next call resumes with the remaining ones (and redoes any that a new change made stale).
-  /// The lights' maps (a cube face at a time), the VPL maps (for a technique that slices them, ISM), the direct light
-  /// and the gather (a draw per interleaving subset and range of lights, at most 64 VPLs per pixel), the media, the
-  /// merge and the compensation with the compositions after it are split too, so that a call overruns the budget by
-  /// at most one slice, not one pass: a full-screen draw is drawn in bands of rows sized to take about
-  /// PassSlices::kSliceMs each (screen_pass.h), and a draw that reads its inputs' neighbours starts only once every
-  /// band of them is drawn. The image is final when the result's `complete` is set; it is then the same as one unbudgeted call
-  /// gives.
+  /// The G-buffer (in bands of rows), the lights' maps (a cube face at a time), the VPL maps (for a technique that
+  /// slices them, ISM), the direct light and the gather (a draw per interleaving subset and range of lights, at most 64
+  /// VPLs per pixel), the media, the merge and the compensation with the compositions after it are split too, so that
+  /// a call overruns the budget by at most one slice, not one pass: a full-screen draw is drawn in bands of rows sized
+  /// to take about PassSlices::kSliceMs each (screen_pass.h), and a draw that reads its inputs' neighbours starts only
+  /// once every band of them is drawn. The image is final when the result's `complete` is set; it is then the same as
+  /// one unbudgeted call gives.
   PreviewTimings render(const Scene& scene, const VplSet& vpls, const Settings& settings, const Camera& camera,
                         double budgetMs = std::numeric_limits<double>::infinity());
 
@@ -203,9 +203,9 @@ class PreviewRenderer {
     bool any() const { return count() > 0; }
   };
   PendingPasses pending_;
-  /// Where the merge and the compensation (with the compositions after it) cut short by a budget go on; the direct
-  /// light, the gather and the media keep their own.
-  PassSlices mergeSlices_, ssbcSlices_;
+  /// Where the G-buffer, the merge and the compensation (with the compositions after it) cut short by a budget go on;
+  /// the direct light, the gather and the media keep their own.
+  PassSlices gbufferSlices_, mergeSlices_, ssbcSlices_;
   /// Whether the merge under way merges the direct light again (taken when it starts).
   bool mergeDirect_ = false;
   int jobDone_ = 0, jobTotal_ = 0;
