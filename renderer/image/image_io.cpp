@@ -365,6 +365,10 @@ void writePngRgb8(const std::string& path, int width, int height, const std::vec
   auto append = [](void* context, void* data, int size) {
     static_cast<std::string*>(context)->append(static_cast<const char*>(data), static_cast<std::size_t>(size));
   };
+  // Every row Paeth-filtered and a shorter match search than stb's defaults (each row tried with all five filters,
+  // level 8): a 640x480 render encodes in 47 instead of 73 ms, 3 % larger (measured on the 2-core machine under load).
+  stbi_write_force_png_filter = 4;
+  stbi_write_png_compression_level = 5;
   if (!stbi_write_png_to_func(append, &bytes, width, height, 3, rgb.data(), width * 3)) fail(path, "cannot encode PNG");
   writeBytes(path, bytes);
 }
