@@ -18,6 +18,7 @@
 #include "renderer/image/metrics.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vpl_renderer.h"
+#include "renderer/vpl/generation_detail.h"
 #include "renderer/vpl/generation_methods.h"
 #include "tests/test_scenes.h"
 
@@ -141,6 +142,20 @@ TEST_P(VplGenerationUnbiasedPerMethod, TwoRoomsWithinTwoPercent) {
 INSTANTIATE_TEST_SUITE_P(Methods, VplGenerationUnbiasedPerMethod,
                          testing::Values("vpl", "reject", "bidirectional", "metropolis"),
                          [](const testing::TestParamInfo<std::string>& info) { return info.param; });
+
+// Bidirectional resampling's inclusion probabilities, exactly: pi_i = min(1, c w_i) summing to n, and every positive
+// weight kept when there are no more of them than n (which the sampled tests reach only on two-rooms at 8192 VPLs).
+TEST(VplGenerationBidirectional, InclusionProbabilitiesAreMinOfOneAndScaledWeights) {
+  const std::vector<double> few = inclusionProbabilities({0.0, 2.0, 0.0, 0.5, 0.0}, 3);
+  EXPECT_EQ(few, (std::vector<double>{0.0, 1.0, 0.0, 1.0, 0.0}));
+  // 8 is capped at 1 (c = 2/12 would give it 1.33); the other four share the one left: c = 1/4.
+  const std::vector<double> capped = inclusionProbabilities({1.0, 1.0, 8.0, 1.0, 1.0}, 2);
+  const std::vector<double> expected = {0.25, 0.25, 1.0, 0.25, 0.25};
+  ASSERT_EQ(capped.size(), expected.size());
+  for (std::size_t i = 0; i < expected.size(); ++i) EXPECT_NEAR(capped[i], expected[i], 1e-12) << i;
+  const std::vector<double> plain = inclusionProbabilities({1.0, 2.0, 3.0, 4.0}, 2);
+  for (std::size_t i = 0; i < plain.size(); ++i) EXPECT_NEAR(plain[i], 0.2 * (i + 1.0), 1e-12) << i;
+}
 
 // --- rejection's acceptance rate -----------------------------------------------------------------------------
 

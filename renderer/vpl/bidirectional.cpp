@@ -95,7 +95,8 @@ bool cameraCandidate(const GenerationContext& ctx, const ShadingPoint& x1, Rng& 
   return true;
 }
 
-/// pi_i = min(1, c w_i) with sum pi_i = n (or every pi_i = 1 for w_i > 0 when fewer than n are positive).
+}  // namespace
+
 std::vector<double> inclusionProbabilities(const std::vector<double>& w, std::size_t n) {
   std::vector<double> pi(w.size(), 0.0);
   std::vector<bool> capped(w.size(), false);
@@ -125,8 +126,6 @@ std::vector<double> inclusionProbabilities(const std::vector<double>& w, std::si
     }
   }
 }
-
-}  // namespace
 
 VplSet generateBidirectional(const GenerationContext& ctx) {
   const Settings& s = ctx.settings;

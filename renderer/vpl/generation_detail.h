@@ -83,6 +83,9 @@ inline void keepWithProbability(Vpl v, double p, float u, VplSet& set) {
 
 VplSet generateLightTraced(const GenerationContext& ctx);
 VplSet generateBidirectional(const GenerationContext& ctx);
+/// Bidirectional resampling's inclusion probabilities: pi_i = min(1, c w_i) with sum pi_i = n (or every pi_i = 1 for
+/// w_i > 0 when fewer than n are positive).
+std::vector<double> inclusionProbabilities(const std::vector<double>& w, std::size_t n);
 VplSet generateMetropolis(const GenerationContext& ctx);
 
 /// Plain light tracing (no rejection) with `reason` as a warning: what an importance-driven method does when no
