@@ -95,14 +95,28 @@ struct ScreenGrid {
   // Whether what the compensation derives from the G-buffer alone (mips of position and normal, tap factors, flat
   // blocks) was made from the current G-buffer: a VPL change does not redo it.
   bool gbufferDerivedCurrent = false;
-  // The de-interleaved gather; I0 = direct + indirect, the compensation's input; its steps' results R1 and R2.
-  Target indirect, i0, r1, r2;
+  // The de-interleaved gather.
+  Target indirect;
   // Row sums of the separable de-interleave (deinterleave.frag.glsl), accepted count in w.
   Target rows;
-  // The light arriving per unit of reflectance that an upsample interpolates, and the planes of flat 2x2 blocks
-  // (upsample.frag.glsl; a grid of its own).
-  Target light;
-  GlTexture blockPlane;
+  // What only the grid the indirect light is gathered on needs (Targets::indirectGrid() makes it): I0 = direct +
+  // indirect, the compensation's input, and its steps' results R1 and R2; the light arriving per unit of reflectance
+  // that an upsample interpolates, and the planes of flat 2x2 blocks (upsample.frag.glsl; a grid of its own). Not
+  // made at the image's size when the indirect light has a grid of its own: llvmpipe zero-fills every texture it
+  // allocates, 28 MB of page faults at 640x480 in a cold start.
+  struct IndirectResults {
+    Target i0, r1, r2, light;
+    GlTexture blockPlane;
+    IndirectResults(int w, int h)
+        : i0(w, h, 0), r1(w, h, 0), r2(w, h), light(w, h), blockPlane(w, h, TextureFormat::Rgba32F) {
+      light.texture.setLinearFiltering(true);
+      light.texture.setRepeat(false);
+      light.framebuffer.attachColor(1, blockPlane);
+      light.framebuffer.finalize(2);
+    }
+  };
+  std::unique_ptr<IndirectResults> indirectResults;
+  IndirectResults& results() { return *indirectResults; }
   // Interleaved direct light of the area-light samples (on the image's own grid only) and gather in the deinterleaved
   // block layout (gather.frag.glsl): k x k blocks of blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
@@ -110,22 +124,7 @@ struct ScreenGrid {
   std::unique_ptr<Target> punctualDirect;
   int rawInterleave = 0, blockWidth = 0, blockHeight = 0;
 
-  ScreenGrid(int w, int h)
-      : width(w),
-        height(h),
-        g(w, h),
-        indirect(w, h),
-        i0(w, h, 0),
-        r1(w, h, 0),
-        r2(w, h),
-        rows(w, h),
-        light(w, h),
-        blockPlane(w, h, TextureFormat::Rgba32F) {
-    light.texture.setLinearFiltering(true);
-    light.texture.setRepeat(false);
-    light.framebuffer.attachColor(1, blockPlane);
-    light.framebuffer.finalize(2);
-  }
+  ScreenGrid(int w, int h) : width(w), height(h), g(w, h), indirect(w, h), rows(w, h) {}
 
   void ensureRaw(int k, bool withDirect) {
     if (rawInterleave == k && static_cast<bool>(directRaw) == withDirect) return;
@@ -175,7 +174,12 @@ struct PreviewRenderer::Targets {
     }
   }
   /// Where the gather and the compensation run.
-  ScreenGrid& indirectGrid() { return downscaled ? *downscaled : full; }
+  ScreenGrid& indirectGrid() {
+    ScreenGrid& grid = downscaled ? *downscaled : full;
+    if (!grid.indirectResults)
+      grid.indirectResults = std::make_unique<ScreenGrid::IndirectResults>(grid.width, grid.height);
+    return grid;
+  }
 };
 
 PreviewRenderer::PreviewRenderer()
@@ -551,7 +555,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     mergeSlices_.begin(outOfTime);
     double gpuMs = timed(timer_, wallMs, [&] {
       if (!ownGrid) {
-        mergeInterleaved(tg.full, glm::vec2(1.0f), tg.full.i0.framebuffer, mergeSlices_);
+        mergeInterleaved(tg.full, glm::vec2(1.0f), tg.full.results().i0.framebuffer, mergeSlices_);
         return;
       }
       // Whether the direct light is merged again is taken when the merge starts, since the merge itself clears it.
@@ -568,7 +572,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       tg.full.g.bind();
       tg.direct.texture.bind(unit(TextureUnit::PassInput0));
       grid.indirect.texture.bind(unit(TextureUnit::PassInput1));
-      grid.i0.framebuffer.bind(grid.width, grid.height);
+      grid.results().i0.framebuffer.bind(grid.width, grid.height);
       gridInput_.set("uDownscale", tg.downscale);
       mergeSlices_.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridInput_, vao_); });
     });
@@ -589,7 +593,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       grid.g.bind();
       residualSteps_ = ssbc_.run(lambertOnly_, camera, settings,
-                                 {grid.g.position, grid.g.normal, grid.gbufferDerivedCurrent, grid.i0, grid.r1, grid.r2},
+                                 {grid.g.position, grid.g.normal, grid.gbufferDerivedCurrent, grid.results().i0, grid.results().r1, grid.results().r2},
                                  vao_, ssbcSlices_);
       if (ownGrid) {
         upsample(glm::vec4(1.0f, 1.0f, residualSteps_ >= 1, residualSteps_ >= 2), camera.position,
@@ -597,9 +601,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       } else {
         tg.linear.framebuffer.bind(tg.width, tg.height);
         tg.full.g.bind();
-        tg.full.i0.texture.bind(unit(TextureUnit::PassInput0));
-        tg.full.r1.texture.bind(unit(TextureUnit::PassInput2));
-        tg.full.r2.texture.bind(unit(TextureUnit::PassInput3));
+        tg.full.results().i0.texture.bind(unit(TextureUnit::PassInput0));
+        tg.full.results().r1.texture.bind(unit(TextureUnit::PassInput2));
+        tg.full.results().r2.texture.bind(unit(TextureUnit::PassInput3));
         compose_.set("uResidualSteps", residualSteps_);
         compose_.set("uCameraPosition", camera.position);
         ssbcSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(compose_, vao_); });
@@ -672,16 +676,16 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   ScreenGrid& grid = *tg.downscaled;
   grid.g.bind();
   grid.indirect.texture.bind(unit(TextureUnit::PassInput1));
-  grid.r1.texture.bind(unit(TextureUnit::PassInput2));
-  grid.r2.texture.bind(unit(TextureUnit::PassInput3));
-  grid.light.framebuffer.bind(grid.width, grid.height);
+  grid.results().r1.texture.bind(unit(TextureUnit::PassInput2));
+  grid.results().r2.texture.bind(unit(TextureUnit::PassInput3));
+  grid.results().light.framebuffer.bind(grid.width, grid.height);
   gridLight_.set("uTerms", terms);
   slices.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridLight_, vao_); });
   // The upsample reads the grid's light around each pixel's representative: every band of it is drawn by now.
   tg.full.g.bind();
   tg.direct.texture.bind(unit(TextureUnit::PassInput0));
-  grid.light.texture.bind(unit(TextureUnit::PassInput1));
-  grid.blockPlane.bind(unit(TextureUnit::PassInput2));
+  grid.results().light.texture.bind(unit(TextureUnit::PassInput1));
+  grid.results().blockPlane.bind(unit(TextureUnit::PassInput2));
   grid.g.position.bind(unit(TextureUnit::PassInput4));
   grid.g.mergeKey.bind(unit(TextureUnit::PassInput5));
   out.bind(tg.width, tg.height);
@@ -723,7 +727,7 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     // R1 + R2: the final composition adds them itself, so the sum is formed only when asked for.
     Image residual(tg.width, tg.height);
     for (int step = 0; step < residualSteps_; ++step) {
-      Image r = readFramebuffer((step == 0 ? tg.full.r1 : tg.full.r2).framebuffer, 0, tg.width, tg.height);
+      Image r = readFramebuffer((step == 0 ? tg.full.results().r1 : tg.full.results().r2).framebuffer, 0, tg.width, tg.height);
       for (std::size_t i = 0; i < residual.size(); ++i) residual.pixels[i] += r.pixels[i];
     }
     return residual;
