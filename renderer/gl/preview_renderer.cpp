@@ -393,6 +393,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     ++jobDone_;
     outOfBudget = msSince(frameStart) > budgetMs;
   };
+  // The end of a pass that a budget can cut short: done, it counts itself and clears its flag; cut short, the passes
+  // after it wait for the next call.
+  auto ended = [&](bool done, int& counter, bool& flag) {
+    if (!done) {
+      outOfBudget = true;
+      return;
+    }
+    ++counter;
+    finished(flag);
+  };
   // For the passes that stop between slices: the time spent is known only once the GPU has made the slice.
   std::function<bool()> outOfTime;
   if (std::isfinite(budgetMs))
@@ -449,12 +459,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         grid.gbufferDerivedCurrent = false;
       }
     });
-    if (gbufferSlices_.end()) {
-      ++counters_.gbuffer;
-      finished(pending_.gbuffer);
-    } else {
-      outOfBudget = true;
-    }
+    ended(gbufferSlices_.end(), counters_.gbuffer, pending_.gbuffer);
   }
 
   // The lights' shadow maps, a cube face at a time when a budget is given.
@@ -462,12 +467,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     bool built = false;
     t.directShadowMs = timed(timer_, t.directShadowWallMs,
                              [&] { built = direct_.renderMaps(scene, settings, sceneRadius, outOfTime); });
-    if (built) {
-      ++counters_.directShadowMaps;
-      finished(pending_.directMaps);
-    } else {
-      outOfBudget = true;
-    }
+    ended(built, counters_.directShadowMaps, pending_.directMaps);
   }
 
   if (vplDataChanged) gather_.upload(scene, vpls, order, lambertVpls);
@@ -478,12 +478,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     bool built = false;
     t.vplShadowMs = timed(timer_, t.vplShadowWallMs,
                           [&] { built = vplVisibility_->update(*glScene_, scene, casters, settings, far, outOfTime); });
-    if (built) {
-      ++counters_.vplShadowMaps;
-      finished(pending_.vplMaps);
-    } else {
-      outOfBudget = true;
-    }
+    ended(built, counters_.vplShadowMaps, pending_.vplMaps);
   }
   shadowsValid_ = true;
 
@@ -499,12 +494,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                            tg.full.interleaved(), *tg.full.punctualDirect, vao_, outOfTime);
     });
     tg.directMergeStale = true;
-    if (drawn) {
-      ++counters_.direct;
-      finished(pending_.direct);
-    } else {
-      outOfBudget = true;
-    }
+    ended(drawn, counters_.direct, pending_.direct);
   }
 
   // Pass 4: VPL gather with G_b / VSL and interleaving (the de-interleave follows), draw by draw when a budget is
@@ -516,12 +506,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       gathered = gather_.draw(lambertOnly_, camera, settings, far, bias, *vplVisibility_, *grid.indirectRaw,
                               grid.interleaved(), vao_, outOfTime);
     });
-    if (gathered) {
-      ++counters_.gather;
-      finished(pending_.gather);
-    } else {
-      outOfBudget = true;
-    }
+    ended(gathered, counters_.gather, pending_.gather);
   }
 
   // Geometry-aware de-interleave of the direct light and the gather together into I0 (deinterleave.frag.glsl): the
@@ -539,13 +524,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       drawn = media_.draw(mediaFrame(camera, settings), settings, grid.interleaved(), direct_, gather_,
                           *vplVisibility_, vao_, pending_.mediaLights, pending_.mediaVpls, outOfTime);
     });
-    if (drawn) {
-      ++counters_.media;
-      pending_.mediaLights = false;
-      finished(pending_.mediaVpls);
-    } else {
-      outOfBudget = true;
-    }
+    if (drawn) pending_.mediaLights = false;
+    ended(drawn, counters_.media, pending_.mediaVpls);
   }
 
   // The merge reads k x k neighbours of the interleaved results: it starts once every band of them is drawn. Each of
@@ -592,9 +572,11 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     ssbcSlices_.begin(outOfTime);
     t.ssbcMs = timed(timer_, t.ssbcWallMs, [&] {
       grid.g.bind();
-      residualSteps_ = ssbc_.run(lambertOnly_, camera, settings,
-                                 {grid.g.position, grid.g.normal, grid.gbufferDerivedCurrent, grid.results().i0, grid.results().r1, grid.results().r2},
-                                 vao_, ssbcSlices_);
+      ScreenGrid::IndirectResults& results = grid.results();
+      residualSteps_ = ssbc_.run(
+          lambertOnly_, camera, settings,
+          {grid.g.position, grid.g.normal, grid.gbufferDerivedCurrent, results.i0, results.r1, results.r2}, vao_,
+          ssbcSlices_);
       if (ownGrid) {
         upsample(glm::vec4(1.0f, 1.0f, residualSteps_ >= 1, residualSteps_ >= 2), camera.position,
                  tg.linear.framebuffer, ssbcSlices_);
@@ -617,12 +599,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
                        tg.width, tg.height, tg.linear.framebuffer, vao_, ssbcSlices_);
       }
     });
-    if (ssbcSlices_.end()) {
-      ++counters_.ssbc;
-      finished(pending_.ssbc);
-    } else {
-      outOfBudget = true;
-    }
+    ended(ssbcSlices_.end(), counters_.ssbc, pending_.ssbc);
   }
 
   // Pass 6: tonemap.
@@ -727,7 +704,8 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     // R1 + R2: the final composition adds them itself, so the sum is formed only when asked for.
     Image residual(tg.width, tg.height);
     for (int step = 0; step < residualSteps_; ++step) {
-      Image r = readFramebuffer((step == 0 ? tg.full.results().r1 : tg.full.results().r2).framebuffer, 0, tg.width, tg.height);
+      Target& result = step == 0 ? tg.full.results().r1 : tg.full.results().r2;
+      Image r = readFramebuffer(result.framebuffer, 0, tg.width, tg.height);
       for (std::size_t i = 0; i < residual.size(); ++i) residual.pixels[i] += r.pixels[i];
     }
     return residual;
