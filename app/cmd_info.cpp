@@ -11,6 +11,7 @@
 #include "app/commands.h"
 #include "renderer/core/sampling.h"
 #include "renderer/core/text.h"
+#include "renderer/scene/density_grid.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/lights_json.h"
 #include "renderer/scene/staging.h"
@@ -22,6 +23,43 @@ std::string vec(const glm::vec3& v) {
   char buf[96];
   std::snprintf(buf, sizeof buf, "(%.4g, %.4g, %.4g)", v.x, v.y, v.z);
   return buf;
+}
+
+/// A density grid: where it came from, its voxels and memory, its world box and voxel size, its density range, and the
+/// largest optical depth straight through it along each of its axes (sigma_t's largest channel).
+void printDensity(const Medium& m) {
+  const DensityGrid& g = *m.density;
+  std::printf("  %-20s density grid '%s' of %s, scale %.4g\n", "", printable(g.gridName).c_str(),
+              printable(m.densityUri.empty() ? g.source : m.densityUri).c_str(), m.densityScale);
+  std::printf("  %-20s %llu active voxels, stored %d x %d x %d (%.3g MiB with the majorants)\n", "",
+              static_cast<unsigned long long>(g.activeVoxels), g.size.x, g.size.y, g.size.z,
+              static_cast<double>(g.bytes()) / 1048576.0);
+  const glm::mat3 worldFromIndex = glm::inverse(glm::mat3(m.indexFromWorld));
+  const glm::vec3 voxel(glm::length(worldFromIndex[0]), glm::length(worldFromIndex[1]), glm::length(worldFromIndex[2]));
+  Bounds world;
+  for (const glm::vec3& c : m.corners()) world.extend(c);
+  std::printf("  %-20s world bounds %s to %s m, voxel %s m\n", "", vec(world.lower).c_str(), vec(world.upper).c_str(),
+              vec(voxel).c_str());
+  std::printf("  %-20s density %.4g to %.4g (x scale: sigma_t up to %s 1/m)\n", "", g.minValue, g.maxValue,
+              vec(m.sigmaTMax()).c_str());
+  // The densest column along each axis: the sum of its values is the integral of the trilinear density along it
+  // (in voxels).
+  glm::vec3 column(0.0f);
+  for (int axis = 0; axis < 3; ++axis) {
+    const int u = (axis + 1) % 3, v = (axis + 2) % 3;
+    for (int j = 0; j < g.size[v]; ++j)
+      for (int i = 0; i < g.size[u]; ++i) {
+        double sum = 0.0;
+        glm::ivec3 p(0);
+        p[u] = i;
+        p[v] = j;
+        for (p[axis] = 0; p[axis] < g.size[axis]; ++p[axis])
+          sum += g.values[(static_cast<std::size_t>(p.z) * g.size.y + p.y) * g.size.x + p.x];
+        column[axis] = std::max(column[axis], static_cast<float>(sum));
+      }
+  }
+  const float peak = std::max({m.sigmaT().x, m.sigmaT().y, m.sigmaT().z}) * m.densityScale;
+  std::printf("  %-20s largest optical depth through it along x, y, z %s\n", "", vec(column * voxel * peak).c_str());
 }
 
 /// The media, one block each: where, the coefficients, and optical depths that say how foggy the scene will look
@@ -44,8 +82,13 @@ void printMedia(const Scene& scene) {
       std::printf("  %-20s box centre %s, half sizes %s m%s\n", printable(m.name).c_str(),
                   vec(m.centre()).c_str(), vec(half).c_str(), aligned ? "" : " (rotated)");
     }
-    std::printf("  %-20s sigmaA %s, sigmaS %s, sigma_t %s 1/m%s\n", "", vec(m.sigmaA).c_str(), vec(m.sigmaS).c_str(),
-                vec(sigmaT).c_str(), m.isVacuum() ? " (vacuum)" : "");
+    std::printf("  %-20s sigmaA %s, sigmaS %s, sigma_t %s 1/m%s%s\n", "", vec(m.sigmaA).c_str(),
+                vec(m.sigmaS).c_str(), vec(sigmaT).c_str(), m.density ? " per unit density" : "",
+                m.isVacuum() ? " (vacuum)" : "");
+    if (m.density) {
+      printDensity(m);
+      continue;
+    }
     std::printf("  %-20s albedo %s, g %.3g, mean free path %s m\n", "", vec(m.albedo()).c_str(), m.g,
                 vec(m.meanFreePath()).c_str());
     std::printf("  %-20s optical depth across the scene (%.4g m) %s", "", sceneDiagonal,

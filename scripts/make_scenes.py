@@ -169,6 +169,15 @@ class Gltf:
                            "extensions": {"VPLAB_participating_media": medium}})
         self.extensions_used.add("VPLAB_participating_media")
 
+    def smoke_node(self, name, uri, translation, uniform_scale, sigma_a, sigma_s, g, density_scale=1.0):
+        """A VPLAB_participating_media density grid (docs/scenes.md): the OpenVDB file's own transform gives its voxels'
+        positions in the node's frame, which the node's translation and uniform scale place."""
+        medium = {"sigmaA": [r6(c) for c in sigma_a], "sigmaS": [r6(c) for c in sigma_s], "g": g,
+                  "density": {"uri": uri, "grid": "density", "scale": density_scale}}
+        self.nodes.append({"name": name, "translation": [r6(c) for c in translation], "scale": [uniform_scale] * 3,
+                           "extensions": {"VPLAB_participating_media": medium}})
+        self.extensions_used.add("VPLAB_participating_media")
+
     def spot_light_node(self, name, position, target, intensity, inner, outer, colour=(1.0, 1.0, 1.0)):
         """A KHR_lights_punctual spot light (intensity in candela) at `position` aimed at `target`: spot lights shine
         down their node's local -Z, so the node matrix is built like a camera's."""
@@ -324,6 +333,29 @@ def cornell_fog():
     extras = {"fogSigmaTBlue": sigma_t[2], "fogOpticalDepthAcrossBlue": r6(sigma_t[2] * width), "fogG": CORNELL_FOG_G}
     g = cornell("cornell-fog", "plain", extras)
     g.medium_node("fog", CORNELL_FOG_LOWER, CORNELL_FOG_UPPER, CORNELL_FOG_SIGMA_A, CORNELL_FOG_SIGMA_S, CORNELL_FOG_G)
+    return g
+
+
+# --- Cornell box with smoke ----------------------------------------------------------------------------------------
+
+# The plume of scripts/make_smoke.py (32 x 48 x 32 voxels of 1 cm, density in [0, 1]) at 0.8 scale, rising from the
+# floor in the free corner in front of the tall block: 0.26 m wide, 0.39 m high. Per unit density it scatters like
+# dense smoke, slightly more toward blue, albedo about 0.9: optical depth about 1.2 straight across it, 3.6 up
+# through it.
+CORNELL_SMOKE_SIGMA_A = (2.0, 2.0, 2.0)
+CORNELL_SMOKE_SIGMA_S = (18.0, 20.0, 22.0)
+CORNELL_SMOKE_G = 0.3
+CORNELL_SMOKE_SCALE = 0.8
+CORNELL_SMOKE_CENTRE = (0.41, 0.135)  # x, z of the plume's axis at its base (metres)
+
+
+def cornell_smoke():
+    half = 0.155 * CORNELL_SMOKE_SCALE  # the grid's voxels span [0, 0.31] m across in its own frame
+    translation = (CORNELL_SMOKE_CENTRE[0] - half, 0.001 + 0.01 * CORNELL_SMOKE_SCALE, CORNELL_SMOKE_CENTRE[1] - half)
+    extras = {"smokeSigmaTMaxBlue": CORNELL_SMOKE_SIGMA_A[2] + CORNELL_SMOKE_SIGMA_S[2], "smokeG": CORNELL_SMOKE_G}
+    g = cornell("cornell-smoke", "plain", extras)
+    g.smoke_node("smoke", "cornell-smoke.vdb", translation, CORNELL_SMOKE_SCALE, CORNELL_SMOKE_SIGMA_A,
+                 CORNELL_SMOKE_SIGMA_S, CORNELL_SMOKE_G)
     return g
 
 
@@ -573,6 +605,7 @@ def main():
         "two-rooms": two_rooms(),
         "cornell-fog": cornell_fog(),
         "fog-shaft": fog_shaft(),
+        "cornell-smoke": cornell_smoke(),
         "glossy-counter": glossy_counter(),
     }
     for name, g in scenes.items():

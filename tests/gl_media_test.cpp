@@ -67,7 +67,8 @@ Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int spp) {
         float t = 0.0f;
         uint32_t medium = 0;
         glm::vec3 weight(0.0f);
-        if (intervals.empty() || !sampleForcedFlight(scene.media, intervals, end, rng.next2D(), t, medium, weight))
+        if (intervals.empty() || !sampleForcedFlight(scene.media, intervals, scene.camera.position, dir, end,
+                                                     rng.next2D(), t, medium, weight))
           continue;
         const Interaction at = Interaction::inMediumAt(scene, scene.camera.position + dir * t, medium, -dir);
         sum += weight * estimateDirectLight(l.embree(), l.lights(), at, rng);

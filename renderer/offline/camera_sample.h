@@ -17,67 +17,12 @@
 #include "renderer/offline/embree_scene.h"
 #include "renderer/offline/interaction.h"
 #include "renderer/offline/light_sampler.h"
+#include "renderer/offline/media_tracking.h"
 #include "renderer/offline/progressive.h"
 #include "renderer/scene/medium.h"
 #include "renderer/settings.h"
 
 namespace vplab {
-
-/// A distance along the camera ray, inside the media intervals before `end`, with density proportional to
-/// mean_c sigma_t,c T_c(t) (the free flight conditioned on scattering before `end`): returns false when no channel can
-/// scatter there. tOut, mediumOut, weightOut = T(t) sigma_s / pdf(t).
-inline bool sampleForcedFlight(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals,
-                               float end, glm::vec2 u, float& tOut, uint32_t& mediumOut, glm::vec3& weightOut) {
-  // Optical depth of each channel over all intervals up to `end`.
-  glm::vec3 total(0.0f);
-  for (const MediumInterval& i : intervals) {
-    float len = std::min(i.t1, end) - i.t0;
-    if (len <= 0.0f) break;
-    const glm::vec3 st = media[i.medium].sigmaT();
-    for (int c = 0; c < 3; ++c)
-      if (st[c] > 0.0f) total[c] += st[c] * len;
-  }
-  glm::vec3 mass(0.0f);  // probability of scattering before `end`, per channel
-  int usable = 0;
-  for (int c = 0; c < 3; ++c) {
-    mass[c] = std::isinf(total[c]) ? 1.0f : -std::expm1(-total[c]);
-    if (mass[c] > 0.0f) ++usable;
-  }
-  if (usable == 0) return false;
-  // Pick one of the channels that can scatter, uniformly.
-  int pick = std::min(usable - 1, static_cast<int>(u.x * static_cast<float>(usable)));
-  int channel = 0;
-  for (int c = 0, k = 0; c < 3; ++c)
-    if (mass[c] > 0.0f && k++ == pick) channel = c;
-  float tau = -std::log1p(-u.y * mass[channel]);
-  glm::vec3 depth(0.0f);
-  for (const MediumInterval& i : intervals) {
-    float len = std::min(i.t1, end) - i.t0;
-    if (len <= 0.0f) break;
-    const Medium& m = media[i.medium];
-    const glm::vec3 st = m.sigmaT();
-    float channelDepth = st[channel] > 0.0f ? st[channel] * len : 0.0f;
-    if (channelDepth > tau || &i == &intervals.back()) {
-      float dt = st[channel] > 0.0f ? std::min(len, tau / st[channel]) : len;
-      for (int c = 0; c < 3; ++c)
-        if (st[c] > 0.0f) depth[c] += st[c] * dt;
-      const glm::vec3 tr = glm::exp(-depth);
-      float pdf = 0.0f;
-      for (int c = 0; c < 3; ++c)
-        if (mass[c] > 0.0f) pdf += st[c] * tr[c] / mass[c];
-      pdf /= static_cast<float>(usable);
-      if (!(pdf > 0.0f)) return false;
-      tOut = i.t0 + dt;
-      mediumOut = i.medium;
-      weightOut = m.sigmaS * tr / pdf;
-      return true;
-    }
-    tau -= channelDepth;
-    for (int c = 0; c < 3; ++c)
-      if (st[c] > 0.0f) depth[c] += st[c] * len;
-  }
-  return false;
-}
 
 /// The far end of a camera ray's media span before `end`: a span reaching infinity (a medium filling all space) is cut
 /// where the least attenuated channel's transmittance is 1e-6, or at 1000 scene diagonals for a channel that does not
@@ -135,7 +80,7 @@ glm::vec3 manyLightCameraSample(const EmbreeScene& embree, const LightSampler& l
     mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
     if (!intervals.empty()) {
       radiance += alongRay(dir, intervals, end);
-      toSurface = transmittanceOver(scene.media, intervals, end);
+      toSurface = transmittanceAlong(scene.media, intervals, scene.camera.position, dir, end);
     }
   }
   if (!hit) return radiance;

@@ -1,5 +1,7 @@
 #include "renderer/offline/embree_scene.h"
 
+#include "renderer/offline/media_tracking.h"
+
 #include "renderer/core/sampling.h"
 
 #include <embree3/rtcore.h>
@@ -194,14 +196,6 @@ std::vector<MediumInterval>& intervalScratch() {
   return intervals;
 }
 
-float channelMean(const glm::vec3& v) { return (v.x + v.y + v.z) * (1.0f / 3.0f); }
-
-/// sigma_t * length per channel, 0 where sigma_t is 0 (an infinite interval of a channel that does not interact).
-glm::vec3 opticalDepth(const glm::vec3& sigmaT, float length) {
-  return {sigmaT.x > 0.0f ? sigmaT.x * length : 0.0f, sigmaT.y > 0.0f ? sigmaT.y * length : 0.0f,
-          sigmaT.z > 0.0f ? sigmaT.z * length : 0.0f};
-}
-
 }  // namespace
 
 Segment EmbreeScene::beginSegment(const glm::vec3& origin, const glm::vec3& direction, float tMax) const {
@@ -224,49 +218,26 @@ Segment EmbreeScene::beginSegment(const glm::vec3& origin, const glm::vec3& dire
 
 void EmbreeScene::sampleFreeFlight(Segment& s, const glm::vec3& origin, const glm::vec3& direction,
                                    glm::vec2 u) const {
-  // The intervals beginSegment() found (nothing has traced on this thread since).
-  const std::vector<MediumInterval>& intervals = intervalScratch();
-  const std::vector<Medium>& media = scene_.media;
-  // Step 1: a channel picked uniformly, an optical depth tau from its exponential distribution.
-  const int channel = std::min(2, static_cast<int>(u.x * 3.0f));
-  float tau = -std::log1p(-std::min(u.y, kOneMinusEpsilon));
-  // Step 2: walk the intervals in order until the channel's optical depth reaches tau.
-  glm::vec3 depth(0.0f);
-  for (const MediumInterval& i : intervals) {
-    const glm::vec3 sigmaT = media[i.medium].sigmaT();
-    const float length = i.t1 - i.t0;
-    const float channelDepth = sigmaT[channel] > 0.0f ? sigmaT[channel] * length : 0.0f;
-    if (channelDepth > tau) {
-      // Step 3a: a scattering event at t; weight T(t) sigma_s / pdf(t), pdf(t) = mean_c sigma_t,c T_c(t) (spectral
-      // MIS, docs/theory.md §16).
-      const float t = i.t0 + tau / sigmaT[channel];
-      depth += opticalDepth(sigmaT, t - i.t0);
-      const glm::vec3 tr = glm::exp(-depth);
-      const float pdf = channelMean(sigmaT * tr);
-      s.end = Segment::End::Medium;
-      s.hit.reset();
-      s.distance = t;
-      s.position = origin + direction * t;
-      s.medium = i.medium;
-      s.weight = pdf > 0.0f ? media[i.medium].sigmaS * tr / pdf : glm::vec3(0.0f);
-      s.transmittance = tr;
-      return;
-    }
-    tau -= channelDepth;
-    depth += opticalDepth(sigmaT, length);
-  }
-  // Step 3b: no event before the surface (or the end of the ray): weight T(s) / P(no event) = T / mean_c T_c.
-  const glm::vec3 tr = glm::exp(-depth);
-  const float pass = channelMean(tr);
-  s.weight = pass > 0.0f ? tr / pass : glm::vec3(0.0f);
-  s.transmittance = tr;
+  // The intervals beginSegment() found (nothing has traced on this thread since): a free flight through them
+  // (closed form in homogeneous media, delta tracking through grids), weighted by spectral MIS per segment.
+  const FreeFlight flight = sampleFlight(scene_.media, intervalScratch(), origin, direction, s.distance, u);
+  const float mean = (flight.p.x + flight.p.y + flight.p.z) * (1.0f / 3.0f);
+  s.weight = mean > 0.0f ? flight.f / mean : glm::vec3(0.0f);
+  s.spectralF = flight.f;
+  s.spectralP = flight.p;
+  if (!flight.scattered) return;
+  s.end = Segment::End::Medium;
+  s.hit.reset();
+  s.distance = flight.t;
+  s.position = origin + direction * flight.t;
+  s.medium = flight.medium;
 }
 
 glm::vec3 EmbreeScene::transmittance(const glm::vec3& origin, const glm::vec3& direction, float tMax) const {
   if (!hasMedia_) return glm::vec3(1.0f);
   std::vector<MediumInterval>& intervals = intervalScratch();
   mediumIntervals(scene_.media, origin, direction, tMax, intervals);
-  return transmittanceOver(scene_.media, intervals, tMax);
+  return transmittanceAlong(scene_.media, intervals, origin, direction, tMax);
 }
 
 glm::vec3 EmbreeScene::shadowTransmittance(const ShadowRay& ray, float mediumTMax) const {

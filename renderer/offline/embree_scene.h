@@ -45,8 +45,10 @@ struct Segment {
   /// The free-flight estimator's weight (spectral MIS over the channels): T(t) sigma_s / pdf(t) for a scattering
   /// event, T(s) / P(no event before s) for a surface or an escape. Exactly 1 when the segment crosses no medium.
   glm::vec3 weight{1.0f};
-  /// The media's transmittance from the origin to the end (to the scattering event, the surface or tMax).
-  glm::vec3 transmittance{1.0f};
+  /// What spectral MIS over a whole path needs of the flight (FreeFlight::f and ::p, media_tracking.h): weight is
+  /// spectralF / mean(spectralP). In homogeneous media spectralF is T sigma_s at a scattering event and T otherwise.
+  glm::vec3 spectralF{1.0f};
+  glm::vec3 spectralP{1.0f};
   bool crossedMedium = false;  ///< the segment overlaps a medium (and two random numbers were drawn)
   bool scattered() const { return end == End::Medium; }
 };

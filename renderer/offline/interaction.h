@@ -52,7 +52,7 @@ struct Interaction {
     it.wo = wo;
     it.medium = medium;
     it.g = scene.media[medium].g;
-    it.sigmaS = scene.media[medium].sigmaS;
+    it.sigmaS = scene.media[medium].sigmaSAt(position);
     return it;
   }
   /// The segment at the end of a traced Segment (Surface or Medium), seen from along -wo.

@@ -34,18 +34,11 @@ struct PathSpectralMis {
   }
 
   /// Multiplies throughput by f(segment) / mean_k(pdf_k p_k(segment)) for a segment that crossed a medium.
-  void apply(const EmbreeScene& embree, const Segment& segment, glm::vec3& throughput) {
-    const std::vector<Medium>& media = embree.scene().media;
-    glm::vec3 f, p;
-    if (segment.scattered()) {
-      const glm::vec3 tr = segment.transmittance;
-      f = media[segment.medium].sigmaS * tr;
-      p = media[segment.medium].sigmaT() * tr;
-    } else {
-      // The surface or the end of the ray: T(s) / P(no event), P the path's channel mixture.
-      f = segment.transmittance;
-      p = f;
-    }
+  void apply(const EmbreeScene&, const Segment& segment, glm::vec3& throughput) {
+    // The flight's path measure and the density of each channel's sampling (FreeFlight, media_tracking.h): T sigma_s
+    // and T sigma_t at a scattering event, T and T for the surface or the end of the ray (homogeneous media).
+    const glm::vec3 f = segment.spectralF;
+    const glm::vec3 p = segment.spectralP;
     const glm::vec3 next = pdf * p;
     const float mean = (next.x + next.y + next.z) * (1.0f / 3.0f);
     if (!(mean > 0.0f)) {

@@ -216,8 +216,11 @@ glm::vec3 approximateCompensation(const Context& ctx, const Interaction& x, Rng&
   glm::vec2 uDir = rng.next2D();
   glm::vec2 uDist = rng.next2D();
   const PhaseSample ps = samplePhaseHG(x.wo, x.g, uDir);
+  // In a density grid the medium is taken as homogeneous with the coefficients at x (locally homogeneous at the
+  // receiver, as Engelhardt et al. 2012 do for heterogeneous media).
   const Medium& medium = ctx.scene.media[x.medium];
-  const glm::vec3 sigmaT = medium.sigmaT();
+  const glm::vec3 sigmaT = medium.sigmaTAt(x.position);
+  const glm::vec3 sigmaS = medium.sigmaSAt(x.position);
   const float radius = 1.0f / std::sqrt(ctx.clampBound);
   // Step 2: t in [0, radius) with density proportional to sigma_t,c exp(-sigma_t,c t), truncated to the ball, for a
   // channel c picked uniformly; the pdf is the mean of the three channels' truncated densities.
@@ -244,7 +247,7 @@ glm::vec3 approximateCompensation(const Context& ctx, const Interaction& x, Rng&
   tally.shadowRays += inner.shadowRays;
   tally.evaluations += inner.evaluations;
   // Step 4: f_p / pdf = 1; T(t) sigma_s / pdf(t) for the distance, (1 - b/G) for the residual.
-  return l * medium.sigmaS * glm::exp(-sigmaT * t) * ((1.0f - ctx.clampBound / g) / pdf);
+  return l * sigmaS * glm::exp(-sigmaT * t) * ((1.0f - ctx.clampBound / g) / pdf);
 }
 
 /// The residual compensation the method asks for at x (zero for plain Vpl and Vsl or without a bound).
@@ -268,7 +271,7 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
   float t = 0.0f;
   uint32_t medium = 0;
   glm::vec3 weight(0.0f);
-  if (sampleForcedFlight(ctx.scene.media, intervals, end, u, t, medium, weight)) {
+  if (sampleForcedFlight(ctx.scene.media, intervals, origin, dir, end, u, t, medium, weight)) {
     const Interaction x = Interaction::inMediumAt(ctx.scene, origin + dir * t, medium, -dir);
     glm::vec3 l(0.0f);
     if (wantDirect) l += estimateDirectLight(ctx.embree, ctx.lights, x, rng);
@@ -314,7 +317,8 @@ glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm:
     glm::vec3 uc;
     glm::vec3 c = vplContributionAt(x, vpl, ctx.vplBrdfs[i], ctx.vplPhaseG[i], ctx.clampBound, &uc);
     if (!(c.r > 0.0f || c.g > 0.0f || c.b > 0.0f) && !(uc.r > 0.0f || uc.g > 0.0f || uc.b > 0.0f)) continue;
-    const glm::vec3 w = ctx.scene.media[in->medium].sigmaS * transmittanceOver(ctx.scene.media, intervals, tv) / pdf;
+    const glm::vec3 w = ctx.scene.media[in->medium].sigmaSAt(x.position) *
+                        transmittanceAlong(ctx.scene.media, intervals, origin, dir, tv) / pdf;
     rays[n] = ctx.embree.shadowRayBetween(x.position, glm::vec3(0.0f), vpl.position,
                                           vpl.inMedium ? glm::vec3(0.0f) : vpl.geometricNormal);
     clamped[n] = c * w;

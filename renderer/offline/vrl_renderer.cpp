@@ -118,11 +118,13 @@ bool finishVrlPoint(const Context& ctx, const Vrl& vrl, float v, float pdf, Rng&
   const glm::vec3 start = vrl.start + offset;
   out.position = start + vrl.direction * v;
   // A beam's offset line crosses the media on its own; a VRL's transmittance comes from its entry (precomputed).
-  const glm::vec3 tr = ctx.beamRadius > 0.0f
+  // In a density grid the transmittance inside the medium is estimated along the line as well.
+  const Medium& medium = ctx.scene.media[vrl.medium];
+  const glm::vec3 tr = ctx.beamRadius > 0.0f || medium.heterogeneous()
                            ? ctx.embree.transmittance(start, vrl.direction, v)
                            : ctx.vrlEntry[static_cast<std::size_t>(&vrl - ctx.vrls.data())] *
-                                 glm::exp(-ctx.scene.media[vrl.medium].sigmaT() * std::max(0.0f, v - vrl.t0));
-  out.weight = vrl.flux * ctx.scene.media[vrl.medium].sigmaS * tr / pdf;
+                                 glm::exp(-medium.sigmaT() * std::max(0.0f, v - vrl.t0));
+  out.weight = vrl.flux * medium.sigmaSAt(out.position) * tr / pdf;
   return true;
 }
 
@@ -172,7 +174,8 @@ const MediumInterval* sampleRayAroundPoint(const Context& ctx, const glm::vec3& 
   float pdf = 0.0f;
   const MediumInterval* in = sampleEquiangular(intervals, o, d, a, b, p, uT, 1e-6f * ctx.sceneDiagonal, tOut, pdf);
   if (!in) return nullptr;
-  weightOut = ctx.scene.media[in->medium].sigmaS * transmittanceOver(ctx.scene.media, intervals, tOut) / pdf;
+  weightOut = ctx.scene.media[in->medium].sigmaSAt(o + d * tOut) *
+              transmittanceAlong(ctx.scene.media, intervals, o, d, tOut) / pdf;
   return in;
 }
 
@@ -275,7 +278,7 @@ glm::vec3 singleScattering(const Context& ctx, const glm::vec3& o, const glm::ve
   float t = 0.0f;
   uint32_t medium = 0;
   glm::vec3 weight(0.0f);
-  if (!sampleForcedFlight(ctx.scene.media, intervals, end, u, t, medium, weight)) return glm::vec3(0.0f);
+  if (!sampleForcedFlight(ctx.scene.media, intervals, o, d, end, u, t, medium, weight)) return glm::vec3(0.0f);
   const Interaction x = Interaction::inMediumAt(ctx.scene, o + d * t, medium, -d);
   return weight * estimateDirectLight(ctx.embree, ctx.lights, x, rng);
 }

@@ -3,6 +3,7 @@
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/sampling.h"
 #include "renderer/core/text.h"
+#include "renderer/scene/media_gltf.h"
 
 #include <nlohmann/json.hpp>
 #include <stb/stb_image.h>
@@ -94,8 +95,6 @@ std::string boundText(double bound) {
   return buf;
 }
 
-constexpr const char* kMediaExtension = "VPLAB_participating_media";
-
 /// Extensions the loader implements, and what it does with some it does not (used in the warning).
 bool isSupportedExtension(const std::string& name) {
   return name == "KHR_lights_punctual" || name == "KHR_materials_emissive_strength" ||
@@ -174,6 +173,8 @@ class Loader {
     throw SceneError(file_ + ": " + where + ": " + what);
   }
   void warn(const std::string& where, const std::string& what) { scene_.warnings.push_back(where + ": " + what); }
+  /// The folder the file's relative references (buffers, images, density grids) start from.
+  std::string baseDir() const { return directoryOf(file_); }
 
   AccessorView view(int accessorIndex, const std::string& where, const std::vector<int>& types);
   std::vector<glm::vec3> readVec3(int accessorIndex, const std::string& where);
@@ -188,10 +189,7 @@ class Loader {
   glm::mat3 textureTransform(const tinygltf::ExtensionMap& extensions, const std::string& where);
   void addLight(int nodeIndex, const glm::mat4& world);
   void addCamera(int nodeIndex, const glm::mat4& world);
-  /// Reads the coefficients of one VPLAB_participating_media object (at: its glTF path) into a Medium.
-  Medium readMedium(const tinygltf::Value& ext, const std::string& at) const;
   void addMediumBox(int nodeIndex, const glm::mat4& world);
-  void checkMediaDisjoint() const;
   void frameBounds();
   void readAssetExtras();
 
@@ -398,9 +396,8 @@ void Loader::run() {
     roots = gscene.nodes;
     if (auto ext = gscene.extensions.find(kMediaExtension); ext != gscene.extensions.end()) {
       std::string at = "scenes[" + std::to_string(s) + "].extensions." + kMediaExtension;
-      Medium m = readMedium(ext->second, at);
+      Medium m = readMediumExtension(ext->second, true, glm::mat4(1.0f), file_, baseDir(), at);
       m.name = "scene";
-      m.fillsSpace = true;
       scene_.media.push_back(m);
       mediumPaths_.push_back(at);
     }
@@ -441,7 +438,7 @@ void Loader::run() {
   }
 
   if (scene_.triangles.empty()) fail("meshes", "no triangles to render");
-  checkMediaDisjoint();
+  checkMediaDisjoint(scene_.media, mediumPaths_, file_);
   scene_.finalize();
   if (!haveCamera_) frameBounds();
   if (!scene_.hasLights()) scene_.warnings.push_back(kNoLightsWarning);
@@ -880,82 +877,13 @@ void Loader::addCamera(int nodeIndex, const glm::mat4& world) {
   haveCamera_ = true;
 }
 
-Medium Loader::readMedium(const tinygltf::Value& ext, const std::string& at) const {
-  if (!ext.IsObject()) fail(at, "must be an object with sigmaA, sigmaS and optionally g");
-  static const char* const known[] = {"sigmaA", "sigmaS", "g", "extensions", "extras"};
-  for (const std::string& key : ext.Keys())
-    if (std::find_if(std::begin(known), std::end(known), [&](const char* k) { return key == k; }) == std::end(known))
-      fail(at + "." + key, "unknown field '" + key + "' (known: sigmaA, sigmaS, g, extensions, extras)");
-  auto coefficient = [&](const char* key) {
-    std::string where = at + "." + key;
-    if (!ext.Has(key)) fail(where, "required (RGB in 1/m, e.g. [0.1, 0.1, 0.1])");
-    const tinygltf::Value& v = ext.Get(key);
-    if (!v.IsArray() || v.ArrayLen() != 3) fail(where, "needs an array of 3 numbers (RGB, 1/m)");
-    glm::vec3 out;
-    for (int c = 0; c < 3; ++c) {
-      const tinygltf::Value& x = v.Get(c);
-      if (!x.IsNumber()) fail(where + "[" + std::to_string(c) + "]", "is not a number");
-      double d = x.GetNumberAsDouble();
-      if (!(d >= 0.0 && d <= kMaxMediumSigma))
-        fail(where + "[" + std::to_string(c) + "]",
-             "must lie in [0, " + boundText(kMaxMediumSigma) + "] 1/m (got " + boundText(d) + ")");
-      out[c] = static_cast<float>(d);
-    }
-    return out;
-  };
-  Medium m;
-  m.sigmaA = coefficient("sigmaA");
-  m.sigmaS = coefficient("sigmaS");
-  if (ext.Has("g")) {
-    const tinygltf::Value& g = ext.Get("g");
-    if (!g.IsNumber()) fail(at + ".g", "is not a number");
-    double d = g.GetNumberAsDouble();
-    // |g| = 1 is a delta phase function, which no sampler here can evaluate.
-    if (!(std::abs(d) < 1.0)) fail(at + ".g", "must lie in (-1, 1) (got " + boundText(d) + ")");
-    m.g = static_cast<float>(d);
-  }
-  return m;
-}
-
 void Loader::addMediumBox(int nodeIndex, const glm::mat4& world) {
   const tinygltf::Node& node = model_.nodes[static_cast<std::size_t>(nodeIndex)];
-  std::string at = "nodes[" + std::to_string(nodeIndex) + "]";
-  Medium m = readMedium(node.extensions.at(kMediaExtension), at + ".extensions." + kMediaExtension);
-  m.name = node.name.empty() ? at : node.name;
-  // The box must have volume: every axis of the node's world transform non-zero and the three not (nearly) in one
-  // plane, measured scale-free as |det| against the product of the axis lengths.
-  double lengths = 1.0;
-  for (int i = 0; i < 3; ++i) lengths *= glm::length(glm::dvec3(glm::vec3(world[i])));
-  double det = glm::determinant(glm::dmat3(glm::mat3(world)));
-  if (!(lengths > 0.0) || !std::isfinite(lengths) || !(std::abs(det) > kMinMediumBoxSquareness * lengths))
-    fail(at, "singular transform for a medium box (a zero scale, or axes in one plane): the box has no volume");
-  m.worldFromBox = world;
-  m.boxFromWorld = glm::inverse(world);
-  bool finiteInverse = true;
-  for (int i = 0; i < 4; ++i)
-    for (int j = 0; j < 4; ++j) finiteInverse = finiteInverse && std::isfinite(m.boxFromWorld[i][j]);
-  if (!finiteInverse) fail(at, "medium box too small to invert in float");
-  for (const glm::vec3& corner : m.corners())
-    if (!withinCoordinateBound(corner))
-      fail(at, "medium box reaches beyond +-" + boundText(kMaxCoordinate) + " m");
+  const std::string at = "nodes[" + std::to_string(nodeIndex) + "].extensions." + kMediaExtension;
+  Medium m = readMediumExtension(node.extensions.at(kMediaExtension), false, world, file_, baseDir(), at);
+  m.name = node.name.empty() ? "nodes[" + std::to_string(nodeIndex) + "]" : node.name;
   scene_.media.push_back(m);
-  mediumPaths_.push_back(at + ".extensions." + kMediaExtension);
-}
-
-void Loader::checkMediaDisjoint() const {
-  // A point lies in at most one medium (renderer/scene/medium.h): overlapping boxes, or a box inside a medium that
-  // fills all space, would need a rule for mixing coefficients that the format does not have.
-  for (std::size_t a = 0; a < scene_.media.size(); ++a)
-    for (std::size_t b = a + 1; b < scene_.media.size(); ++b)
-      if (boxesOverlap(scene_.media[a], scene_.media[b])) {
-        const Medium& ma = scene_.media[a];
-        const Medium& mb = scene_.media[b];
-        std::string what = ma.fillsSpace || mb.fillsSpace
-                               ? "a medium box cannot lie inside the medium that fills all space"
-                               : "medium boxes overlap";
-        fail(mediumPaths_[b], "'" + mb.name + "' and '" + ma.name + "' (" + mediumPaths_[a] + "): " + what +
-                                  "; media must be disjoint");
-      }
+  mediumPaths_.push_back(at);
 }
 
 void Loader::frameBounds() {
@@ -1161,7 +1089,7 @@ void checkReferences(const std::string& file, const std::string& baseDir, const 
       auto ext = entry["extensions"].find(kMediaExtension);
       if (ext != entry["extensions"].end() && !ext->is_object())
         throw SceneError(file + ": " + kind + "[" + std::to_string(i) + "].extensions." + kMediaExtension +
-                         ": must be an object with sigmaA, sigmaS and optionally g");
+                         ": must be an object with sigmaA, sigmaS and optionally g and density");
     }
   }
   const std::size_t accessors = count("accessors"), views = count("bufferViews"), buffers = count("buffers");

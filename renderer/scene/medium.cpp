@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "renderer/core/sampling.h"
+#include "renderer/scene/density_grid.h"
 
 namespace vplab {
 
@@ -16,7 +17,7 @@ glm::vec3 Medium::albedo() const {
 }
 
 bool Medium::isVacuum() const {
-  glm::vec3 t = sigmaT();
+  glm::vec3 t = sigmaTMax();
   return !(t.x > 0.0f || t.y > 0.0f || t.z > 0.0f);
 }
 
@@ -44,6 +45,29 @@ glm::vec3 Medium::halfSizes() const {
 void Medium::setBox(const glm::mat4& world) {
   worldFromBox = world;
   boxFromWorld = glm::inverse(world);
+  indexFromWorld = indexFromBox * boxFromWorld;
+}
+
+void Medium::setDensity(std::shared_ptr<const DensityGrid> grid, const glm::mat4& worldFromLocal) {
+  // The box in index coordinates is [lower, upper]: index = lower + (q + 1) / 2 (upper - lower) for q in [-1, 1]^3.
+  const glm::vec3 lower = grid->boxLower(), upper = grid->boxUpper();
+  glm::mat4 indexFromBoxMap(1.0f);
+  for (int a = 0; a < 3; ++a) {
+    indexFromBoxMap[a][a] = 0.5f * (upper[a] - lower[a]);
+    indexFromBoxMap[3][a] = 0.5f * (upper[a] + lower[a]);
+  }
+  indexFromBox = indexFromBoxMap;
+  density = std::move(grid);
+  setBox(worldFromLocal * glm::mat4(density->localFromIndex) * indexFromBox);
+}
+
+float Medium::densityAt(const glm::vec3& world) const {
+  if (!density) return 1.0f;
+  return densityScale * density->lookup(glm::vec3(indexFromWorld * glm::vec4(world, 1.0f)));
+}
+
+glm::vec3 Medium::sigmaTMax() const {
+  return density ? sigmaT() * (densityScale * density->maxValue) : sigmaT();
 }
 
 std::string mediumProblem(const Medium& m) {
@@ -64,6 +88,15 @@ std::string mediumProblem(const Medium& m) {
   }
   // |g| = 1 is a delta phase function, which no sampler here can evaluate.
   if (!(std::abs(m.g) < 1.0f)) return who + "g must lie in (-1, 1) (got " + number(m.g) + ")";
+  if (!(m.densityScale >= 0.0f && m.densityScale <= kMaxMediumSigma))
+    return who + "density scale must lie in [0, " + number(kMaxMediumSigma) + "] (got " + number(m.densityScale) + ")";
+  if (m.density) {
+    const glm::vec3 peak = m.sigmaTMax();
+    for (int c = 0; c < 3; ++c)
+      if (!(peak[c] <= kMaxMediumSigma))
+        return who + "scale x largest density x sigma_t." + channel[c] + " = " + number(peak[c]) + " exceeds " +
+               number(kMaxMediumSigma) + " 1/m";
+  }
   if (m.fillsSpace) return {};
   double lengths = 1.0;
   for (int i = 0; i < 3; ++i) lengths *= glm::length(glm::dvec3(glm::vec3(m.worldFromBox[i])));

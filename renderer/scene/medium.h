@@ -1,16 +1,21 @@
 #pragma once
-// Homogeneous participating media (docs/theory.md §16): RGB absorption and scattering coefficients, a Henyey-Greenstein
-// phase function, and a region that is either all space or an oriented box. A scene holds any number of boxes that do
+// Participating media (docs/theory.md §16, §22): RGB absorption and scattering coefficients, a Henyey-Greenstein
+// phase function, and a region that is either all space or an oriented box. A box may carry a density grid (smoke):
+// its coefficients are then per unit density, sigma(x) = densityScale d(x) sigma, and the box is where the grid's
+// density can be non-zero. A scene holds any number of boxes that do
 // not overlap, or a single medium filling all space (the loader refuses anything else), so a point lies in at most
 // one medium and a ray crosses the media as disjoint intervals. Surfaces are not interfaces: light crosses them only
 // where it is not blocked, nothing refracts.
 
 #include <cstdint>
 #include <glm/glm.hpp>
+#include <memory>
 #include <string>
 #include <vector>
 
 namespace vplab {
+
+struct DensityGrid;
 
 /// Largest absorption or scattering coefficient accepted, 1/m: a mean free path of 0.1 um. Anything denser is a unit
 /// mistake, and keeping sigma_t * length finite in float over scenes up to kMaxCoordinate needs a bound anyway.
@@ -27,8 +32,27 @@ struct Medium {
   bool fillsSpace = false;       ///< true: the medium is everywhere; false: inside the box below
   glm::mat4 worldFromBox{1.0f};  ///< maps the cube [-1, 1]^3 onto the medium's box (the node's world transform)
   glm::mat4 boxFromWorld{1.0f};  ///< its inverse
+  /// A heterogeneous medium's density (null: the coefficients hold everywhere in the box). Shared, never edited: an
+  /// edit that changes the grid loads a new one.
+  std::shared_ptr<const DensityGrid> density;
+  float densityScale = 1.0f;    ///< multiplies the grid's values, >= 0
+  std::string densityUri;       ///< the .vdb file as the scene names it (relative to the scene file)
+  std::string densityGridName;  ///< the grid read from it
+  /// Maps the box's [-1, 1]^3 onto the grid's index coordinates: fixed by the grid, so that moving or scaling the box
+  /// moves and scales the smoke with it.
+  glm::mat4 indexFromBox{1.0f};
+  glm::mat4 indexFromWorld{1.0f};  ///< indexFromBox * boxFromWorld (setBox keeps it in step)
 
+  /// sigma_t per unit density (the coefficients as the scene gives them).
   glm::vec3 sigmaT() const { return sigmaA + sigmaS; }
+  bool heterogeneous() const { return density != nullptr; }
+  /// What the coefficients are multiplied by at a world point: densityScale d(x) for a grid, 1 otherwise (the caller
+  /// knows the point lies in the medium's region).
+  float densityAt(const glm::vec3& world) const;
+  glm::vec3 sigmaSAt(const glm::vec3& world) const { return sigmaS * densityAt(world); }
+  glm::vec3 sigmaTAt(const glm::vec3& world) const { return sigmaT() * densityAt(world); }
+  /// The largest sigma_t anywhere in the medium (sigmaT() for a homogeneous one).
+  glm::vec3 sigmaTMax() const;
   /// Single-scattering albedo sigma_s / sigma_t per channel (0 where sigma_t is 0).
   glm::vec3 albedo() const;
   /// True when the medium neither absorbs nor scatters in any channel (a ray crosses it unchanged).
@@ -41,8 +65,11 @@ struct Medium {
   /// The box's centre and half sizes along its own axes (the cube [-1, 1]^3 under worldFromBox).
   glm::vec3 centre() const { return glm::vec3(worldFromBox[3]); }
   glm::vec3 halfSizes() const;
-  /// Sets worldFromBox and its inverse.
+  /// Sets worldFromBox, its inverse and indexFromWorld.
   void setBox(const glm::mat4& world);
+  /// Gives the medium a density grid placed by worldFromLocal (the node's world transform) and the grid's own
+  /// index-to-local map: the box becomes the grid's box.
+  void setDensity(std::shared_ptr<const DensityGrid> grid, const glm::mat4& worldFromLocal);
 };
 
 /// What is wrong with one medium, as the loader judges it (coefficients finite in [0, kMaxMediumSigma], |g| < 1, a
