@@ -153,7 +153,8 @@ Staleness staleAfterMediumEdit(const std::vector<Medium>& before, const std::vec
   bool same = a.size() == b.size();
   for (std::size_t i = 0; same && i < a.size(); ++i)
     same = a[i]->sigmaA == b[i]->sigmaA && a[i]->sigmaS == b[i]->sigmaS && a[i]->g == b[i]->g &&
-           a[i]->fillsSpace == b[i]->fillsSpace && (a[i]->fillsSpace || a[i]->worldFromBox == b[i]->worldFromBox);
+           a[i]->fillsSpace == b[i]->fillsSpace && (a[i]->fillsSpace || a[i]->worldFromBox == b[i]->worldFromBox) &&
+           a[i]->density == b[i]->density && a[i]->densityScale == b[i]->densityScale;
   Staleness s;
   if (same) return s;
   s.vpls = s.direct = s.offline = true;

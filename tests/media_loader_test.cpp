@@ -177,8 +177,10 @@ TEST(MediaLoader, EveryBadValueNamesItsGltfPath) {
       {"g = -1.5", with(fog(), "g", -1.5), ".extensions.VPLAB_participating_media.g", "(-1, 1)"},
       {"g string", with(fog(), "g", "forward"), ".extensions.VPLAB_participating_media.g",
        "not a number"},
-      {"unknown field", with(fog(), "density", 2.0), ".extensions.VPLAB_participating_media.density",
-       "unknown field 'density' (known: sigmaA, sigmaS, g"},
+      {"unknown field", with(fog(), "densty", 2.0), ".extensions.VPLAB_participating_media.densty",
+       "unknown field 'densty' (known: sigmaA, sigmaS, g, density"},
+      {"density number", with(fog(), "density", 2.0), ".extensions.VPLAB_participating_media.density",
+       "must be an object {\"uri\""},
       {"number", 3.0, ".extensions.VPLAB_participating_media", "must be an object"},
       {"array", {1, 2, 3}, ".extensions.VPLAB_participating_media", "must be an object"},
   };
@@ -223,7 +225,8 @@ TEST(MediaLoader, SingularBoxTransformsAreErrors) {
     GltfBuilder b = baseScene();
     mediumNode(b, "flat", fog(), t);
     std::string error = loadError(b.writeGltf("singular.gltf"));
-    EXPECT_NE(error.find("singular.gltf: nodes[2]: "), std::string::npos) << error;
+    EXPECT_NE(error.find("singular.gltf: nodes[2].extensions.VPLAB_participating_media: "), std::string::npos)
+        << error;
     EXPECT_TRUE(error.find("singular") != std::string::npos || error.find("too small") != std::string::npos)
         << error;
   }

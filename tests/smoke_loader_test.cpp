@@ -8,10 +8,13 @@
 #include <sys/wait.h>
 
 #include <cstdio>
+#include <filesystem>
 #include <string>
 
 #include "renderer/scene/density_grid.h"
+#include "renderer/invalidation.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/lights_json.h"
 #include "renderer/scene/media_gltf.h"
 #include "renderer/scene/vdb_grid.h"
 #include "tests/scene_test_util.h"
@@ -145,6 +148,33 @@ TEST(SmokeLoader, BadGridsAreErrorsNamingThePathAndTheFile) {
   expectError(loadError(sceneWith("field.gltf", {{"uri", "ok.vdb"}, {"sigma", 1}})), {(at + ".sigma").c_str(), "unknown field"});
   expectError(loadError(sceneWith("nouri.gltf", {{"grid", "density"}})), {(at + ".uri").c_str(), "required"});
   expectError(loadError(sceneWith("abs.gltf", {{"uri", "file:///tmp/ok.vdb"}})), {(at + ".uri").c_str(), "relative path"});
+}
+
+TEST(SmokeLoader, SidecarKeepsTheGridAndEditsRegenerateTheVpls) {
+  writeVdb("kept.vdb", {cubeGrid("density", 4, 0.5f, 2.0f)});
+  const std::string gltf = sceneWith("kept.gltf", {{"uri", "kept.vdb"}});
+  Scene edited = loadScene(gltf);
+  const std::vector<Medium> before = edited.media;
+  edited.media[0].densityScale = 4.0f;
+  glm::mat4 moved = edited.media[0].worldFromBox;
+  moved[3] += glm::vec4(0.5f, 0.0f, 0.0f, 0.0f);
+  edited.media[0].setBox(moved);
+  // A scale or placement change regenerates the VPLs; the same media do not.
+  EXPECT_TRUE(staleAfterMediumEdit(before, edited.media).vpls);
+  EXPECT_FALSE(staleAfterMediumEdit(before, before).vpls);
+  saveLightsFile(lightsSidecarPath(gltf), edited);
+  Scene reopened = loadScene(gltf);
+  ASSERT_TRUE(applyLightsSidecar(reopened));
+  std::filesystem::remove(lightsSidecarPath(gltf));
+  ASSERT_EQ(reopened.media.size(), 1u);
+  const Medium& m = reopened.media[0];
+  ASSERT_TRUE(m.heterogeneous());
+  EXPECT_EQ(m.densityScale, 4.0f);
+  EXPECT_EQ(m.worldFromBox, moved);
+  // The density moved with the box: voxel (0, 0, 0) is 0.5 m further along x.
+  const glm::vec3 voxel0 = glm::vec3(10.5f, 0.0f, 0.0f) + 2.0f * glm::vec3(1, 2, 3);
+  EXPECT_NEAR(m.densityAt(voxel0), 4.0f * 2.0f, 1e-4f);
+  EXPECT_NEAR(edited.media[0].densityAt(voxel0), m.densityAt(voxel0), 1e-6f);
 }
 
 TEST(SmokeLoader, InfoDescribesTheGrid) {

@@ -3,6 +3,7 @@
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/text.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/vdb_grid.h"
 
 #include <nlohmann/json.hpp>
 
@@ -96,6 +97,9 @@ std::string lightsToJson(const Scene& scene) {
   Json media = Json::array();
   for (const Medium& m : scene.media) {
     Json j = {{"name", m.name}, {"sigmaA", vec(m.sigmaA)}, {"sigmaS", vec(m.sigmaS)}, {"g", m.g}};
+    // A density grid is named, not copied: the .vdb file stays where the scene (or the editor) found it.
+    if (m.density)
+      j["density"] = {{"uri", m.densityUri}, {"grid", m.densityGridName}, {"scale", m.densityScale}};
     if (m.fillsSpace) {
       j["fillsSpace"] = true;
     } else {
@@ -224,6 +228,25 @@ void applyLightsFile(const std::string& path, Scene& scene) {
       if (j.contains("fillsSpace")) {
         if (!j["fillsSpace"].is_boolean()) r.fail(at + ".fillsSpace", "expected true or false");
         m.fillsSpace = j["fillsSpace"].get<bool>();
+      }
+      if (j.contains("density") && !m.fillsSpace) {
+        // The grid first: the box read below keeps mapping onto the grid's index box (Medium::setBox).
+        const Json& d = j["density"];
+        const std::string dAt = at + ".density";
+        const Json& uri = r.member(d, "uri", dAt);
+        const Json& grid = r.member(d, "grid", dAt);
+        if (!uri.is_string() || !grid.is_string()) r.fail(dAt, "expected \"uri\" and \"grid\" strings");
+        const std::filesystem::path file(uri.get<std::string>());
+        const std::string resolved =
+            file.is_absolute() ? file.string() : (std::filesystem::path(path).parent_path() / file).string();
+        try {
+          m.setDensity(readVdbDensity(resolved, grid.get<std::string>()), glm::mat4(1.0f));
+        } catch (const VdbError& e) {
+          r.fail(dAt, e.what());
+        }
+        m.densityUri = uri.get<std::string>();
+        m.densityGridName = grid.get<std::string>();
+        m.densityScale = r.number(r.member(d, "scale", dAt), dAt + ".scale", kMaxMediumSigma);
       }
       if (!m.fillsSpace) {
         const Json& world = r.member(j, "worldFromBox", at);

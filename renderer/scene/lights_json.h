@@ -21,7 +21,8 @@ std::string lightsSidecarPath(const std::string& scenePath);
 
 /// Every punctual light, every area light as its emissive material's name and radiance with its triangles (and
 /// their texture coordinates when the material has a texture, so that an emissive texture keeps its place), and every
-/// medium (name, sigmaA, sigmaS, g, and fillsSpace or its box's worldFromBox, column-major).
+/// medium (name, sigmaA, sigmaS, g, and fillsSpace or its box's worldFromBox, column-major; a density grid as its
+/// file, grid name and scale, the file relative to the sidecar unless absolute).
 std::string lightsToJson(const Scene& scene);
 /// Writes lightsToJson() through a temporary file renamed into place, so a failed write leaves no partial file.
 void saveLightsFile(const std::string& path, const Scene& scene);

@@ -169,7 +169,8 @@ void attachDensity(Medium& medium, const std::string& vdbPath, const std::string
   m.fillsSpace = false;
   m.densityScale = scale;
   m.setDensity(std::move(grid), medium.worldFromBox * boxFromLocal);
-  m.densityUri = vdbPath;
+  // Absolute: the sidecar that saves it lies elsewhere than the folder the editor was started in.
+  m.densityUri = std::filesystem::absolute(vdbPath).string();
   m.densityGridName = gridName;
   if (std::string problem = mediumProblem(m); !problem.empty()) throw VdbError(problem);
   medium = std::move(m);
