@@ -61,10 +61,11 @@ void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std
   }
 }
 
-BrdfVariants directProgram(const UniformTableLayout& layout, int mapKind, int mediaCount = 0) {
-  return BrdfVariants("preview/direct.frag.glsl",
-                      {uniformTableDefine("DIRECT_UBO_LIGHTS", layout), "DIRECT_MAP_KIND " + std::to_string(mapKind),
-                       "PREVIEW_MEDIA " + std::to_string(mediaCount)});
+BrdfVariants directProgram(const UniformTableLayout& layout, int mapKind, const MediaShaderLayout& media = {}) {
+  std::vector<std::string> defines = {uniformTableDefine("DIRECT_UBO_LIGHTS", layout),
+                                      "DIRECT_MAP_KIND " + std::to_string(mapKind)};
+  for (std::string& d : media.defines()) defines.push_back(std::move(d));
+  return BrdfVariants("preview/direct.frag.glsl", defines);
 }
 }  // namespace
 
@@ -73,11 +74,11 @@ DirectLightPass::DirectLightPass()
       programs_{directProgram(tableLayout_, AreaMap), directProgram(tableLayout_, PunctualMap),
                 directProgram(tableLayout_, DirectionalMap)} {}
 
-void DirectLightPass::useMedia(int mediaCount) {
-  if (mediaCount == mediaCount_) return;
-  mediaCount_ = mediaCount;
-  programs_ = {directProgram(tableLayout_, AreaMap, mediaCount), directProgram(tableLayout_, PunctualMap, mediaCount),
-               directProgram(tableLayout_, DirectionalMap, mediaCount)};
+void DirectLightPass::useMedia(const MediaShaderLayout& media) {
+  if (media == media_) return;
+  media_ = media;
+  programs_ = {directProgram(tableLayout_, AreaMap, media), directProgram(tableLayout_, PunctualMap, media),
+               directProgram(tableLayout_, DirectionalMap, media)};
 }
 
 DirectLightPass::TableView DirectLightPass::bindTable() const {

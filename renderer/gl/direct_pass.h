@@ -9,6 +9,7 @@
 
 #include "renderer/gl/light_shadows.h"
 #include "renderer/gl/light_table.h"
+#include "renderer/gl/media_shader_layout.h"
 #include "renderer/gl/screen_pass.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
@@ -51,9 +52,9 @@ class DirectLightPass {
   void restartDraw() { drawSlices_.restart(); }
   /// Whether the lights uploaded by the last renderMaps() include area-light samples (else `raw` stays 0).
   bool hasAreaSamples() const { return !runs_.empty() && runs_.front().kind == AreaMap; }
-  /// Compiles the passes with the transmittance of the scene's `mediaCount` media toward each light
-  /// (common/medium.glsl; 0: none).
-  void useMedia(int mediaCount);
+  /// Compiles the passes with the transmittance of the scene's media toward each light (common/medium.glsl; a count
+  /// of 0: none).
+  void useMedia(const MediaShaderLayout& media);
   /// The light table as the media pass (media_pass.h) reads it, with the lights' maps bound: the area samples come
   /// first, then the point and spot lights, then the directional ones up to `count`.
   struct TableView {
@@ -84,7 +85,7 @@ class DirectLightPass {
   std::vector<glm::vec3> directionalDirections_;
   // The map rendering under way: the next cube face and directional map (-1: done).
   bool mapsStarted_ = false;
-  int mediaCount_ = 0;
+  MediaShaderLayout media_;
   int nextFace_ = 0, nextDirectional_ = 0;
   // Where a draw() cut short goes on.
   PassSlices drawSlices_;

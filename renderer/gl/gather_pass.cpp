@@ -16,10 +16,9 @@ struct VplGpu {
 
 VplGatherPass::VplGatherPass() : tableLayout_(uniformTableLayout(sizeof(VplGpu))) {}
 
-void VplGatherPass::useVisibility(const VplVisibility& visibility, int mediaCount) {
-  const std::vector<std::string> defines = {uniformTableDefine("GATHER_UBO_VPLS", tableLayout_),
-                                            visibility.shaderDefine(),
-                                            "PREVIEW_MEDIA " + std::to_string(mediaCount)};
+void VplGatherPass::useVisibility(const VplVisibility& visibility, const MediaShaderLayout& media) {
+  std::vector<std::string> defines = {uniformTableDefine("GATHER_UBO_VPLS", tableLayout_), visibility.shaderDefine()};
+  for (std::string& d : media.defines()) defines.push_back(std::move(d));
   point_ = std::make_unique<BrdfVariants>("preview/gather.frag.glsl", defines);
   sphere_ = std::make_unique<BrdfVariants>("preview/gather_vsl.frag.glsl", defines);
   sphereLambertVpls_.reset();

@@ -7,6 +7,7 @@
 #include <memory>
 
 #include "renderer/gl/light_table.h"
+#include "renderer/gl/media_shader_layout.h"
 #include "renderer/gl/screen_pass.h"
 #include "renderer/gl/vpl_visibility.h"
 #include "renderer/scene/scene.h"
@@ -28,9 +29,9 @@ class VplGatherPass {
  public:
   VplGatherPass();
 
-  /// Compiles the gather for `visibility` (its shader define), with the transmittance of the scene's `mediaCount` media
-  /// and medium VPLs (common/medium.glsl, docs/theory.md §17; 0: none).
-  void useVisibility(const VplVisibility& visibility, int mediaCount = 0);
+  /// Compiles the gather for `visibility` (its shader define), with the transmittance of the scene's media and medium
+  /// VPLs (common/medium.glsl, docs/theory.md §17; a count of 0: none).
+  void useVisibility(const VplVisibility& visibility, const MediaShaderLayout& media = {});
   /// The defines the gather was compiled with: the media pass (media_pass.h) reads the same table and maps.
   const std::vector<std::string>& defines() const { return defines_; }
   /// Draws `program` over the uploaded VPLs, interleaved into `raw` as the point-VPL gather is (same table, chunks and

@@ -4,9 +4,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <glm/gtc/matrix_transform.hpp>
 
 #include "renderer/gl/light_table.h"
 #include "renderer/gl/texture_units.h"
+#include "renderer/scene/density_grid.h"
 
 namespace vplab {
 
@@ -17,31 +19,55 @@ struct MediumGpu {
   glm::mat4 boxFromWorld;
   glm::vec4 compensation;
 };
+// The grid medium's density texture (GlMediumGrid of common/medium.glsl).
+struct MediumGridGpu {
+  glm::mat4 textureFromWorld;
+  glm::vec4 size;  // xyz: texels along x, y, z; w: densityScale
+};
 struct MediaTableGpu {
   MediumGpu media[kPreviewMaxMedia];
+  MediumGridGpu grid;
 };
 
-std::string mediaDefine(int count) {
-  return "PREVIEW_MEDIA " + std::to_string(count);
+// Index coordinates to the texture's: the value at index i sits at the centre of texel i - origin, so index p maps to
+// (p - origin + 0.5) / size, and the texture's linear filtering is the grid's trilinear interpolation.
+glm::mat4 textureFromIndex(const DensityGrid& grid) {
+  const glm::vec3 size(grid.size);
+  return glm::scale(glm::mat4(1.0f), 1.0f / size) * glm::translate(glm::mat4(1.0f), 0.5f - glm::vec3(grid.origin));
 }
 }  // namespace
 
 std::string mediaFitProblem(const Scene& scene) {
   const auto drawn =
       std::count_if(scene.media.begin(), scene.media.end(), [](const Medium& m) { return !m.isVacuum(); });
-  if (drawn <= kPreviewMaxMedia) return {};
-  return "the scene holds " + std::to_string(drawn) + " media; the preview draws at most " +
-         std::to_string(kPreviewMaxMedia) + ": join boxes, or use vplab render";
+  if (drawn > kPreviewMaxMedia)
+    return "the scene holds " + std::to_string(drawn) + " media; the preview draws at most " +
+           std::to_string(kPreviewMaxMedia) + ": join boxes, or use vplab render";
+  const auto grids = std::count_if(scene.media.begin(), scene.media.end(),
+                                   [](const Medium& m) { return !m.isVacuum() && m.heterogeneous(); });
+  if (grids > kPreviewMaxDensityGrids)
+    return "the scene holds " + std::to_string(grids) + " media with density grids; the preview draws at most " +
+           std::to_string(kPreviewMaxDensityGrids) + ": merge the grids into one, or use vplab render";
+  return {};
 }
 
 MediaPass::MediaPass() : merge_({"preview/fullscreen.vert.glsl", "preview/media_merge.frag.glsl"}) {}
 
-glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound) {
+float scatteringWeightedDensity(const DensityGrid& grid) {
+  double sum = 0.0, squares = 0.0;
+  for (float v : grid.values) {
+    sum += v;
+    squares += static_cast<double>(v) * v;
+  }
+  return sum > 0.0 ? static_cast<float>(squares / sum) : 0.0f;
+}
+
+glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound, float density) {
   if (!std::isfinite(clampBound) || !(clampBound > 0.0f)) return glm::vec3(0.0f);
   const double r = 1.0 / std::sqrt(static_cast<double>(clampBound)), b = clampBound;
   glm::vec3 c(0.0f);
   for (int i = 0; i < 3; ++i) {
-    const double a = medium.sigmaT()[i], ar = a * r;
+    const double a = static_cast<double>(medium.sigmaT()[i]) * density, ar = a * r;
     // I0 = integral of e^(-a t), I2 = of t^2 e^(-a t), over [0, r]; by their series where a r is small (no
     // cancellation).
     double i0, i2;
@@ -53,32 +79,50 @@ glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound) 
       i0 = (1.0 - e) / a;
       i2 = (2.0 - e * (ar * ar + 2.0 * ar + 2.0)) / (a * a * a);
     }
-    c[i] = static_cast<float>(medium.sigmaS[i] * (i0 - b * i2));
+    c[i] = static_cast<float>(medium.sigmaS[i] * density * (i0 - b * i2));
   }
   return c;
 }
 
 void MediaPass::upload(const Scene& scene, float clampBound) {
   MediaTableGpu gpu{};
-  count_ = 0;
+  layout_ = {};
   for (const Medium& m : scene.media) {
     // Media that neither absorb nor scatter change nothing (mediumIntervals leaves them out too).
-    if (m.isVacuum() || count_ == kPreviewMaxMedia) continue;
-    gpu.media[count_++] = {glm::vec4(m.sigmaT(), m.fillsSpace ? 1.0f : 0.0f), glm::vec4(m.sigmaS, m.g), m.boxFromWorld,
-                           glm::vec4(approximateCompensationFactor(m, clampBound), 0.0f)};
+    if (m.isVacuum() || layout_.count == kPreviewMaxMedia) continue;
+    float density = 1.0f;
+    // Beyond kPreviewMaxDensityGrids (mediaFitProblem refuses such a scene) a grid would be drawn as a uniform box.
+    if (m.heterogeneous() && layout_.gridMedium < 0) {
+      if (m.density != uploadedGrid_) {
+        density_ = GlTexture::volume(m.density->size, m.density->values);
+        uploadedGrid_ = m.density;
+        uploadedGridWeightedDensity_ = scatteringWeightedDensity(*m.density);
+      }
+      layout_.gridMedium = layout_.count;
+      gpu.grid = {textureFromIndex(*m.density) * m.indexFromWorld,
+                  glm::vec4(glm::vec3(m.density->size), m.densityScale)};
+      density = m.densityScale * uploadedGridWeightedDensity_;
+    }
+    gpu.media[layout_.count++] = {glm::vec4(m.sigmaT(), m.fillsSpace ? 1.0f : 0.0f), glm::vec4(m.sigmaS, m.g),
+                                  m.boxFromWorld,
+                                  glm::vec4(approximateCompensationFactor(m, clampBound, density), 0.0f)};
+  }
+  if (layout_.gridMedium < 0) {
+    density_ = GlTexture();
+    uploadedGrid_.reset();
   }
   table_.assign(&gpu, sizeof(gpu));
   uploadedBound_ = clampBound;
-  if (count_ > 0 && count_ != composeCount_) {
+  if (layout_.count > 0 && layout_ != composeMedia_) {
     compose_ = std::make_unique<ShaderProgram>(
-        std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/media_compose.frag.glsl"},
-        std::vector<std::string>{mediaDefine(count_)});
-    composeCount_ = count_;
+        std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/media_compose.frag.glsl"}, layout_.defines());
+    composeMedia_ = layout_;
   }
 }
 
 void MediaPass::bind() const {
   table_.bindUniform(binding(BufferBinding::Media));
+  if (density_) density_.bind(unit(TextureUnit::MediaDensity));
 }
 
 void MediaPass::useGatherDefines(const std::vector<std::string>& gatherDefines) {
@@ -125,12 +169,13 @@ bool MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
   // samples, from the direct pass's table, in ranges of one uniform block.
   if (lights) {
     const DirectLightPass::TableView table = direct.bindTable();
-    if (!lights_ || lightsLayoutCapacity_ != table.layout.capacity || lightsCount_ != count_) {
+    if (!lights_ || lightsLayoutCapacity_ != table.layout.capacity || lightsMedia_ != layout_) {
+      std::vector<std::string> defines = layout_.defines();
+      defines.push_back(uniformTableDefine("DIRECT_UBO_LIGHTS", table.layout));
       lights_ = std::make_unique<ShaderProgram>(
-          std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/media_lights.frag.glsl"},
-          std::vector<std::string>{uniformTableDefine("DIRECT_UBO_LIGHTS", table.layout), mediaDefine(count_)});
+          std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/media_lights.frag.glsl"}, defines);
       lightsLayoutCapacity_ = table.layout.capacity;
-      lightsCount_ = count_;
+      lightsMedia_ = layout_;
     }
     ShaderProgram& program = *lights_;
     common(program);

@@ -9,6 +9,9 @@
 // both interleaved like the surface passes, on the indirect light's grid, and merged (media_merge.frag.glsl); then
 // the composition through the media (media_compose.frag.glsl): T(camera, surface) times the surfaces' image plus the
 // scattered light.
+// A medium with a density grid (smoke, docs/theory.md §22) is uploaded as a 3D texture; the shaders compiled with
+// PREVIEW_MEDIA_GRID (media_shader_layout.h) integrate its optical depth by ray marching and scale sigma_s by the
+// density where they scatter (common/medium.glsl).
 
 #include <memory>
 #include <string>
@@ -16,6 +19,7 @@
 
 #include "renderer/gl/direct_pass.h"
 #include "renderer/gl/gather_pass.h"
+#include "renderer/gl/media_shader_layout.h"
 #include "renderer/gl/resources.h"
 #include "renderer/gl/screen_pass.h"
 #include "renderer/gl/shader.h"
@@ -27,11 +31,15 @@ namespace vplab {
 
 /// The most media one scene may hold in the preview (MEDIA_MAX of common/medium.glsl).
 inline constexpr int kPreviewMaxMedia = 8;
+/// The most media with a density grid one scene may hold in the preview: the grid's texture has one unit
+/// (TextureUnit::MediaDensity) and its medium is a shader define (PREVIEW_MEDIA_GRID).
+inline constexpr int kPreviewMaxDensityGrids = 1;
 /// Distances per light and pixel along a camera ray for the lights' single scattering: with equiangular sampling and
 /// the k x k merge, 4 keep the shafts of the bundled fog scenes within 2 % of the CPU's (tests/gl_media_test.cpp).
 inline constexpr int kMediaLightSteps = 4;
 
-/// One sentence when the scene holds more media than the preview draws, else empty.
+/// One sentence when the scene holds more media, or more media with a density grid, than the preview draws, else
+/// empty.
 std::string mediaFitProblem(const Scene& scene);
 
 /// The approximate bias compensation in a medium (Engelhardt et al. 2012, docs/theory.md §18), "GPU friendly": the
@@ -42,7 +50,14 @@ std::string mediaFitProblem(const Scene& scene);
 ///   C = sigma_s integral over [0, r] of e^(-sigma_t t) (1 - b t^2) dt       (the phase function integrates to 1),
 /// in closed form; so the compensation along a camera ray is C times the light the medium scatters into it under the
 /// bound (the lights' and the VPLs'), with no pass of its own. 0 without a bound.
-glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound);
+/// `density` multiplies the medium's coefficients (a grid's are per unit density): 1 for a homogeneous medium. For a
+/// grid the CPU's vpl-abc takes the medium locally homogeneous at each scattering point (Engelhardt et al. 2012);
+/// the preview applies one factor to a whole camera ray's scattered light, so it takes the grid homogeneous with
+/// densityScale times scatteringWeightedDensity(): an approximation, exact only where the density is uniform.
+glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound, float density = 1.0f);
+/// The density a grid's scattering events see on average: sum d^2 / sum d over its voxels, the mean of the density
+/// weighted by itself (light scatters in proportion to the density, in an optically thin, evenly lit medium).
+float scatteringWeightedDensity(const DensityGrid& grid);
 
 class MediaPass {
  public:
@@ -50,12 +65,14 @@ class MediaPass {
 
   /// Uploads the scene's media (at most kPreviewMaxMedia, mediaFitProblem()) with their compensation factors for the
   /// bound b; active() tells whether it has any that absorb or scatter.
+  /// A grid medium's density is uploaded as a 3D texture when its grid is not the one already uploaded.
   void upload(const Scene& scene, float clampBound);
   /// The bound the last upload() computed the compensation factors for.
   float uploadedBound() const { return uploadedBound_; }
-  bool active() const { return count_ > 0; }
-  int count() const { return count_; }
-  /// Binds the media's table for every pass compiled with PREVIEW_MEDIA (the direct pass and the gather too).
+  bool active() const { return layout_.count > 0; }
+  /// What the passes that read the media are compiled for (the direct pass and the gather too).
+  const MediaShaderLayout& layout() const { return layout_; }
+  /// Binds the media's table, and the grid's texture, for every pass compiled with PREVIEW_MEDIA.
   void bind() const;
   /// Compiles the VPLs' in-scattering for the gather's table, visibility technique and media
   /// (VplGatherPass::defines()).
@@ -88,15 +105,20 @@ class MediaPass {
   void ensureTargets(const InterleavedLayout& layout);
 
   GlBuffer table_;
-  int count_ = 0;
+  MediaShaderLayout layout_;
   float uploadedBound_ = 0.0f;
+  // The grid whose density `density_` holds (kept, so that a new grid is never taken for it at the same address), and
+  // its scatteringWeightedDensity().
+  std::shared_ptr<const DensityGrid> uploadedGrid_;
+  float uploadedGridWeightedDensity_ = 0.0f;
+  GlTexture density_;
   std::unique_ptr<ShaderProgram> lights_;
   int lightsLayoutCapacity_ = 0;
   std::unique_ptr<BrdfVariants> vpls_;
   ShaderProgram merge_;
   std::unique_ptr<ShaderProgram> compose_;
-  // The media count the programs were compiled for.
-  int lightsCount_ = 0, composeCount_ = 0;
+  // The media the programs were compiled for.
+  MediaShaderLayout lightsMedia_, composeMedia_;
   // The interleaved results (block layout), their merge (lights in colour 0, VPLs in colour 1) and a copy of the
   // surfaces' image that compose() reads.
   std::unique_ptr<Target> lightsRaw_, vplsRaw_, merged_, surfaceCopy_;

@@ -13,6 +13,7 @@
 
 #include "renderer/gl/texture_units.h"
 #include "renderer/invalidation.h"
+#include "renderer/scene/density_grid.h"
 
 namespace vplab {
 
@@ -193,16 +194,16 @@ PreviewRenderer::PreviewRenderer()
       gridLight_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 1"}),
       upsample_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 0"}),
       tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}) {
-  useVisibility(VisibilityMethod::Cube, 0);
+  useVisibility(VisibilityMethod::Cube, {});
 }
 
-void PreviewRenderer::useVisibility(VisibilityMethod method, int mediaCount) {
-  if (vplVisibility_ && method == visibilityMethod_ && mediaCount == gatherMedia_) return;
+void PreviewRenderer::useVisibility(VisibilityMethod method, const MediaShaderLayout& media) {
+  if (vplVisibility_ && method == visibilityMethod_ && media == gatherMedia_) return;
   if (!vplVisibility_ || method != visibilityMethod_) vplVisibility_ = makeVplVisibility(method);
   visibilityMethod_ = method;
-  gatherMedia_ = mediaCount;
-  gather_.useVisibility(*vplVisibility_, mediaCount);
-  if (mediaCount > 0) media_.useGatherDefines(gather_.defines());
+  gatherMedia_ = media;
+  gather_.useVisibility(*vplVisibility_, media);
+  if (media.count > 0) media_.useGatherDefines(gather_.defines());
 }
 
 MediaPass::Frame PreviewRenderer::mediaFrame(const Camera& camera, const Settings& settings) const {
@@ -260,7 +261,26 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   for (const PunctualLight& l : scene.punctualLights) (l.isDirectional() ? squares : cubes) += 1;
   const double lightBytes = 4.0 * (6.0 * cubes * kLightShadowFaceSize * kLightShadowFaceSize +
                                    static_cast<double>(squares) * kDirectionalShadowSize * kDirectionalShadowSize);
-  const double total = vplMaps.bytes + targetBytes + lightBytes;
+  // A density grid is an R32F 3D texture of its stored voxels (MediaPass::upload).
+  double gridBytes = 0.0;
+  for (const Medium& m : scene.media) {
+    if (!m.heterogeneous() || m.isVacuum()) continue;
+    const glm::ivec3 size = m.density->size;
+    if (limits.max3dTextureSize > 0 && std::max({size.x, size.y, size.z}) > limits.max3dTextureSize) {
+      why << "medium '" << m.name << "': its density grid of " << size.x << "x" << size.y << "x" << size.z
+          << " voxels exceeds this GL context's largest 3D texture, " << limits.max3dTextureSize
+          << " per side: use vplab render";
+      return why.str();
+    }
+    gridBytes += 4.0 * size.x * size.y * static_cast<double>(size.z);
+  }
+  const double total = vplMaps.bytes + targetBytes + lightBytes + gridBytes;
+  if (total > limits.memoryBytes && gridBytes > 0.5 * total) {
+    why << "the scene's density grid needs " << formatBytes(gridBytes) << " of 3D texture: the preview needs "
+        << formatBytes(total) << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
+        << limits.memorySource << "); the grid is the cause: use a coarser grid, or vplab render";
+    return why.str();
+  }
   // When the lights' own shadow maps are most of it, no VPL or image flag helps: say that the lights are the cause
   // (10,000 point lights need 10,000 cubes).
   if (total > limits.memoryBytes && lightBytes > 0.5 * total) {
@@ -322,14 +342,14 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   if (const Staleness mediaEdit = staleAfterMediumEdit(uploadedMedia_, scene.media);
       mediaEdit.anyPreview() || !haveFrame_) {
     media_.upload(scene, settings.clampBound);
-    direct_.useMedia(media_.count());
+    direct_.useMedia(media_.layout());
     uploadedMedia_ = scene.media;
     stale |= mediaEdit;
   }
   lightsDirty_ = false;
   const VisibilityMethod visibility = resolveVisibility(settings.visibility, scene.triangles.size(), vpls.vpls.size());
-  if (visibility != visibilityMethod_ || media_.count() != gatherMedia_) {
-    useVisibility(visibility, media_.count());
+  if (visibility != visibilityMethod_ || media_.layout() != gatherMedia_) {
+    useVisibility(visibility, media_.layout());
     vplsDirty_ = true;
   }
   // The compensation factors depend on the bound (a change of which the gather's staleness covers).

@@ -139,7 +139,7 @@ class PreviewRenderer {
   void upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFramebuffer& out, PassSlices& slices);
   /// Creates the visibility technique and compiles the gather (and the media's VPL pass) for it and for the scene's
   /// media when Settings::visibility or whether the scene has media changed.
-  void useVisibility(VisibilityMethod method, int mediaCount);
+  void useVisibility(VisibilityMethod method, const MediaShaderLayout& media);
   /// Through the scene's media (none: nothing to do): target = weights.x T(camera, surface) target + weights.y the
   /// lights' single scattering + weights.z the VPLs' in-scattering + weights.w their approximate compensation, for the
   /// last frame (MediaPass::compose).
@@ -165,8 +165,8 @@ class PreviewRenderer {
   /// The VPL visibility technique of Settings::visibility.
   std::unique_ptr<VplVisibility> vplVisibility_;
   VisibilityMethod visibilityMethod_ = VisibilityMethod::Cube;
-  /// The media count the gather was compiled for.
-  int gatherMedia_ = 0;
+  /// The media the gather was compiled for.
+  MediaShaderLayout gatherMedia_;
   MediaPass media_;
   /// The media media_ holds, to notice an edit in place.
   std::vector<Medium> uploadedMedia_;

@@ -97,6 +97,24 @@ GlTexture GlTexture::cubeArray(int side, int cubes, TextureFormat format) {
   return t;
 }
 
+GlTexture GlTexture::volume(glm::ivec3 size, const std::vector<float>& values) {
+  assert(size.x > 0 && size.y > 0 && size.z > 0 &&
+         values.size() == static_cast<std::size_t>(size.x) * size.y * static_cast<std::size_t>(size.z));
+  GlTexture t;
+  t.width_ = size.x;
+  t.height_ = size.y;
+  t.levels_ = 1;
+  t.format_ = TextureFormat::R32F;
+  t.object_ = GlObject(GlObject::Kind::Texture, createName(GlObject::Kind::Texture, GL_TEXTURE_3D));
+  glTextureStorage3D(t.id(), 1, GL_R32F, size.x, size.y, size.z);
+  // Rows of a single float are 4-byte aligned whatever the width: the default unpack alignment fits.
+  glTextureSubImage3D(t.id(), 0, 0, 0, 0, size.x, size.y, size.z, GL_RED, GL_FLOAT, values.data());
+  t.setLinearFiltering(true, false);
+  t.setRepeat(false);
+  glTextureParameteri(t.id(), GL_TEXTURE_WRAP_R, GL_CLAMP_TO_EDGE);
+  return t;
+}
+
 void GlTexture::uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels) {
   assert(layers_ > 0 && layer < layers_ && texels.size() == static_cast<std::size_t>(width_) * height_);
   glTextureSubImage3D(id(), 0, 0, 0, layer, width_, height_, 1, GL_RGBA, GL_FLOAT, texels.data());

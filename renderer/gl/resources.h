@@ -51,6 +51,9 @@ class GlTexture {
   GlTexture(int width, int height, TextureFormat format, int levels = 1, int layers = 0, bool linear = false);
   /// A cube-map array of `cubes` cubes (6 * cubes layer-faces), side x side texels, linear filtering.
   static GlTexture cubeArray(int side, int cubes, TextureFormat format);
+  /// A 3D R32F texture of size.x * size.y * size.z `values` (x fastest), linear filtering, clamped to the edge on every
+  /// axis (a density grid, renderer/gl/media_pass.h).
+  static GlTexture volume(glm::ivec3 size, const std::vector<float>& values);
   uint32_t id() const { return object_.id(); }
   int width() const { return width_; }
   int height() const { return height_; }

@@ -29,6 +29,9 @@ enum class TextureUnit : int {
   LightShadows = 16,
   /// The directional lights' orthographic shadow maps (renderer/gl/light_shadows.h) in the direct pass.
   DirectionalShadows = 17,
+  /// The density grid of the scene's grid medium (renderer/gl/media_pass.h, common/medium.glsl), in every pass that
+  /// reads the media table.
+  MediaDensity = 18,
 };
 
 constexpr int unit(TextureUnit u) {

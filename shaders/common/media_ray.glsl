@@ -59,11 +59,18 @@ int mediumAlong(MediaRay r, float t) {
   return found;
 }
 
-// Transmittance from the camera to the ray's point at t.
+// Transmittance from the camera to the ray's point at t (ray-marched from the camera through a density grid).
 vec3 cameraTransmittance(MediaRay r, float t) {
   vec3 depth = vec3(0.0);
-  for (int m = 0; m < PREVIEW_MEDIA; ++m)
+  for (int m = 0; m < PREVIEW_MEDIA; ++m) {
+#ifdef PREVIEW_MEDIA_GRID
+    if (m == PREVIEW_MEDIA_GRID) {
+      depth += media[m].sigmaT.rgb * gridDensityIntegral(r.origin, r.dir, r.range[m].x, min(r.range[m].y, t));
+      continue;
+    }
+#endif
     depth += media[m].sigmaT.rgb * max(0.0, min(r.range[m].y, t) - r.range[m].x);
+  }
   return exp(-depth);
 }
 

@@ -1,7 +1,8 @@
 #version 450 core
 // Single scattering of the lights along camera rays (docs/theory.md §16, §18): per pixel, the integral over the media
-// the ray crosses before its surface of T(0, t) sigma_s f_p L_light(x(t)), with the direct pass's lights
-// (preview/direct.frag.glsl: its K area-light samples and punctual lights) and their shadow maps:
+// the ray crosses before its surface of T(0, t) sigma_s(x(t)) f_p L_light(x(t)) (sigma_s varies in a density grid),
+// with the direct pass's lights (preview/direct.frag.glsl: its K area-light samples and punctual lights) and their
+// shadow maps:
 //   L_light = weight cosLight / d^2 * T(light, x) * V          (area sample y_k, one-sided, weight = Le / (K p_A))
 //           = I(-w) / d^2 * T(light, x) * V                     (point or spot light, KHR_lights_punctual falloff)
 //           = E * T(x -> infinity) * V                          (directional light)
@@ -92,7 +93,7 @@ vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, f
       visibility = stored >= length(fromCentre) * (1.0 - 2.0 * texel) ? 1.0 : 0.0;
     }
     float phase = phaseHG(dot(w, r.dir), media[medium].sigmaS.w);
-    vec3 term = cameraTransmittance(r, t) * media[medium].sigmaS.rgb * (phase * falloff * visibility / pdf) *
+    vec3 term = cameraTransmittance(r, t) * mediumSigmaS(medium, x) * (phase * falloff * visibility / pdf) *
                 l.weight.rgb * mediaLightTransmittance(l.position, l.axis.xyz, x);
     sum += m >= 0 && pdf > 0.0 ? term : vec3(0.0);
   }

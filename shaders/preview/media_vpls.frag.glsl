@@ -2,7 +2,7 @@
 // In-scattering of the VPLs along camera rays (docs/theory.md §17): per pixel and VPL of its interleaving subset, one
 // distance t drawn equiangularly around the VPL over the span of the media the ray crosses (as the CPU's VPL render,
 // renderer/offline/vpl_renderer.cpp mediumAlongRay, draws it), and there
-//   T(0, t) sigma_s f_p(x; -dir, w) G_b [VPL end: f(x2; w_in, -w) | f_p(x2; w_in, -w)] Phi T(x, x2) V / pdf(t),
+//   T(0, t) sigma_s(x) f_p(x; -dir, w) G_b [VPL end: f(x2; w_in, -w) | f_p(x2; w_in, -w)] Phi T(x, x2) V / pdf(t),
 //   G = (cosine at the VPL if it lies on a surface) / d^2, G_b = min(G, b)   (no cosine at the medium point x),
 // V from the gather's VPL visibility technique (common/visibility.glsl). Interleaved like the gather (pixel subset s
 // takes VPLs s, s + k^2, ... with weight k^2) and written in its deinterleaved block layout; merged by
@@ -51,7 +51,7 @@ void main() {
     float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x, dist, vec3(0.0));
     float gb = min(cos2 / dist2, uClampBound);
     float phase = phaseHG(dot(w, r.dir), media[medium].sigmaS.w);
-    vec3 term = cameraTransmittance(r, t) * media[medium].sigmaS.rgb * (phase * gb * v / pdf) * end *
+    vec3 term = cameraTransmittance(r, t) * mediumSigmaS(medium, x) * (phase * gb * v / pdf) * end *
                 mediaTransmittance(x, x2);
     sum += m >= 0 && faces && cos2 > 0.0 && pdf > 0.0 ? term : vec3(0.0);
   }

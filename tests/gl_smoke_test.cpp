@@ -1,0 +1,280 @@
+// Density grids (smoke) in the GL preview (renderer/gl/media_pass.h, shaders/common/medium.glsl, docs/theory.md §22)
+// on the bundled cornell-smoke scene (a 32x48x32 voxel plume): the grid as the shaders read it against the CPU's
+// trilinear lookup (Medium::densityAt) and the ray-marched optical depth against a fine quadrature of it; then the
+// images against the CPU on the same VPLs, as tests/gl_media_test.cpp does for homogeneous fog: the lights' single
+// scattering (the CPU's forced free flights with ratio tracking), the direct light and the indirect light (the exact
+// VPL render). The preview point-samples pixel centres, the CPU jitters its pixel samples: the preview is rendered at
+// 4x the resolution and box-filtered down before comparing. Every GL test runs on OSMesa and on EGL.
+
+#include <gtest/gtest.h>
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <glm/gtc/matrix_transform.hpp>
+#include <map>
+#include <string>
+#include <vector>
+
+#include "renderer/core/sampling.h"
+#include "renderer/gl/gl_limits.h"
+#include "renderer/gl/media_pass.h"
+#include "renderer/gl/preview_renderer.h"
+#include "renderer/gl/texture_units.h"
+#include "renderer/image/metrics.h"
+#include "renderer/offline/camera_sample.h"
+#include "renderer/offline/emitter_mask.h"
+#include "renderer/offline/vpl_renderer.h"
+#include "renderer/scene/density_grid.h"
+#include "renderer/vpl/vpl_generation.h"
+#include "tests/gl_test_util.h"
+#include "tests/test_scenes.h"
+
+namespace vplab {
+namespace {
+
+class GlSmoke : public test::GlBackendTest {};
+
+constexpr int kUpscale = 4;
+/// The compared images' size (the preview renders kUpscale x that).
+constexpr int kSize = 64;
+
+/// The CPU images, rendered once for both backends.
+const Image& cachedCpu(const std::string& key, const std::function<Image()>& render) {
+  static std::map<std::string, Image> images;
+  auto it = images.find(key);
+  if (it == images.end()) it = images.emplace(key, render()).first;
+  return it->second;
+}
+
+/// The preview's outputs `which` of one render at kUpscale x the settings' size, box-filtered down.
+std::vector<Image> previewOutputsDownscaled(const Scene& scene, const VplSet& vpls, Settings s,
+                                            const std::vector<PreviewOutput>& which) {
+  s.width *= kUpscale;
+  s.height *= kUpscale;
+  PreviewRenderer renderer;
+  renderer.render(scene, vpls, s, scene.camera);
+  std::vector<Image> out;
+  for (PreviewOutput w : which) out.push_back(blockAverage(renderer.readLinear(w), kUpscale));
+  return out;
+}
+
+struct Comparison {
+  double relMse, meanRatio;
+};
+
+/// relMSE (both images scaled to the CPU's unit mean) and mean ratio, emitters left out.
+Comparison compare(const OfflineScene& l, const Image& gl, const Image& cpu, const std::string& what) {
+  const PixelMask emitters = emitterMask(l.embree(), cpu.width, cpu.height, 1);
+  const double scale = unitMeanScale(cpu, emitters);
+  const ImageMetrics m = compareImagesExcluding(scaled(gl, scale), scaled(cpu, scale), emitters);
+  const double ratio = meanRatioExcludingEmitters(gl, cpu, emitters);
+  std::printf("[ measured ] %s: relMSE %.5f, mean ratio %.4f (%zu emitter pixels left out)\n", what.c_str(), m.relMse,
+              ratio, emitters.count());
+  EXPECT_EQ(m.nonFinitePixels, 0u) << what;
+  return {m.relMse, ratio};
+}
+
+/// What shaders/test/media_probe.frag.glsl returns for segments from[i] -> to[i] and points[i], with the scene's
+/// media uploaded by the media pass: optical depth (rgb) and the grid's density (a) per probe.
+std::vector<glm::vec4> probeGl(const Scene& scene, const std::vector<glm::vec3>& from, const std::vector<glm::vec3>& to,
+                               const std::vector<glm::vec3>& points) {
+  const int n = static_cast<int>(points.size());
+  MediaPass media;
+  media.upload(scene, kInfinity);
+  media.bind();
+  std::vector<glm::vec3> texels(from);
+  texels.insert(texels.end(), to.begin(), to.end());
+  texels.insert(texels.end(), points.begin(), points.end());
+  GlTexture probes(n, 3, TextureFormat::Rgba32F);
+  probes.uploadRgb(texels);
+  probes.bind(unit(TextureUnit::PassInput0));
+  ShaderProgram program({"preview/fullscreen.vert.glsl", "test/media_probe.frag.glsl"}, media.layout().defines());
+  Target out(n, 1);
+  out.framebuffer.bind(n, 1);
+  GlVertexArray vao;
+  drawFullscreen(program, vao);
+  return readFramebufferRgba(out.framebuffer, 0, n, 1);
+}
+
+/// The integral of Medium::densityAt over the segment a -> b by the midpoint rule with 64 steps per voxel crossed:
+/// the CPU's exact optical depth per unit sigma_t to well below the tolerances below.
+double densityIntegral(const Medium& m, const glm::vec3& a, const glm::vec3& b) {
+  const glm::vec3 ia = glm::vec3(m.indexFromWorld * glm::vec4(a, 1.0f));
+  const glm::vec3 ib = glm::vec3(m.indexFromWorld * glm::vec4(b, 1.0f));
+  const int steps = std::max(64, static_cast<int>(std::ceil(64.0f * glm::length(ib - ia))));
+  double sum = 0.0;
+  for (int i = 0; i < steps; ++i) sum += m.densityAt(glm::mix(a, b, (static_cast<float>(i) + 0.5f) / steps));
+  return sum * glm::length(b - a) / steps;
+}
+
+// The grid as the shaders read it: the 3D texture's linear filtering at points inside and around the box against the
+// CPU's trilinear lookup (a half-texel shift of the texture's placement would be off by far more than the tolerance,
+// which allows for GPUs' 8-bit filter weights), and the ray-marched optical depth of segments across the box, and of
+// segments starting inside the smoke as those toward lights and VPLs do, against a fine quadrature of that lookup.
+// densityScale is set to 2.5 so that it takes part.
+TEST_P(GlSmoke, GridLookupAndOpticalDepthMatchTheCpu) {
+  auto l = test::loadAssetScene("cornell-smoke");
+  Scene scene = l->scene();
+  ASSERT_EQ(scene.media.size(), 1u);
+  Medium& smoke = scene.media[0];
+  ASSERT_TRUE(smoke.heterogeneous());
+  smoke.densityScale = 2.5f;
+  Rng rng(0x736d6f6b65ull);
+  auto inBox = [&](float spread) {
+    const glm::vec3 q = (glm::vec3(rng.next1D(), rng.next1D(), rng.next1D()) * 2.0f - 1.0f) * spread;
+    return glm::vec3(smoke.worldFromBox * glm::vec4(q, 1.0f));
+  };
+  const int n = 256;
+  std::vector<glm::vec3> from(n), to(n), points(n);
+  for (int i = 0; i < n; ++i) {
+    // Half the segments cross the box from outside, half start inside it; the points reach beyond the box a little.
+    from[i] = inBox(i % 2 ? 1.5f : 0.8f);
+    to[i] = inBox(1.5f);
+    points[i] = inBox(1.1f);
+  }
+  const std::vector<glm::vec4> gl = probeGl(scene, from, to, points);
+  const double densityMax = smoke.densityScale * smoke.density->maxValue;
+  double worstDensity = 0.0, worstDepth = 0.0, meanDepth = 0.0;
+  std::vector<double> cpuDepth(n);
+  for (int i = 0; i < n; ++i) {
+    worstDensity = std::max(worstDensity, std::abs(gl[i].a - smoke.densityAt(points[i])) / densityMax);
+    cpuDepth[i] = densityIntegral(smoke, from[i], to[i]);
+    meanDepth += cpuDepth[i] / n;
+  }
+  for (int i = 0; i < n; ++i) {
+    // The depth per unit sigma_t of the green channel (all three scale the same integral), relative to the segment's
+    // own, or to 1 % of the mean for the segments that barely touch the smoke.
+    const double depth = gl[i].g / smoke.sigmaT().g;
+    worstDepth = std::max(worstDepth, std::abs(depth - cpuDepth[i]) / std::max(cpuDepth[i], 0.01 * meanDepth));
+  }
+  std::printf(
+      "[ measured ] cornell-smoke grid in GL: density off by at most %.2e of its maximum; optical depth (mean "
+      "%.3f per unit sigma_t) off by at most %.2f %%\n",
+      worstDensity, meanDepth, 100.0 * worstDepth);
+  EXPECT_LT(worstDensity, 4e-3);
+  EXPECT_LT(worstDepth, 0.02);
+  EXPECT_GT(meanDepth, 0.0);
+}
+
+/// The CPU's single scattering of the lights along camera rays: per pixel sample, one forced free flight in the media
+/// before the surface (ratio tracking through the grid) and the reference's direct-light estimator there, nothing else.
+Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int spp) {
+  const Scene& scene = l.scene();
+  Image image(s.width, s.height);
+  std::vector<MediumInterval> intervals;
+  for (int y = 0; y < s.height; ++y)
+    for (int x = 0; x < s.width; ++x) {
+      Rng rng(hashKey(static_cast<uint64_t>(y) * s.width + x, 0x73696e676c65ull));
+      glm::vec3 sum(0.0f);
+      for (int i = 0; i < spp; ++i) {
+        const glm::vec2 jitter = rng.next2D();
+        const glm::vec3 dir = cameraRayDirection(scene.camera, static_cast<float>(x) + jitter.x,
+                                                 static_cast<float>(y) + jitter.y, s.width, s.height);
+        const auto hit = l.embree().intersect(scene.camera.position, dir);
+        const float end = hit ? hit->distance : kInfinity;
+        mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
+        float t = 0.0f;
+        uint32_t medium = 0;
+        glm::vec3 weight(0.0f);
+        if (intervals.empty() || !sampleForcedFlight(scene.media, intervals, scene.camera.position, dir, end,
+                                                     rng.next2D(), t, medium, weight))
+          continue;
+        const Interaction at = Interaction::inMediumAt(scene, scene.camera.position + dir * t, medium, -dir);
+        sum += weight * estimateDirectLight(l.embree(), l.lights(), at, rng);
+      }
+      image.at(x, y) = sum / static_cast<float>(spp);
+    }
+  return image;
+}
+
+// The lights' single scattering in the smoke (the preview's Scattered output without VPLs): sigma_s at each sampled
+// distance from the grid, the transmittance from the camera and toward the light ray-marched.
+TEST_P(GlSmoke, SingleScatteringMatchesCpu) {
+  auto l = test::loadAssetScene("cornell-smoke");
+  const Settings s = test::indirectSettings(kSize, 0);
+  const Image gl = previewOutputsDownscaled(l->scene(), VplSet{}, s, {PreviewOutput::Scattered})[0];
+  const Image& cpu = cachedCpu("single", [&] { return cpuSingleScattering(*l, s, 256); });
+  const Comparison m = compare(*l, gl, cpu, "cornell-smoke single scattering");
+  EXPECT_LE(m.relMse, 0.02);
+  EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
+}
+
+// The direct light through the smoke (the preview's Direct output: the surfaces' direct light, its transmittance toward
+// each light sample ray-marched through the grid in the direct pass, attenuated along the camera rays, plus the lights'
+// single scattering) against the CPU's (ratio tracking on every shadow ray).
+TEST_P(GlSmoke, DirectLightMatchesCpu) {
+  auto l = test::loadAssetScene("cornell-smoke");
+  Settings s = test::indirectSettings(kSize, 0);
+  s.components = Components::Direct;
+  s.directLightSamples = 64;
+  const Image gl = previewOutputsDownscaled(l->scene(), VplSet{}, s, {PreviewOutput::Direct})[0];
+  // 256 samples per pixel: ratio tracking makes the CPU's shadow rays noisier than through fog.
+  Settings c = s;
+  c.samplesPerPixel = 256;
+  const Image& cpu = cachedCpu("direct", [&] { return renderVpl(*l, VplSet{}, Method::Vpl, c).image; });
+  const Comparison m = compare(*l, gl, cpu, "cornell-smoke direct light");
+  EXPECT_LE(m.relMse, 0.02);
+  EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
+}
+
+// The indirect light (the gather attenuated along camera rays, with the transmittance toward each VPL through the
+// grid, plus the VPLs' in-scattering with sigma_s from the grid) against the CPU's exact VPL render on the same VPLs,
+// surface and medium ones. The smoke is thin: a few % of the VPLs land in it, and their in-scattering along the camera
+// rays is a few % of the image.
+TEST_P(GlSmoke, IndirectMatchesCpu) {
+  auto l = test::loadAssetScene("cornell-smoke");
+  Settings s = test::indirectSettings(kSize, 128);
+  s.clampBound = 20.0f;
+  const VplSet vpls = generateVpls(*l, s);
+  std::size_t inMedium = 0;
+  for (const Vpl& v : vpls.vpls) inMedium += v.inMedium;
+  ASSERT_GT(inMedium, 0u) << "no medium VPLs to test";
+  const std::vector<Image> gl =
+      previewOutputsDownscaled(l->scene(), vpls, s, {PreviewOutput::Indirect, PreviewOutput::Scattered});
+  Settings c = s;
+  c.samplesPerPixel = 32;
+  const Image& cpu = cachedCpu("indirect", [&] { return renderVpl(*l, vpls, Method::Vpl, c).image; });
+  const Comparison m = compare(*l, gl[0], cpu,
+                               "cornell-smoke indirect, " + std::to_string(vpls.vpls.size()) + " VPLs (" +
+                                   std::to_string(inMedium) + " in the smoke), b = 20");
+  EXPECT_LE(m.relMse, 0.02);
+  EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
+  const double scattered = meanLuminance(gl[1]) - meanLuminance(previewOutputsDownscaled(
+                                                      l->scene(), VplSet{}, s, {PreviewOutput::Scattered})[0]);
+  std::printf("[ measured ] cornell-smoke: the VPLs' in-scattering is %.1f %% of the indirect mean\n",
+              100.0 * scattered / meanLuminance(gl[0]));
+  // More than the mean may be off by: without it the comparison above would fail.
+  EXPECT_GT(scattered, 0.03 * meanLuminance(gl[0]));
+}
+
+VPLAB_GL_BACKENDS(GlSmoke);
+
+// The preview draws one density grid (kPreviewMaxDensityGrids), as one 3D texture: a second grid, or a grid larger
+// than the context's 3D textures, is refused with a sentence that says so, before any GL work.
+TEST(SmokePreviewFit, RefusesWhatThePreviewCannotDraw) {
+  auto l = test::loadAssetScene("cornell-smoke");
+  Scene scene = l->scene();
+  EXPECT_EQ(mediaFitProblem(scene), "");
+  GlLimits limits;
+  limits.maxTextureSize = limits.maxFramebufferSize = 16384;
+  limits.maxArrayLayers = 2048;
+  limits.memoryBytes = 4.0 * 1024 * 1024 * 1024;
+  limits.max3dTextureSize = 48;
+  Settings settings;
+  settings.width = settings.height = 64;
+  const std::string tooLarge = previewFitProblem(scene, 16, settings, limits);
+  EXPECT_NE(tooLarge.find("exceeds this GL context's largest 3D texture, 48 per side"), std::string::npos) << tooLarge;
+  limits.max3dTextureSize = 2048;
+  EXPECT_EQ(previewFitProblem(scene, 16, settings, limits), "");
+
+  Medium second = scene.media[0];
+  second.setBox(glm::translate(glm::mat4(1.0f), glm::vec3(0.0f, 0.0f, 10.0f)) * second.worldFromBox);
+  scene.media.push_back(second);
+  const std::string twoGrids = mediaFitProblem(scene);
+  EXPECT_NE(twoGrids.find("2 media with density grids"), std::string::npos) << twoGrids;
+}
+
+}  // namespace
+}  // namespace vplab
