@@ -340,10 +340,10 @@ def cornell_fog():
 
 # The plume of scripts/make_smoke.py (32 x 48 x 32 voxels of 1 cm, density in [0, 1]) at 0.8 scale, rising from the
 # floor in the free corner in front of the tall block: 0.26 m wide, 0.39 m high. Per unit density it scatters like
-# dense smoke, slightly more toward blue, albedo about 0.9: optical depth about 1.2 straight across it, 3.6 up
-# through it.
-CORNELL_SMOKE_SIGMA_A = (2.0, 2.0, 2.0)
-CORNELL_SMOKE_SIGMA_S = (18.0, 20.0, 22.0)
+# dense smoke, slightly more toward blue, albedo about 0.9: optical depth about 3 straight across it, 9 up through
+# it (the bound removes much more energy in it than on the walls, as in the course's smoke).
+CORNELL_SMOKE_SIGMA_A = (5.0, 5.0, 5.0)
+CORNELL_SMOKE_SIGMA_S = (45.0, 50.0, 55.0)
 CORNELL_SMOKE_G = 0.3
 CORNELL_SMOKE_SCALE = 0.8
 CORNELL_SMOKE_CENTRE = (0.41, 0.135)  # x, z of the plume's axis at its base (metres)

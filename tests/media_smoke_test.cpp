@@ -16,6 +16,7 @@
 #include "renderer/offline/media_tracking.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/path_tracer.h"
+#include "renderer/offline/render_methods.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/offline/vrl_renderer.h"
 #include "renderer/scene/density_grid.h"
@@ -220,6 +221,22 @@ TEST(SmokeReference, ConstantGridRendersTheHomogeneousBox) {
               meanOf(b), meanOf(a), sameSeeds, otherSeed);
   EXPECT_NEAR(meanOf(b) / meanOf(a), 1.0, 0.005);
   EXPECT_LT(sameSeeds, 0.25 * otherSeed);
+
+  // The approximate compensation takes the medium homogeneous at the receiver: on a constant grid that is the box's
+  // estimator, so it adds the same share to the bounded render (the same VPLs light both; the two scenes' renders
+  // differ by their noise and the grid's half-voxel fall-off, which the ratio cancels).
+  Settings v = test::smallVplSettings(24, 256);
+  v.samplesPerPixel = 8;
+  v.clampBound = 100.0f;
+  const VplSet vpls = generateVpls(boxOffline, v);
+  auto compensatedShare = [&](const OfflineScene& offline) {
+    return meanOf(renderVpl(offline, vpls, Method::VplAbc, v).image) /
+           meanOf(renderVpl(offline, vpls, Method::Vpl, v).image);
+  };
+  const double boxShare = compensatedShare(boxOffline), gridShare = compensatedShare(gridOffline);
+  std::printf("[ measured ] vpl-abc / bounded vpl at b = 100: constant grid %.5f, box %.5f\n", gridShare, boxShare);
+  // 0.4 % measured: 1 % is a seventh of the compensation itself.
+  EXPECT_NEAR(gridShare / boxShare, 1.0, 0.01);
 }
 
 TEST(SmokeReference, FurnaceFilledWithNonAbsorbingSmokeKeepsTwo) {
@@ -254,7 +271,34 @@ TEST(SmokeReference, FurnaceFilledWithNonAbsorbingSmokeKeepsTwo) {
   for (int ch = 0; ch < 3; ++ch) EXPECT_NEAR(mean[ch], 2.0, 0.01) << "channel " << ch;
 }
 
-// --- the methods on the bundled smoke -----------------------------------------------------------------------------
+// --- the methods on the bundled smoke ---------------------------------------------------------------------------
+
+// Every media method through the grid, once, small: finite, non-negative, lit, and the same image at any thread count.
+TEST(SmokeMethods, EveryMethodRendersTheSmokeDeterministically) {
+  auto scene = test::loadAssetScene("cornell-smoke");
+  Settings s = test::smallVplSettings(8, 64);
+  s.clampBound = 100.0f;
+  s.beamPasses = 1;
+  const VplSet vpls = generateVpls(*scene, s);
+  for (Method m : {Method::Vpl, Method::VplKK, Method::VplAbc, Method::Vrl, Method::Vbl}) {
+    Settings one = s, two = s;
+    one.threads = 1;
+    const Image a = renderMethod(m).render(*scene, vpls, one, nullptr, nullptr).image;
+    const Image b = renderMethod(m).render(*scene, vpls, two, nullptr, nullptr).image;
+    double sum = 0.0;
+    bool finite = true;
+    for (const glm::vec3& p : a.pixels) {
+      finite = finite && std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z) && p.x >= 0.0f &&
+               p.y >= 0.0f && p.z >= 0.0f;
+      sum += p.x + p.y + p.z;
+    }
+    EXPECT_TRUE(finite) << toString(m);
+    EXPECT_GT(sum, 0.0) << toString(m);
+    EXPECT_EQ(a.pixels, b.pixels) << toString(m) << ": the image depends on the thread count";
+  }
+}
+
+// --- (statistical) -----------------------------------------------------------------------------
 
 // Indirect light on cornell-smoke (what the methods change; direct light is the reference's own estimator in all of
 // them): Kollig-Keller and virtual ray lights are unbiased through the grid, the bound alone is darker by the energy it
@@ -264,12 +308,14 @@ TEST(SmokeMethods, BundledSmokeAgreesWithTheReference) {
   ASSERT_TRUE(scene->scene().media.at(0).heterogeneous());
   Settings s = test::smallVplSettings(12, 256);
   s.components = Components::Indirect;
-  s.samplesPerPixel = 2048;
+  s.samplesPerPixel = 8192;
   const double ref = meanOf(renderReference(*scene, s).image);
   ASSERT_GT(ref, 0.0);
   const float diagonal = scene->scene().geometryBounds.diagonal();
   double kk = 0.0, bounded = 0.0, abc = 0.0, removed = 0.0, vrl = 0.0;
-  const int seeds = 24;
+  // 64 sets: the sets' spread in this smoke is about twice the fog's; 96 sets measured vpl-kk 1.001, vrl 1.016,
+  // vpl-abc 0.984, bounded 0.909 with 9.6 % removed (reference at 16384 spp).
+  const int seeds = 64;
   for (int i = 0; i < seeds; ++i) {
     Settings v = s;
     v.samplesPerPixel = 2;
