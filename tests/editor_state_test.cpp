@@ -1,7 +1,7 @@
 // The editor's state without a window (ui/editor_state.h): an edit marks exactly the work it made stale and the
 // preview re-renders that and nothing else, media edits are validated as the loader validates them, the script verbs
-// reach the same functions as the panels, the edited lights and media reopen the same, and the offline pass renders
-// the media methods.
+// reach the same functions as the panels, a .vdb opened or dropped becomes a box's smoke and a bad one changes
+// nothing, the edited lights and media reopen the same, and the offline pass renders the media methods.
 
 #ifdef VPLAB_HAVE_EDITOR
 
@@ -9,24 +9,32 @@
 
 #include <gtest/gtest.h>
 
+#include <array>
 #include <chrono>
+#include <cmath>
 #include <filesystem>
 #include <thread>
+#include <tuple>
 
 #include "renderer/gl/context.h"
 #include "renderer/image/metrics.h"
 #include "renderer/invalidation.h"
 #include "renderer/offline/render_methods.h"
+#include "renderer/scene/density_grid.h"
 #include "renderer/scene/lights_json.h"
 #include "tests/test_tmp.h"
+#include "ui/editor_panels.h"
 #include "ui/media_panel.h"
 #include "ui/script.h"
 #include "ui/view_image.h"
+#include "ui/vpl_overlay.h"
 
 namespace vplab {
 namespace {
 
 const std::string kFogScene = std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-fog.gltf";
+const std::string kSmokeScene = std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-smoke.gltf";
+const std::string kSmokeVdb = std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-smoke.vdb";
 
 /// Small settings: a state test is about which work runs, not about the picture.
 Settings smallSettings() {
@@ -142,6 +150,127 @@ TEST(EditorStateMedia, NewBoxesFitTheGeometryAndMovingOrResizingKeepsTheRest) {
   EXPECT_NE(text.find("mean free path 0.5 2 2 m"), std::string::npos) << text;
   EXPECT_NE(text.find("across the scene 4 1 1"), std::string::npos) << text;
   EXPECT_NE(text.find("longest edge 1.2 0.3 0.3"), std::string::npos) << text;
+}
+
+TEST(EditorStateMedia, DensityGridsAreDescribedByTheirDensestVoxel) {
+  ui::EditorState state(kSmokeScene, smallSettings(), false, 0.4f);
+  Medium smoke = state.media().at(0);
+  ASSERT_TRUE(smoke.heterogeneous());
+  smoke.densityScale = 2.5f;
+  // The same figures as a homogeneous box at the grid's peak sigma_t, each marked as a bound.
+  Medium peak = smoke;
+  peak.density = nullptr;
+  const float densest = smoke.densityScale * smoke.density->maxValue;
+  peak.sigmaA *= densest;
+  peak.sigmaS *= densest;
+  std::string text = ui::describeMedium(smoke, 2.0f);
+  EXPECT_EQ(text.find("mean free path down to "), 0u) << text;
+  EXPECT_NE(text.find("across the scene up to "), std::string::npos) << text;
+  EXPECT_NE(text.find("longest edge up to "), std::string::npos) << text;
+  for (const std::string bound : {"down to ", "up to "})
+    for (std::size_t at; (at = text.find(bound)) != std::string::npos;) text.erase(at, bound.size());
+  EXPECT_EQ(text, ui::describeMedium(peak, 2.0f));
+}
+
+TEST(EditorStateMedia, AVdbGoesToTheSelectedBoxElseTheFirstElseANewOne) {
+  auto state = fogState();
+  const Scene& scene = state->scene();
+  Medium second = ui::newFogBox(scene);
+  ui::resizeMediumBox(second, glm::vec3(0.05f));
+  ui::moveMediumBox(second, glm::vec3(10.0f));
+  const std::vector<Medium> boxes = {state->media().at(0), second};
+  EXPECT_EQ(ui::densityTarget(boxes, 1), 1);
+  EXPECT_EQ(ui::densityTarget(boxes, -1), 0);
+  EXPECT_EQ(ui::densityTarget(boxes, 7), 0);
+  EXPECT_EQ(ui::densityTarget({ui::newFogEverywhere(scene), second}, 0), 1) << "all space cannot hold a grid";
+  EXPECT_EQ(ui::densityTarget({ui::newFogEverywhere(scene)}, 0), -1);
+  EXPECT_EQ(ui::densityTarget({}, -1), -1);
+
+  // Into the selected box: the grid fills it, named by the panel's grid field.
+  ui::MediaPanelInput input;
+  input.selected = 1;
+  std::vector<Medium> media = boxes;
+  ASSERT_TRUE(ui::openVdb(scene, media, input, kSmokeVdb)) << input.vdbError;
+  EXPECT_TRUE(input.vdbError.empty());
+  EXPECT_FALSE(media[0].heterogeneous());
+  ASSERT_TRUE(media[1].heterogeneous());
+  EXPECT_EQ(media[1].densityGridName, "density");
+  EXPECT_EQ(std::filesystem::path(media[1].densityUri).filename(), "cornell-smoke.vdb");
+  EXPECT_EQ(media[1].centre(), second.centre());
+  EXPECT_TRUE(mediaProblem(media).empty()) << mediaProblem(media);
+
+  // A file that cannot give a grid: its message, and nothing changed.
+  for (const auto& [path, grid, expected] : std::vector<std::tuple<std::string, std::string, std::string>>{
+           {test::tmpPath("missing.vdb"), "density", "no such file"},
+           {kSmokeScene, "density", "not a readable OpenVDB file"},
+           {kSmokeVdb, "smoke", "no grid named 'smoke' (grids: density"}}) {
+    input.gridName = grid;
+    const std::vector<Medium> before = media;
+    EXPECT_FALSE(ui::openVdb(scene, media, input, path)) << path;
+    EXPECT_NE(input.vdbError.find(expected), std::string::npos) << input.vdbError;
+    ASSERT_EQ(media.size(), before.size());
+    for (std::size_t i = 0; i < media.size(); ++i) {
+      EXPECT_EQ(media[i].density, before[i].density);
+      EXPECT_EQ(media[i].worldFromBox, before[i].worldFromBox);
+    }
+  }
+
+  // Without a box, a new one named after the file, selected.
+  input = ui::MediaPanelInput{};
+  media.clear();
+  ASSERT_TRUE(ui::openVdb(scene, media, input, kSmokeVdb)) << input.vdbError;
+  ASSERT_EQ(media.size(), 1u);
+  EXPECT_TRUE(media[0].heterogeneous());
+  EXPECT_EQ(media[0].name, "cornell-smoke");
+  EXPECT_EQ(input.selected, 0);
+}
+
+// The view outlines each medium box: the smoke's box is its grid's bounds, so it is drawn as any box is.
+TEST(EditorStateMedia, TheViewOutlinesEveryBoxClippedAtTheNearPlane) {
+  ui::EditorState state(kSmokeScene, smallSettings(), false, 0.4f);
+  const Camera camera = state.scene().camera;
+  const Medium& smoke = state.media().at(0);
+  const std::vector<std::array<glm::vec2, 2>> edges = ui::mediumBoxOutline(smoke, camera, 1.0f);
+  ASSERT_EQ(edges.size(), 12u) << "the box lies in front of the scene camera";
+  // Each edge joins the projections of two corners that differ along one of the box's axes.
+  const std::vector<glm::vec3> corners = smoke.corners();
+  for (const auto& edge : edges) {
+    int ends = 0;
+    for (const glm::vec3& c : corners) {
+      const glm::vec2 p = ui::projectToImage(camera, 1.0f, c).value();
+      ends += glm::length(p - edge[0]) < 1e-5f || glm::length(p - edge[1]) < 1e-5f;
+    }
+    EXPECT_EQ(ends, 2);
+  }
+  // A camera inside the box sees the part in front of it, finite; nothing of a medium filling all space.
+  Camera inside = camera;
+  inside.position = smoke.centre();
+  const std::vector<std::array<glm::vec2, 2>> around = ui::mediumBoxOutline(smoke, inside, 1.0f);
+  EXPECT_GT(around.size(), 0u);
+  EXPECT_LT(around.size(), 12u);
+  for (const auto& edge : around)
+    for (const glm::vec2& p : edge) EXPECT_TRUE(std::isfinite(p.x) && std::isfinite(p.y));
+  EXPECT_TRUE(ui::mediumBoxOutline(ui::newFogEverywhere(state.scene()), camera, 1.0f).empty());
+}
+
+// The window's drop callback: a .vdb becomes smoke through editMedia (a bad one leaves the media and says why); any
+// other file opens as a scene, as a dropped .gltf always did.
+TEST(EditorStateMedia, ADroppedVdbBecomesSmokeAndADroppedSceneOpens) {
+  ui::EditorState state(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf", smallSettings(), false, 0.4f);
+  ui::PanelState panels;
+  ASSERT_TRUE(state.media().empty());
+  ui::openDroppedFile(state, panels, test::tmpPath("missing.VDB"));
+  EXPECT_NE(panels.media.vdbError.find("no such file"), std::string::npos) << panels.media.vdbError;
+  EXPECT_TRUE(state.media().empty());
+  EXPECT_TRUE(panels.revealMedia) << "the media section opens to show why";
+  ui::openDroppedFile(state, panels, kSmokeVdb);
+  EXPECT_TRUE(panels.media.vdbError.empty()) << panels.media.vdbError;
+  ASSERT_EQ(state.media().size(), 1u);
+  EXPECT_TRUE(state.media()[0].heterogeneous());
+  EXPECT_TRUE(state.mediaError().empty()) << state.mediaError();
+  ui::openDroppedFile(state, panels, kFogScene);
+  EXPECT_EQ(std::filesystem::path(state.scene().sourcePath).filename(), "cornell-fog.gltf");
+  EXPECT_FALSE(state.media().at(0).heterogeneous());
 }
 
 // --- with GL: the preview re-renders what the edit made stale --------------------------------------------------------
@@ -264,6 +393,63 @@ TEST_F(EditorStateGl, ScriptVerbsCallTheStateFunctionsWithoutAWindow) {
   EXPECT_EQ(state->media()[0].g, -0.3f);
   EXPECT_THROW(ui::parseScript("medium 0 spin 3\n", "s.txt"), ui::ScriptError);
   EXPECT_THROW(ui::parseScript("offline fast\n", "s.txt"), ui::ScriptError);
+}
+
+/// Runs one script line on the state as line 2 of s.txt; the ScriptError's message, or empty.
+std::string scriptError(ui::EditorState& state, const std::string& line) {
+  try {
+    ui::runStateCommand(state, ui::parseScript("frames 1\n" + line + "\n", "s.txt").at(1), "s.txt");
+  } catch (const ui::ScriptError& e) {
+    return e.what();
+  }
+  return {};
+}
+
+TEST_F(EditorStateGl, DensityVerbsScaleAndAttachGridsThroughTheMediumEditPath) {
+  ui::EditorState state(kSmokeScene, smallSettings(), false, 0.4f);
+  state.finishWork();
+  ASSERT_TRUE(state.media().at(0).heterogeneous());
+  // The scale: a medium edit, so new VPLs (the light paths scatter elsewhere).
+  state.mark();
+  EXPECT_EQ(scriptError(state, "medium 0 density 2.5"), "");
+  EXPECT_EQ(state.media()[0].densityScale, 2.5f);
+  EXPECT_EQ(state.sinceMark().vplGenerations, 1);
+  EXPECT_EQ(state.scene().media[0].densityScale, 2.5f) << "the scene took it with the update";
+  // Refused: a negative scale (the loader's words), a scale without a grid, a medium that does not exist.
+  const std::string negative = scriptError(state, "medium 0 density -1");
+  EXPECT_EQ(negative.rfind("s.txt:2: medium: ", 0), 0u) << negative;
+  EXPECT_NE(negative.find("density scale must lie in [0, "), std::string::npos) << negative;
+  EXPECT_EQ(state.media()[0].densityScale, 2.5f);
+  EXPECT_NE(scriptError(state, "medium 1 density 2").find("no medium 1"), std::string::npos);
+
+  // A grid onto the fog box: it becomes the grid's box, with new VPLs.
+  ui::EditorState fog(kFogScene, smallSettings(), false, 0.4f);
+  fog.finishWork();
+  EXPECT_NE(scriptError(fog, "medium 0 density 2").find("has no density grid; 'medium 0 vdb <path>'"),
+            std::string::npos);
+  const Medium box = fog.media().at(0);
+  for (const std::string& bad :
+       {"medium 0 vdb " + test::tmpPath("missing.vdb"), "medium 0 vdb " + kSmokeVdb + " smoke"}) {
+    const std::string error = scriptError(fog, bad);
+    EXPECT_EQ(error.rfind("s.txt:2: medium: '", 0), 0u) << error;
+    EXPECT_FALSE(fog.media().at(0).heterogeneous()) << bad;
+    EXPECT_EQ(fog.media()[0].worldFromBox, box.worldFromBox) << bad;
+  }
+  fog.mark();
+  EXPECT_EQ(scriptError(fog, "medium 0 vdb " + kSmokeVdb), "");
+  const Medium& smoke = fog.media().at(0);
+  ASSERT_TRUE(smoke.heterogeneous());
+  EXPECT_EQ(smoke.densityGridName, "density");
+  EXPECT_EQ(smoke.sigmaS, box.sigmaS) << "the coefficients stay, now per unit density";
+  EXPECT_NE(smoke.worldFromBox, box.worldFromBox) << "the box is the grid's, fitted into the old one";
+  EXPECT_EQ(fog.sinceMark().vplGenerations, 1);
+  EXPECT_EQ(scriptError(fog, "medium 0 vdb " + kSmokeVdb + " density"), "") << "the grid named";
+
+  // Parsing: the path is no number, the scale is.
+  EXPECT_THROW(ui::parseScript("medium 0 vdb\n", "s.txt"), ui::ScriptError);
+  EXPECT_THROW(ui::parseScript("medium 0 vdb a.vdb density extra\n", "s.txt"), ui::ScriptError);
+  EXPECT_THROW(ui::parseScript("medium 0 density thick\n", "s.txt"), ui::ScriptError);
+  EXPECT_NO_THROW(ui::parseScript("medium 0 vdb smoke.vdb plume\nmedium 0 density 0.5\n", "s.txt"));
 }
 
 TEST_F(EditorStateGl, EditedLightsAndMediaReopenTheSame) {

@@ -631,6 +631,42 @@ TEST(EditorWindow, MediaPanelAndTheMediaMethodsRunInTheWindow) {
       << refused.output;
 }
 
+/// Pixels of the view rectangle in `shot` of the colour the view outlines a density grid's box with (orange: much red,
+/// some green, little blue), which the Cornell box's red and green walls and its yellow light are not.
+int smokeOutlinePixels(const std::string& shot, const ViewRect& rect) {
+  const Image screen = readPng(shot);
+  int count = 0;
+  for (int y = rect.y; y < rect.y + rect.h; ++y)
+    for (int x = rect.x; x < rect.x + rect.w; ++x) {
+      const glm::vec3 c = screen.at(x, y);
+      count += c.r > 0.7f && c.g > 0.2f && c.g < 0.55f * c.r && c.b < 0.15f;
+    }
+  return count;
+}
+
+// Smoke from a .vdb through the script's verbs (the media panel's functions), drawn by the media panel (the grid's
+// figures and its density scale) and outlined in the view; a file that is no grid fails the script with its message.
+TEST(EditorWindow, SmokeFromAVdbIsInTheMediaPanelAndOutlinedInTheView) {
+  ASSERT_TRUE(haveXvfb()) << "xvfb-run is required (scripts/install-deps.sh installs xvfb and xauth)";
+  const std::string fog = test::tmpPath("fog-box.png"), smoke = test::tmpPath("smoke-box.png");
+  const std::string vdb = std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-smoke.vdb";
+  RunResult run = runEditor("set width 32\nset height 32\nset vplCount 16\nmedium add box\n"
+                            "medium 0 size 0.15 0.15 0.15\nframes 2\nscreenshot " + fog + "\nmedium 0 vdb " + vdb +
+                                "\nmedium 0 density 2\nframes 2\nscreenshot " + smoke + "\n",
+                            "");
+  ASSERT_EQ(run.status, 0) << run.output;
+  const ViewRect fogRect = viewRectOf(run.output, fog), smokeRect = viewRectOf(run.output, smoke);
+  ASSERT_GT(smokeRect.w, 0) << run.output;
+  const int before = smokeOutlinePixels(fog, fogRect), after = smokeOutlinePixels(smoke, smokeRect);
+  std::printf("[ measured ] orange outline pixels in the view: %d with a fog box, %d once it holds the smoke\n", before,
+              after);
+  EXPECT_GT(after, before + 300) << "the grid's box must be outlined";
+  RunResult refused = runEditor("medium add box\nmedium 0 vdb " + test::tmpPath("missing.vdb") + "\n", "");
+  EXPECT_EQ(refused.status, 1) << refused.output;
+  EXPECT_NE(refused.output.find(":2: medium: '"), std::string::npos) << refused.output;
+  EXPECT_NE(refused.output.find("missing.vdb': no such file"), std::string::npos) << refused.output;
+}
+
 TEST(EditorWindow, BadSceneFileIsAnErrorBeforeAnyWindow) {
   // No display needed: the scene is loaded before the window is opened.
   std::string cmd =

@@ -160,7 +160,7 @@ Editor::Editor(const EditorOptions& options) : options_(options) {
   glfwSetWindowUserPointer(window_, this);
   glfwSetDropCallback(window_, [](GLFWwindow* w, int count, const char** paths) {
     auto* editor = static_cast<Editor*>(glfwGetWindowUserPointer(w));
-    if (count > 0) openSceneFromPanel(*editor->state_, editor->panels_, paths[0]);
+    if (count > 0) openDroppedFile(*editor->state_, editor->panels_, paths[0]);
   });
 
   IMGUI_CHECKVERSION();

@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "ui/editor_state.h"
+#include "ui/media_panel.h"
 #include "ui/view_image.h"
 
 namespace vplab::ui {
@@ -20,6 +21,8 @@ struct PanelState {
   std::string ioMessage;  ///< the last file operation's result
   bool showHelp = false;
   bool chartWindowOpen = false;  ///< the chart is shown enlarged in its own window
+  MediaPanelInput media;         ///< the media panel's .vdb path, grid name, selection and load error
+  bool revealMedia = false;      ///< open the media section on the next frame (a .vdb was dropped)
 };
 
 /// Where the view put the image, in window pixels (the window blits the picture there before ImGui draws on top).
@@ -30,6 +33,10 @@ struct ViewPlacement {
 
 /// Opens `path` in the state and puts it first among the recent files.
 void openSceneFromPanel(EditorState& state, PanelState& panels, const std::string& path);
+/// A file dropped on the window: a .vdb becomes the smoke of a medium box (openVdb: the selected box, else the first,
+/// else a new one) through EditorState::editMedia, and the media section opens to show it or why it failed; any
+/// other file opens as a scene.
+void openDroppedFile(EditorState& state, PanelState& panels, const std::string& path);
 
 /// The view area: the active preset's explanation above it, the overlays (split divider, VPL dots, notes), the empty
 /// state with the render buttons, the status bar. `shown` is what the window displays; `frameMs` the last frame's time.

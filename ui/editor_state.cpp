@@ -461,6 +461,7 @@ bool EditorState::applyPreset(const TeachingPreset& preset) {
   changeSettings(presetSettingsHere(preset));
   view_ = ViewOptions{};
   view_.view = preset.view;
+  view_.divider = preset.divider;
   view_.relativeDifference = !preset.signedDifference;
   view_.showRejected = preset.showRejected;
   viewChanged();
@@ -494,12 +495,14 @@ std::string EditorState::presetState() const {
     for (int k = 0; k < 3; ++k) lights += vec(scene_.positions[scene_.triangles[t][k]]);
   std::string media;
   for (const Medium& m : media_)
-    media += vec(m.sigmaA) + vec(m.sigmaS) + std::to_string(m.g) + vec(m.centre()) + vec(m.halfSizes());
+    media += vec(m.sigmaA) + vec(m.sigmaS) + std::to_string(m.g) + vec(m.centre()) + vec(m.halfSizes()) +
+             m.densityUri + m.densityGridName + std::to_string(m.densityScale);
   const Camera cam = camera_.camera();
   char view[192];
-  std::snprintf(view, sizeof view, "%s relative=%d rejected=%d divider=%g animate=%d reseed=%d phase=%g offline=%s",
-                toString(view_.view), view_.relativeDifference, view_.showRejected, view_.divider, animateLight,
-                reseedEveryFrame, animationPhase_, toString(chosenOfflineMethod_));
+  std::snprintf(view, sizeof view,
+                "%s relative=%d rejected=%d boxes=%d divider=%g animate=%d reseed=%d phase=%g offline=%s",
+                toString(view_.view), view_.relativeDifference, view_.showRejected, view_.showMediumBoxes,
+                view_.divider, animateLight, reseedEveryFrame, animationPhase_, toString(chosenOfflineMethod_));
   return "scene=" + std::filesystem::path(scene_.sourcePath).filename().string() +
          " settings=" + hash(settingsToJson(settings_)) + " lights=" + hash(lights) + " media=" + hash(media) +
          " camera=" + hash(vec(cam.position) + vec(cam.forward) + vec(cam.up) + std::to_string(cam.yfov)) + " " + view;

@@ -44,6 +44,7 @@ struct ViewOptions {
   float divider = 0.5f;            ///< split view: share of the image left of the divider
   bool relativeDifference = true;  ///< difference view: relative error (else signed)
   bool showRejected = false;       ///< VPL view: also the candidates rejection dropped
+  bool showMediumBoxes = true;     ///< every view: the outlines of the medium boxes (a density grid's bounds)
 };
 
 /// Which offline render the editor's offline pass starts.

@@ -35,6 +35,7 @@ struct TeachingPreset {
   Method offlineMethod = Method::Vrl;
   bool animateLight = false;      ///< moves the first light on a small circle every frame
   bool reseedEveryFrame = false;  ///< draws a new VPL seed every frame (the flicker demonstration)
+  float divider = 0.5f;           ///< split view: share of the image left of the divider (across what it compares)
   std::string explanation;        ///< what to look at and why it happens
 };
 

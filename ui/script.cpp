@@ -90,6 +90,20 @@ std::vector<Medium> editedMedia(const EditorState& state, const ScriptCommand& c
   if (what == "sigmaS") m.sigmaS = v();
   if (what == "move") moveMediumBox(m, v());
   if (what == "size") resizeMediumBox(m, v());
+  if (what == "density") {
+    // On a homogeneous medium the scale would be stored and do nothing: say so instead.
+    if (!m.heterogeneous())
+      fail(c, source,
+           "medium " + c.args[0] + " ('" + m.name + "') has no density grid; 'medium " + c.args[0] +
+               " vdb <path>' attaches one");
+    m.densityScale = static_cast<float>(scriptNumber(c, 2, source));
+  }
+  if (what == "vdb") {
+    if (m.fillsSpace)
+      fail(c, source, "medium " + c.args[0] + " ('" + m.name + "') fills all space: a grid needs a box");
+    attachVdb(state.scene(), media, static_cast<int>(index), c.args[2],
+              c.args.size() > 3 ? c.args[3] : kDefaultDensityGrid);  // VdbError: the file's one-line message
+  }
   return media;
 }
 
@@ -244,17 +258,22 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
     if (c.verb == "medium") {
       const std::string& what = c.args[1];
       const bool add = c.args[0] == "add" && n == 2 && (what == "box" || what == "space");
-      const bool edit = c.args[0] != "add" && ((what == "remove" && n == 2) || (what == "g" && n == 3) ||
+      const bool edit = c.args[0] != "add" && ((what == "remove" && n == 2) ||
+                                               ((what == "g" || what == "density") && n == 3) ||
+                                               (what == "vdb" && (n == 3 || n == 4)) ||
                                                ((what == "sigmaA" || what == "sigmaS" || what == "move" ||
                                                  what == "size") && n == 5));
       if (!add && !edit)
         throw ScriptError(where(source, lineNumber) + "expected 'medium add box|space', 'medium <i> remove', "
-                          "'medium <i> g <v>' or 'medium <i> sigmaA|sigmaS|move|size <x> <y> <z>'");
+                          "'medium <i> g|density <v>', 'medium <i> vdb <path> [grid]' or "
+                          "'medium <i> sigmaA|sigmaS|move|size <x> <y> <z>'");
     }
     for (std::size_t i = 0; i < c.args.size(); ++i) {
+      // A medium's index and values are numbers; a .vdb's path and grid name are not.
+      const bool mediumNumber = c.verb == "medium" && c.args[0] != "add" && i != 1 && (c.args[1] != "vdb" || i == 0);
       bool numeric = c.verb == "orbit" || c.verb == "pan" || c.verb == "zoom" || c.verb == "frames" ||
                      (c.verb == "time-frames" && i != 1) || c.verb == "preview-scale" || (c.verb == "light" && i != 1) ||
-                     (c.verb == "medium" && c.args[0] != "add" && i != 1);
+                     mediumNumber;
       if (numeric) scriptNumber(c, i, source);
     }
     commands.push_back(std::move(c));

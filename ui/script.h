@@ -15,6 +15,9 @@
 //   medium <i> sigmaA|sigmaS <r> <g> <b>   set an absorption or scattering coefficient (1/m, per channel)
 //   medium <i> g <value>           set the Henyey-Greenstein asymmetry
 //   medium <i> move <dx> <dy> <dz> move a box; medium <i> size <hx> <hy> <hz> gives it these half sizes
+//   medium <i> vdb <path> [grid]   load a .vdb file's grid (default "density") into box i as its smoke (media_panel.h,
+//                                  attachVdb); a file that cannot give one fails with its message
+//   medium <i> density <scale>     set a density grid's scale (>= 0)
 //                                  (an edit the loader would refuse fails with its message)
 //   save-sidecar                   write the scene's lights and media next to the scene file (lights_json.h)
 //   view <mode>                    preview | reference | split | difference | ssbc-residual | vpls

@@ -2,8 +2,11 @@
 #include <imgui_stdlib.h>
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
 #include <cstdio>
+#include <filesystem>
+#include <utility>
 
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -197,6 +200,20 @@ void openSceneFromPanel(EditorState& state, PanelState& panels, const std::strin
   panels.recent.insert(panels.recent.begin(), path);
 }
 
+void openDroppedFile(EditorState& state, PanelState& panels, const std::string& path) {
+  std::string extension = std::filesystem::path(path).extension().string();
+  std::transform(extension.begin(), extension.end(), extension.begin(),
+                 [](unsigned char c) { return static_cast<char>(std::tolower(c)); });
+  if (extension != ".vdb") {
+    openSceneFromPanel(state, panels, path);
+    return;
+  }
+  panels.media.vdbPath = path;
+  panels.revealMedia = true;
+  std::vector<Medium> media = state.media();
+  if (openVdb(state.scene(), media, panels.media, path)) state.editMedia(media);
+}
+
 void drawLeftPanel(EditorState& state, PanelState& panels) {
   beginPanel("Controls", 0.0f, kLeftPanelWidth, 170.0f);
   if (ImGui::CollapsingHeader("Scene", ImGuiTreeNodeFlags_DefaultOpen)) {
@@ -213,7 +230,7 @@ void drawLeftPanel(EditorState& state, PanelState& panels) {
         }
       ImGui::EndCombo();
     }
-    ImGui::TextDisabled("or drop a .gltf/.glb on the window");
+    ImGui::TextDisabled("or drop a .gltf/.glb on the window (a .vdb: smoke, see Media)");
     drawSceneInfo(state.scene());
   }
   if (ImGui::CollapsingHeader("Camera and lights")) {
@@ -224,9 +241,10 @@ void drawLeftPanel(EditorState& state, PanelState& panels) {
     ImGui::SameLine();
     ImGui::Checkbox("new seed every frame", &state.reseedEveryFrame);
   }
+  if (std::exchange(panels.revealMedia, false)) ImGui::SetNextItemOpen(true);
   if (ImGui::CollapsingHeader("Media", state.media().empty() ? 0 : ImGuiTreeNodeFlags_DefaultOpen)) {
     std::vector<Medium> media = state.media();
-    if (drawMediaPanel(state.scene(), media, state.mediaError())) state.editMedia(media);
+    if (drawMediaPanel(state.scene(), media, state.mediaError(), panels.media)) state.editMedia(media);
   }
   if (ImGui::CollapsingHeader("Many lights", ImGuiTreeNodeFlags_DefaultOpen)) {
     Settings next = state.settings();
@@ -272,6 +290,9 @@ void drawRightPanel(EditorState& state, PanelState& panels) {
                                                   : "I - R: red too bright, blue too dark");
     }
     if (view.view == ViewMode::VplOverlay) ImGui::Checkbox("show rejected candidates", &view.showRejected);
+    ImGui::Checkbox("show medium boxes", &view.showMediumBoxes);
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip("Outlines each medium box over the image: fog, or the bounds of a density grid's smoke.");
   }
   if (ImGui::CollapsingHeader("Offline pass", ImGuiTreeNodeFlags_DefaultOpen)) drawOfflineSection(state);
   drawChartSection(state, panels);

@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <limits>
 
 #include "evaluation/sweep.h"
 #include "renderer/core/sampling.h"
@@ -82,23 +83,58 @@ void drawPresetExplanation(EditorState& state, float x, float width) {
   if (close) state.closePreset();
 }
 
-/// The VPLs over the image at (x0, y0) of w x h image pixels shown at `scale`.
-void drawVplOverlay(const EditorState& state, float x0, float y0, float w, float h, float scale) {
+/// The editor camera's view of the image at (x0, y0) of w x h image pixels shown at `scale` (window pixels).
+struct ViewProjection {
+  ViewProjection(const EditorState& state, float x0, float y0, float w, float h, float scale)
+      : cam(state.camera().camera()),
+        aspect(static_cast<float>(state.settings().width) / static_cast<float>(state.settings().height)),
+        x0(x0),
+        y0(y0),
+        width(w * scale),
+        height(h * scale) {}
+  /// The window position of normalised device coordinates (projectToImage's).
+  ImVec2 toWindow(const glm::vec2& ndc) const {
+    return ImVec2(x0 + 0.5f * (ndc.x + 1.0f) * width, y0 + 0.5f * (1.0f - ndc.y) * height);
+  }
+  /// The window position of p; false when p is behind the near plane or outside the image.
+  bool project(const glm::vec3& p, ImVec2& out) const {
+    const std::optional<glm::vec2> ndc = projectToImage(cam, aspect, p);
+    if (!ndc) return false;
+    out = toWindow(*ndc);
+    return std::abs(ndc->x) <= 1.0f && std::abs(ndc->y) <= 1.0f;
+  }
+
+  Camera cam;
+  float aspect, x0, y0, width, height;
+};
+
+/// Every medium box's outline over the image (a density grid's box is where its smoke can be), with its name at its
+/// top corner; fog and smoke in different colours.
+void drawMediumBoxes(const EditorState& state, const ViewProjection& view) {
   ImDrawList* draw = ImGui::GetBackgroundDrawList();
-  const Camera cam = state.camera().camera();
+  draw->PushClipRect(ImVec2(view.x0, view.y0), ImVec2(view.x0 + view.width, view.y0 + view.height), true);
+  for (const Medium& m : state.media()) {
+    const ImU32 colour = m.heterogeneous() ? IM_COL32(255, 170, 80, 220) : IM_COL32(120, 190, 255, 200);
+    for (const std::array<glm::vec2, 2>& edge : mediumBoxOutline(m, view.cam, view.aspect))
+      draw->AddLine(view.toWindow(edge[0]), view.toWindow(edge[1]), colour, 1.5f);
+    ImVec2 label(0.0f, std::numeric_limits<float>::max());
+    for (const glm::vec3& c : m.corners()) {
+      ImVec2 p;
+      if (view.project(c, p) && p.y < label.y) label = p;
+    }
+    if (label.y < std::numeric_limits<float>::max())
+      draw->AddText(ImVec2(label.x + 3.0f, label.y - 16.0f), colour,
+                    (m.name + (m.heterogeneous() ? " (density grid)" : "")).c_str());
+  }
+  draw->PopClipRect();
+}
+
+/// The VPLs over the image.
+void drawVplOverlay(const EditorState& state, const ViewProjection& view) {
+  ImDrawList* draw = ImGui::GetBackgroundDrawList();
   const Settings& settings = state.settings();
   const std::vector<Vpl>& vpls = state.vpls().vpls;
-  const float aspect = static_cast<float>(settings.width) / static_cast<float>(settings.height);
-  const float tanHalf = std::tan(0.5f * cam.yfov);
-  auto project = [&](const glm::vec3& p, ImVec2& out) {
-    glm::vec3 d = p - cam.position;
-    float z = glm::dot(d, cam.forward);
-    if (z <= cam.znear) return false;
-    float x = glm::dot(d, cam.right()) / (z * tanHalf * aspect);
-    float y = glm::dot(d, cam.up) / (z * tanHalf);
-    out = ImVec2(x0 + 0.5f * (x + 1.0f) * w * scale, y0 + 0.5f * (1.0f - y) * h * scale);
-    return std::abs(x) <= 1.0f && std::abs(y) <= 1.0f;
-  };
+  const float x0 = view.x0, y0 = view.y0;
   float maxFlux = 1e-12f;
   for (const Vpl& v : vpls) maxFlux = std::max(maxFlux, luminance(v.flux));
   // The ring takes the generation method's chart colour (the one its bench rows have), so a screenshot says which
@@ -110,7 +146,7 @@ void drawVplOverlay(const EditorState& state, float x0, float y0, float w, float
   for (std::size_t i = 0; i < vpls.size(); ++i) {
     const Vpl& v = vpls[i];
     ImVec2 p;
-    if (!project(v.position, p)) continue;
+    if (!view.project(v.position, p)) continue;
     // Size by relative power on a log scale, colour by the flux's chromaticity; a VPL the camera does not see
     // (behind a wall, in another room) is a hollow grey ring.
     float rel = std::clamp(luminance(v.flux) / maxFlux, 1e-4f, 1.0f);
@@ -136,7 +172,7 @@ void drawVplOverlay(const EditorState& state, float x0, float y0, float w, float
   if (state.view().showRejected)
     for (const Vpl& v : state.vpls().rejected) {
       ImVec2 p;
-      if (!project(v.position, p)) continue;
+      if (!view.project(v.position, p)) continue;
       draw->AddLine(ImVec2(p.x - 2, p.y - 2), ImVec2(p.x + 2, p.y + 2), IM_COL32(150, 150, 150, 180));
       draw->AddLine(ImVec2(p.x - 2, p.y + 2), ImVec2(p.x + 2, p.y - 2), IM_COL32(150, 150, 150, 180));
     }
@@ -180,7 +216,9 @@ void drawView(EditorState& state, const ViewImage& shown, double frameMs, ViewPl
     draw->AddText(ImVec2(x0 + w * scale - 8 - 7.0f * right.size(), y0 + 4), IM_COL32(255, 255, 255, 220),
                   right.c_str());
   }
-  if (options.view == ViewMode::VplOverlay) drawVplOverlay(state, x0, y0, w, h, scale);
+  const ViewProjection projection(state, x0, y0, w, h, scale);
+  if (options.showMediumBoxes) drawMediumBoxes(state, projection);
+  if (options.view == ViewMode::VplOverlay) drawVplOverlay(state, projection);
   drawStatusBar(state, frameMs, areaX + 8.0f, areaY + areaH - 20.0f);
 }
 

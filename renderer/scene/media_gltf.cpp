@@ -150,6 +150,8 @@ void checkMediaDisjoint(const std::vector<Medium>& media, const std::vector<std:
 }
 
 void attachDensity(Medium& medium, const std::string& vdbPath, const std::string& gridName, float scale) {
+  if (medium.fillsSpace)
+    throw VdbError("medium '" + medium.name + "' fills all space; a density grid needs a box to place it in");
   std::shared_ptr<const DensityGrid> grid = readVdbDensity(vdbPath, gridName);
   // Fit the grid's box, in its own local frame, into the medium's current box (uniform scale, centred).
   const glm::mat4 localFromIndex(grid->localFromIndex);
@@ -166,7 +168,6 @@ void attachDensity(Medium& medium, const std::string& vdbPath, const std::string
   glm::mat4 boxFromLocal(s);
   boxFromLocal[3] = glm::vec4(-s * 0.5f * (lo + hi), 1.0f);
   Medium m = medium;
-  m.fillsSpace = false;
   m.densityScale = scale;
   m.setDensity(std::move(grid), medium.worldFromBox * boxFromLocal);
   // Absolute: the sidecar that saves it lies elsewhere than the folder the editor was started in.

@@ -29,7 +29,7 @@ void checkMediaDisjoint(const std::vector<Medium>& media, const std::vector<std:
 
 /// Loads a density grid onto an existing medium (the editor's "open a .vdb"): the grid replaces the medium's box,
 /// placed by the box's current centre and axes as if they were a node's transform with the grid's index box centred
-/// on it. Throws VdbError.
+/// on it. Throws VdbError (also for a medium that fills all space: it has no box).
 void attachDensity(Medium& medium, const std::string& vdbPath, const std::string& gridName, float scale);
 
 }  // namespace vplab
