@@ -20,6 +20,7 @@
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "tests/gl_test_util.h"
+#include "tests/media_test_util.h"
 #include "tests/test_scenes.h"
 
 namespace vplab {
@@ -29,14 +30,6 @@ class GlMedia : public test::GlBackendTest {};
 
 constexpr int kUpscale = 4;
 
-/// The CPU images, rendered once for both backends.
-const Image& cachedCpu(const std::string& key, const std::function<Image()>& render) {
-  static std::map<std::string, Image> images;
-  auto it = images.find(key);
-  if (it == images.end()) it = images.emplace(key, render()).first;
-  return it->second;
-}
-
 /// The preview at kUpscale x the settings' size, box-filtered down.
 Image previewDownscaled(const Scene& scene, const VplSet& vpls, Settings s, PreviewOutput which) {
   s.width *= kUpscale;
@@ -44,38 +37,6 @@ Image previewDownscaled(const Scene& scene, const VplSet& vpls, Settings s, Prev
   PreviewRenderer renderer;
   renderer.render(scene, vpls, s, scene.camera);
   return blockAverage(renderer.readLinear(which), kUpscale);
-}
-
-/// The CPU's single scattering of the lights along camera rays: per pixel sample, one forced free flight in the media
-/// before the surface and the reference's direct-light estimator there (renderer/offline/camera_sample.h, as the VPL
-/// render draws it), nothing else.
-Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int spp) {
-  const Scene& scene = l.scene();
-  Image image(s.width, s.height);
-  std::vector<MediumInterval> intervals;
-  for (int y = 0; y < s.height; ++y)
-    for (int x = 0; x < s.width; ++x) {
-      Rng rng(hashKey(static_cast<uint64_t>(y) * s.width + x, 0x73696e676c65ull));
-      glm::vec3 sum(0.0f);
-      for (int i = 0; i < spp; ++i) {
-        const glm::vec2 jitter = rng.next2D();
-        const glm::vec3 dir = cameraRayDirection(scene.camera, static_cast<float>(x) + jitter.x,
-                                                 static_cast<float>(y) + jitter.y, s.width, s.height);
-        const auto hit = l.embree().intersect(scene.camera.position, dir);
-        const float end = hit ? hit->distance : kInfinity;
-        mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
-        float t = 0.0f;
-        uint32_t medium = 0;
-        glm::vec3 weight(0.0f);
-        if (intervals.empty() || !sampleForcedFlight(scene.media, intervals, scene.camera.position, dir, end,
-                                                     rng.next2D(), t, medium, weight))
-          continue;
-        const Interaction at = Interaction::inMediumAt(scene, scene.camera.position + dir * t, medium, -dir);
-        sum += weight * estimateDirectLight(l.embree(), l.lights(), at, rng);
-      }
-      image.at(x, y) = sum / static_cast<float>(spp);
-    }
-  return image;
 }
 
 struct Comparison {
@@ -110,7 +71,7 @@ void expectIndirectMatchesCpu(const std::string& name, float bound, int size, in
   Settings c = s;
   c.samplesPerPixel = 64;
   const Image& cpu =
-      cachedCpu(name + std::to_string(vplCount), [&] { return renderVpl(*l, vpls, Method::Vpl, c).image; });
+      test::cachedCpu(name + std::to_string(vplCount), [&] { return renderVpl(*l, vpls, Method::Vpl, c).image; });
   const std::string what = name + " indirect, " + std::to_string(vpls.vpls.size()) + " VPLs (" +
                            std::to_string(inMedium) + " in the medium), b = " + std::to_string(bound);
   const Comparison m = compare(*l, gl, cpu, what.c_str());
@@ -141,7 +102,7 @@ void expectSingleScatteringMatchesCpu(const std::string& name, int size) {
   auto l = test::loadAssetScene(name);
   Settings s = test::indirectSettings(size, 0);
   const Image gl = previewDownscaled(l->scene(), VplSet{}, s, PreviewOutput::Scattered);
-  const Image& cpu = cachedCpu(name + " single", [&] { return cpuSingleScattering(*l, s, 256); });
+  const Image& cpu = test::cachedCpu(name + " single", [&] { return test::cpuSingleScattering(*l, s, 256); });
   const Comparison m = compare(*l, gl, cpu, (name + " single scattering").c_str());
   EXPECT_LE(m.relMse, 0.02);
   EXPECT_NEAR(m.meanRatio, 1.0, 0.02);

@@ -29,6 +29,7 @@
 #include "renderer/scene/density_grid.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "tests/gl_test_util.h"
+#include "tests/media_test_util.h"
 #include "tests/test_scenes.h"
 
 namespace vplab {
@@ -39,14 +40,6 @@ class GlSmoke : public test::GlBackendTest {};
 constexpr int kUpscale = 4;
 /// The compared images' size (the preview renders kUpscale x that).
 constexpr int kSize = 64;
-
-/// The CPU images, rendered once for both backends.
-const Image& cachedCpu(const std::string& key, const std::function<Image()>& render) {
-  static std::map<std::string, Image> images;
-  auto it = images.find(key);
-  if (it == images.end()) it = images.emplace(key, render()).first;
-  return it->second;
-}
 
 /// The preview's outputs `which` of one render at kUpscale x the settings' size, box-filtered down.
 std::vector<Image> previewOutputsDownscaled(const Scene& scene, const VplSet& vpls, Settings s,
@@ -158,44 +151,13 @@ TEST_P(GlSmoke, GridLookupAndOpticalDepthMatchTheCpu) {
   EXPECT_GT(meanDepth, 0.0);
 }
 
-/// The CPU's single scattering of the lights along camera rays: per pixel sample, one forced free flight in the media
-/// before the surface (ratio tracking through the grid) and the reference's direct-light estimator there, nothing else.
-Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int spp) {
-  const Scene& scene = l.scene();
-  Image image(s.width, s.height);
-  std::vector<MediumInterval> intervals;
-  for (int y = 0; y < s.height; ++y)
-    for (int x = 0; x < s.width; ++x) {
-      Rng rng(hashKey(static_cast<uint64_t>(y) * s.width + x, 0x73696e676c65ull));
-      glm::vec3 sum(0.0f);
-      for (int i = 0; i < spp; ++i) {
-        const glm::vec2 jitter = rng.next2D();
-        const glm::vec3 dir = cameraRayDirection(scene.camera, static_cast<float>(x) + jitter.x,
-                                                 static_cast<float>(y) + jitter.y, s.width, s.height);
-        const auto hit = l.embree().intersect(scene.camera.position, dir);
-        const float end = hit ? hit->distance : kInfinity;
-        mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
-        float t = 0.0f;
-        uint32_t medium = 0;
-        glm::vec3 weight(0.0f);
-        if (intervals.empty() || !sampleForcedFlight(scene.media, intervals, scene.camera.position, dir, end,
-                                                     rng.next2D(), t, medium, weight))
-          continue;
-        const Interaction at = Interaction::inMediumAt(scene, scene.camera.position + dir * t, medium, -dir);
-        sum += weight * estimateDirectLight(l.embree(), l.lights(), at, rng);
-      }
-      image.at(x, y) = sum / static_cast<float>(spp);
-    }
-  return image;
-}
-
 // The lights' single scattering in the smoke (the preview's Scattered output without VPLs): sigma_s at each sampled
 // distance from the grid, the transmittance from the camera and toward the light ray-marched.
 TEST_P(GlSmoke, SingleScatteringMatchesCpu) {
   auto l = test::loadAssetScene("cornell-smoke");
   const Settings s = test::indirectSettings(kSize, 0);
   const Image gl = previewOutputsDownscaled(l->scene(), VplSet{}, s, {PreviewOutput::Scattered})[0];
-  const Image& cpu = cachedCpu("single", [&] { return cpuSingleScattering(*l, s, 256); });
+  const Image& cpu = test::cachedCpu("cornell-smoke single", [&] { return test::cpuSingleScattering(*l, s, 256); });
   const Comparison m = compare(*l, gl, cpu, "cornell-smoke single scattering");
   EXPECT_LE(m.relMse, 0.02);
   EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
@@ -213,7 +175,7 @@ TEST_P(GlSmoke, DirectLightMatchesCpu) {
   // 256 samples per pixel: ratio tracking makes the CPU's shadow rays noisier than through fog.
   Settings c = s;
   c.samplesPerPixel = 256;
-  const Image& cpu = cachedCpu("direct", [&] { return renderVpl(*l, VplSet{}, Method::Vpl, c).image; });
+  const Image& cpu = test::cachedCpu("cornell-smoke direct", [&] { return renderVpl(*l, VplSet{}, Method::Vpl, c).image; });
   const Comparison m = compare(*l, gl, cpu, "cornell-smoke direct light");
   EXPECT_LE(m.relMse, 0.02);
   EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
@@ -235,7 +197,7 @@ TEST_P(GlSmoke, IndirectMatchesCpu) {
       previewOutputsDownscaled(l->scene(), vpls, s, {PreviewOutput::Indirect, PreviewOutput::Scattered});
   Settings c = s;
   c.samplesPerPixel = 32;
-  const Image& cpu = cachedCpu("indirect", [&] { return renderVpl(*l, vpls, Method::Vpl, c).image; });
+  const Image& cpu = test::cachedCpu("cornell-smoke indirect", [&] { return renderVpl(*l, vpls, Method::Vpl, c).image; });
   const Comparison m = compare(*l, gl[0], cpu,
                                "cornell-smoke indirect, " + std::to_string(vpls.vpls.size()) + " VPLs (" +
                                    std::to_string(inMedium) + " in the smoke), b = 20");

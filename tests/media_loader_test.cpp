@@ -18,6 +18,7 @@
 namespace vplab {
 namespace {
 
+using test::loadError;
 using nlohmann::json;
 using test::GltfBuilder;
 
@@ -25,15 +26,6 @@ constexpr const char* kExt = "VPLAB_participating_media";
 
 std::string asset(const std::string& name) {
   return std::string(VPLAB_TEST_ASSETS) + "/scenes/" + name + ".gltf";
-}
-
-std::string loadError(const std::string& path) {
-  try {
-    loadScene(path);
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 /// A floor quad and a light far below it: the least a file needs to load without warnings, plus the medium

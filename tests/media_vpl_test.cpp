@@ -12,6 +12,7 @@
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "tests/media_test_util.h"
 #include "tests/test_scenes.h"
 
 namespace vplab {
@@ -117,24 +118,11 @@ TEST(MediaVpl, FogCornellAgreesWithTheReference) {
   s.samplesPerPixel = 4096;
   const double ref = meanOf(renderReference(*scene, s).image);
   ASSERT_GT(ref, 0.0);
-  const float diagonal = scene->scene().geometryBounds.diagonal();
-  double unbounded = 0.0, kk = 0.0, bounded = 0.0, abc = 0.0, removed = 0.0;
   // Means over 32 VPL sets: six groups of 24 sets measured spreads (standard deviations) of 3 % for unbounded VPLs
   // and 1.5 % for Kollig-Keller, around 1.006 and 0.994 of the reference over all 144 sets.
   const int seeds = 32;
-  for (int i = 0; i < seeds; ++i) {
-    Settings v = s;
-    v.samplesPerPixel = 2;
-    v.seed = 40 + static_cast<uint32_t>(i);
-    VplSet vpls = generateVpls(*scene, v);
-    unbounded += meanOf(renderVpl(*scene, vpls, Method::Vpl, v).image) / seeds;
-    v.clampBound = 1.0f / (0.1f * diagonal * 0.1f * diagonal);
-    VplRenderResult c = renderVpl(*scene, vpls, Method::Vpl, v);
-    bounded += meanOf(c.image) / seeds;
-    removed += c.clampEnergyRemoved / seeds;
-    kk += meanOf(renderVpl(*scene, vpls, Method::VplKK, v).image) / seeds;
-    abc += meanOf(renderVpl(*scene, vpls, Method::VplAbc, v).image) / seeds;
-  }
+  const test::MediaMethodMeans m = test::mediaMethodMeans(*scene, s, seeds, 40, true, false);
+  const double unbounded = m.unbounded, kk = m.kk, bounded = m.bounded, abc = m.abc, removed = m.removed;
   std::printf(
       "[ measured ] cornell-fog 12^2 indirect, 256 VPLs, 32 sets: reference %.5f; vpl %.4f, bounded %.4f "
       "(reports %.1f%% removed: bounded / (1 - removed) = %.4f), vpl-kk %.4f, vpl-abc %.4f (ratios to the "

@@ -14,6 +14,7 @@
 namespace vplab {
 namespace {
 
+using test::loadError;
 using test::GltfBuilder;
 using test::tmpPath;
 
@@ -40,15 +41,6 @@ void expectConsistentNormals(const Scene& s) {
 std::string readText(const std::string& path) {
   std::ifstream in(path, std::ios::binary);
   return std::string(std::istreambuf_iterator<char>(in), std::istreambuf_iterator<char>());
-}
-
-std::string loadError(const std::string& path) {
-  try {
-    loadScene(path);
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 bool hasWarning(const Scene& s, const std::string& part) {

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/scene/gltf_loader.h"
 #include "tests/test_tmp.h"
 
 namespace vplab::test {
@@ -27,6 +28,16 @@ inline std::string base64(const std::vector<unsigned char>& data) {
     out += i + 2 < data.size() ? table[v & 63] : '=';
   }
   return out;
+}
+
+/// What loadScene() says of a file: its SceneError's message, or "(no error)".
+inline std::string loadError(const std::string& path) {
+  try {
+    loadScene(path);
+  } catch (const SceneError& e) {
+    return e.what();
+  }
+  return "(no error)";
 }
 
 inline void writeBytes(const std::string& path, const std::vector<unsigned char>& bytes) {

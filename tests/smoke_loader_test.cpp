@@ -22,6 +22,7 @@
 namespace vplab {
 namespace {
 
+using test::loadError;
 using nlohmann::json;
 using test::GltfBuilder;
 
@@ -61,15 +62,6 @@ std::string sceneWith(const std::string& name, const json& density) {
                             {"extensions", {{kMediaExtension, medium}}}});
   b.doc["scenes"][0]["nodes"].push_back(static_cast<int>(b.doc["nodes"].size()) - 1);
   return b.writeGltf(name);
-}
-
-std::string loadError(const std::string& path) {
-  try {
-    loadScene(path);
-  } catch (const SceneError& e) {
-    return e.what();
-  }
-  return "(no error)";
 }
 
 void expectError(const std::string& error, std::initializer_list<const char*> parts) {
