@@ -339,8 +339,8 @@ TEST(SmokeMethods, EveryMethodRendersTheSmokeDeterministically) {
 }
 
 // Indirect light on cornell-smoke (what the methods change; direct light is the reference's own estimator in all of
-// them): Kollig-Keller and virtual ray lights are unbiased through the grid, the bound alone is darker by the energy it
-// reports removed, and the approximate compensation returns part of it.
+// them): Kollig-Keller, virtual ray lights and beams are unbiased through the grid, the bound alone is darker by the
+// energy it reports removed, and the approximate compensation returns part of it.
 TEST(SmokeMethods, BundledSmokeAgreesWithTheReference) {
   auto scene = test::loadAssetScene("cornell-smoke");
   ASSERT_TRUE(scene->scene().media.at(0).heterogeneous());
@@ -354,12 +354,22 @@ TEST(SmokeMethods, BundledSmokeAgreesWithTheReference) {
   const int seeds = 64;
   const test::MediaMethodMeans m = test::mediaMethodMeans(*scene, s, seeds, 70, false, true);
   const double kk = m.kk, bounded = m.bounded, abc = m.abc, removed = m.removed, vrl = m.vrl;
+  // Beams: 16 passes of fresh light paths, the beams thinning from pass to pass.
+  Settings b = s;
+  b.vplCount = 2048;
+  b.samplesPerPixel = 1;
+  b.beamPasses = 16;
+  b.seed = 900;
+  const VplRenderResult beams = renderVbl(*scene, b);
+  EXPECT_EQ(beams.nonFiniteSamples, 0u);
+  const double vbl = meanLuminance(beams.image);
   std::printf(
       "[ measured ] cornell-smoke 12^2 indirect, 256 VPLs, %d sets: reference %.5f; bounded %.4f (reports %.1f%% "
-      "removed), vpl-kk %.4f, vpl-abc %.4f, vrl %.4f (ratios to the reference)\n",
-      seeds, ref, bounded / ref, 100.0 * removed, kk / ref, abc / ref, vrl / ref);
+      "removed), vpl-kk %.4f, vpl-abc %.4f, vrl %.4f; vbl (16 passes x 2048 VPLs) %.4f (ratios to the reference)\n",
+      seeds, ref, bounded / ref, 100.0 * removed, kk / ref, abc / ref, vrl / ref, vbl / ref);
   EXPECT_NEAR(kk / ref, 1.0, 0.02);
   EXPECT_NEAR(vrl / ref, 1.0, 0.02);
+  EXPECT_NEAR(vbl / ref, 1.0, 0.02);
   EXPECT_GT(removed, 0.05);
   EXPECT_NEAR(bounded / ref, 1.0 - removed, 0.03);
   EXPECT_GT(abc, bounded);
