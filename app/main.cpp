@@ -5,6 +5,7 @@
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/text.h"
 #include "renderer/image/image_io.h"
+#include "renderer/offline/render_methods.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/lights_json.h"
 #include "renderer/settings_json.h"
@@ -27,11 +28,20 @@ constexpr int kExitWrite = 4;
 constexpr int kExitMemory = 5;
 constexpr int kExitOther = 6;
 
+/// The offline methods' names, comma separated.
+std::string methodList() {
+  std::string out;
+  for (char c : vplab::renderMethodNames(false)) out += c == '|' ? std::string(", ") : std::string(1, c);
+  return out;
+}
+
 const std::vector<vplab::cli::Command>& commands() {
   static const std::vector<vplab::cli::Command> list = {
       {"edit", "interactive editor: preview, offline pass, split/difference views, chart, presets",
        vplab::app::cmdEdit},
-      {"render", "exact VPL render (vpl, vpl-kk, vsl) with VPL statistics and metrics against a reference",
+      // The methods from the method table, so that a new row shows here too.
+      {"render",
+       "exact many-light render (" + methodList() + ") with VPL statistics and metrics against a reference",
        vplab::app::cmdRender},
       {"preview", "headless GL preview (EGL/OSMesa) of the same VPLs: PNG/EXR, per-pass GPU timings",
        vplab::app::cmdPreview},

@@ -19,6 +19,7 @@
 #include "evaluation/sweep.h"
 #include "renderer/core/atomic_file.h"
 #include "renderer/image/image_io.h"
+#include "renderer/offline/render_methods.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/settings.h"
 #include "renderer/settings_json.h"
@@ -325,6 +326,16 @@ TEST(CliFlags, HelpListsOnlyWhatActsOnTheCommandWithItsOwnDefaults) {
   CliRun version = vplab("--version");
   EXPECT_EQ(version.status, 0);
   EXPECT_TRUE(contains(version.out, "vplab ")) << version.out;
+  // The commands' list names every offline method of the method table on the render line.
+  CliRun top = vplab("--help");
+  const std::size_t line = top.out.find("\n  render ");
+  ASSERT_NE(line, std::string::npos) << top.out;
+  const std::string renderLine = top.out.substr(line + 1, top.out.find('\n', line + 1) - line - 1);
+  for (const RenderMethod& m : renderMethods()) {
+    const std::string name = toString(m.id);
+    if (m.id != Method::Reference)
+      EXPECT_TRUE(contains(renderLine, name + ",") || contains(renderLine, name + ")")) << name << ": " << renderLine;
+  }
 }
 
 TEST(CliFlags, OutDecidesTheFormatByItsExtensionEverywhere) {
