@@ -11,6 +11,7 @@
 #include "renderer/vpl/vpl_generation.h"
 #include "renderer/vpl/vpl_json.h"
 #include "tests/test_scenes.h"
+#include "tests/vpl_equal.h"
 #include "tests/test_tmp.h"
 
 #include <gtest/gtest.h>
@@ -111,13 +112,12 @@ TEST(VplGeneration, SameSeedSameVplsAnyThreadCountAndImage) {
   Image ib = render(*l, b, Method::Vpl, s).image;
   ASSERT_EQ(a.vpls.size(), b.vpls.size());
   ASSERT_GT(a.vpls.size(), 0u);
-  EXPECT_EQ(0, std::memcmp(a.vpls.data(), b.vpls.data(), a.vpls.size() * sizeof(Vpl)));
+  EXPECT_TRUE(test::sameVpls(a.vpls, b.vpls));
   ASSERT_EQ(ia.pixels.size(), ib.pixels.size());
   EXPECT_EQ(0, std::memcmp(ia.pixels.data(), ib.pixels.data(), ia.pixels.size() * sizeof(glm::vec3)));
   s.seed = 2;
   VplSet c = generate(*l, s);
-  EXPECT_FALSE(c.vpls.size() == a.vpls.size() &&
-               std::memcmp(a.vpls.data(), c.vpls.data(), a.vpls.size() * sizeof(Vpl)) == 0);
+  EXPECT_FALSE(test::sameVpls(a.vpls, c.vpls));
 }
 
 /// Fraction of VPLs of `moved` that have a VPL of the same bounce in `original` within `radius`.
@@ -166,7 +166,7 @@ TEST(VplGeneration, JsonRoundTripIsExact) {
   VplSet back = loadVplSet(path);
   ASSERT_EQ(back.vpls.size(), set.vpls.size());
   ASSERT_EQ(back.rejected.size(), set.rejected.size());
-  EXPECT_EQ(0, std::memcmp(back.vpls.data(), set.vpls.data(), set.vpls.size() * sizeof(Vpl)));
+  EXPECT_TRUE(test::sameVpls(back.vpls, set.vpls));
   EXPECT_EQ(back.stats.pathsTraced, set.stats.pathsTraced);
   EXPECT_EQ(back.stats.candidates, set.stats.candidates);
   EXPECT_THROW(vplSetFromJson("{\"vpls\": [{\"position\": [1, 2]}]}"), VplJsonError);

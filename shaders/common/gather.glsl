@@ -42,15 +42,16 @@ bool vplFaces(GlVpl vpl, vec3 w) { return isMediumVpl(vpl) || dot(vpl.geoNormal.
 vec3 vplEndBrdf(GlVpl vpl, BrdfParams p2, vec3 w) {
   return isMediumVpl(vpl) ? vec3(1.0) : evaluateBrdf(p2, vpl.normal.xyz, vpl.incoming.xyz, -w);
 }
-vec3 mediaTransfer(GlVpl vpl, vec3 x1, vec3 w) {
+// Where `needed` is false (the transfer is zero anyway) the transmittance is not marched, and the result is meaningless.
+vec3 mediaTransfer(GlVpl vpl, vec3 x1, vec3 w, bool needed) {
   float phase = isMediumVpl(vpl) ? phaseHG(dot(vpl.incoming.xyz, w), vpl.baseColor.w) : 1.0;
-  return phase * mediaTransmittance(x1, vpl.position.xyz);
+  return phase * mediaTransmittance(x1, vpl.position.xyz, needed);
 }
 #else
 float vplEndCosine(GlVpl vpl, vec3 w) { return -dot(vpl.normal.xyz, w); }
 bool vplFaces(GlVpl vpl, vec3 w) { return dot(vpl.geoNormal.xyz, w) < 0.0; }
 vec3 vplEndBrdf(GlVpl vpl, BrdfParams p2, vec3 w) { return evaluateBrdf(p2, vpl.normal.xyz, vpl.incoming.xyz, -w); }
-vec3 mediaTransfer(GlVpl vpl, vec3 x1, vec3 w) { return vec3(1.0); }
+vec3 mediaTransfer(GlVpl vpl, vec3 x1, vec3 w, bool needed) { return vec3(1.0); }
 #endif // b (a large finite value stands for infinity); point-VPL sets only
 
 layout(location = 0) out vec4 outColor;
@@ -114,7 +115,7 @@ void main() {
     bool contributes = dist2 > 0.0 && dot(ng, w) > 0.0 && vplFaces(vpl, w) && cos1 > 0.0 && cos2 > 0.0;
     float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x1, dist2 * invDist, ng);
     float gv = contributes ? min(cos1 * cos2 * invDist * invDist, uClampBound) * v : 0.0;
-    sum += gv * vpl.lambertPower.rgb * mediaTransfer(vpl, x1, w);
+    sum += gv * vpl.lambertPower.rgb * mediaTransfer(vpl, x1, w, gv > 0.0);
   }
   sum *= f1;
 #else
@@ -139,7 +140,7 @@ void main() {
     float gv = min(cos1 * cos2 * invDist * invDist, uClampBound) * v;
     // Glossy at both ends: f(x1) from the viewer, f(x2) from the VPL's stored incoming direction.
     sum += contributes ? evaluateBrdf(p1, n1, wo, w) * gv * vplEndBrdf(vpl, p2, w) * vpl.flux.rgb *
-                             mediaTransfer(vpl, x1, w)
+                             mediaTransfer(vpl, x1, w, contributes && gv > 0.0)
                        : vec3(0.0);
   }
 #endif

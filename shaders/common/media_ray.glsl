@@ -59,19 +59,31 @@ int mediumAlong(MediaRay r, float t) {
   return found;
 }
 
-// Transmittance from the camera to the ray's point at t (ray-marched from the camera through a density grid).
-vec3 cameraTransmittance(MediaRay r, float t) {
+// Transmittance from the camera to the ray's point at t, the grid's part given: `gridIntegral`, the integral of its
+// density from the ray's entry into it to t (unused without a grid).
+vec3 cameraTransmittanceGiven(MediaRay r, float t, float gridIntegral) {
   vec3 depth = vec3(0.0);
   for (int m = 0; m < PREVIEW_MEDIA; ++m) {
 #ifdef PREVIEW_MEDIA_GRID
     if (m == PREVIEW_MEDIA_GRID) {
-      depth += media[m].sigmaT.rgb * gridDensityIntegral(r.origin, r.dir, r.range[m].x, min(r.range[m].y, t));
+      depth += media[m].sigmaT.rgb * gridIntegral;
       continue;
     }
 #endif
     depth += media[m].sigmaT.rgb * max(0.0, min(r.range[m].y, t) - r.range[m].x);
   }
   return exp(-depth);
+}
+
+// Transmittance from the camera to the ray's point at t (ray-marched from the camera through a density grid; not
+// marched, and meaningless, where `needed` is false: see opticalDepth in common/medium.glsl).
+vec3 cameraTransmittance(MediaRay r, float t, bool needed) {
+#ifdef PREVIEW_MEDIA_GRID
+  vec2 g = r.range[PREVIEW_MEDIA_GRID];
+  return cameraTransmittanceGiven(r, t, gridDensityIntegral(r.origin, r.dir, g.x, needed ? min(g.y, t) : g.x));
+#else
+  return cameraTransmittanceGiven(r, t, 0.0);
+#endif
 }
 
 // Equiangular distances in [a, b) around p: t = delta + h tan(theta), theta uniform between the span's angles seen

@@ -85,15 +85,18 @@ vec2 mediumRange(int m, vec3 o, vec3 d) {
   return vec2(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
 }
 
-// Optical depth per channel of o + t d for t in [tMin, tMax].
-vec3 opticalDepth(vec3 o, vec3 d, float tMin, float tMax) {
+// Optical depth per channel of o + t d for t in [tMin, tMax]. Where `needed` is false the grid's part is left out
+// unmarched (the caller discards the result there): llvmpipe runs a march as long as its longest active lane, so a
+// march skipped where a term is zero anyway (a back-facing or shadowed VPL or light) saves its steps. The closed forms
+// are taken either way.
+vec3 opticalDepth(vec3 o, vec3 d, float tMin, float tMax, bool needed) {
   vec3 depth = vec3(0.0);
   float len = length(d);
   for (int m = 0; m < PREVIEW_MEDIA; ++m) {
     vec2 r = mediumRange(m, o, d);
 #ifdef PREVIEW_MEDIA_GRID
     if (m == PREVIEW_MEDIA_GRID) {
-      depth += media[m].sigmaT.rgb * gridDensityIntegral(o, d, max(r.x, tMin), min(r.y, tMax));
+      depth += media[m].sigmaT.rgb * gridDensityIntegral(o, d, max(r.x, tMin), needed ? min(r.y, tMax) : tMin);
       continue;
     }
 #endif
@@ -102,24 +105,20 @@ vec3 opticalDepth(vec3 o, vec3 d, float tMin, float tMax) {
   return depth;
 }
 
-// Transmittance between two points.
-vec3 mediaTransmittance(vec3 a, vec3 b) { return exp(-opticalDepth(a, b - a, 0.0, 1.0)); }
-
-// Transmittance from x toward infinity along the unit direction w (a directional light).
-vec3 mediaTransmittanceToward(vec3 x, vec3 w) { return exp(-opticalDepth(x, w, 0.0, 1e30)); }
+// Transmittance between two points (meaningless where `needed` is false, see opticalDepth).
+vec3 mediaTransmittance(vec3 a, vec3 b, bool needed) { return exp(-opticalDepth(a, b - a, 0.0, 1.0, needed)); }
 
 #else
-vec3 mediaTransmittance(vec3 a, vec3 b) { return vec3(1.0); }
-vec3 mediaTransmittanceToward(vec3 x, vec3 w) { return vec3(1.0); }
+vec3 mediaTransmittance(vec3 a, vec3 b, bool needed) { return vec3(1.0); }
 #endif
 
 // The transmittance between x and a light of the direct pass's table (preview/direct.frag.glsl): position.w 3 is a
-// directional light arriving from -axis, anything else a point at position.xyz.
-vec3 mediaLightTransmittance(vec4 position, vec3 axis, vec3 x) {
+// directional light arriving from -axis, anything else a point at position.xyz. Meaningless where `needed` is false.
+vec3 mediaLightTransmittance(vec4 position, vec3 axis, vec3 x, bool needed) {
 #if PREVIEW_MEDIA
   // One segment either way (a select of two would evaluate both).
   bool directional = position.w == 3.0;
-  return exp(-opticalDepth(x, directional ? -axis : position.xyz - x, 0.0, directional ? 1e30 : 1.0));
+  return exp(-opticalDepth(x, directional ? -axis : position.xyz - x, 0.0, directional ? 1e30 : 1.0, needed));
 #else
   return vec3(1.0);
 #endif

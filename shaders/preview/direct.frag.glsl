@@ -99,7 +99,7 @@ void main() {
     bool reaches = dist2 > 0.0 && dot(ng, w) > 0.0 && cos1 > 0.0 && emitted > 0.0;
     // Through participating media, the transmittance between the light and x1 (1 without media).
     sum += reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * visibility * l.weight.rgb) *
-                         mediaLightTransmittance(l.position, l.axis.xyz, x1)
+                         mediaLightTransmittance(l.position, l.axis.xyz, x1, reaches && visibility > 0.0)
                    : vec3(0.0);
   }
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA

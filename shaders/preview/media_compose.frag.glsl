@@ -23,7 +23,7 @@ void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   vec3 surface = texelFetch(uSurface, px, 0).rgb;
   MediaRay r;
-  vec3 transmittance = mediaRayAt(px, uImageSize, r) ? cameraTransmittance(r, r.end) : vec3(1.0);
+  vec3 transmittance = mediaRayAt(px, uImageSize, r) ? cameraTransmittance(r, r.end, true) : vec3(1.0);
   vec2 uv = (vec2(px) + 0.5) / vec2(uImageSize);
   vec3 lights = texture(uLights, uv).rgb, vpls = texture(uVpls, uv).rgb;
   int first = 0;

@@ -52,6 +52,12 @@ const int kAreaLight = 0, kPunctualLight = 1, kDirectionalLight = 2;
 vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, float minH) {
   vec3 sum = vec3(0.0);
   Equiangular around = equiangularAround(r, l.position.xyz, minH);
+#ifdef PREVIEW_MEDIA_GRID
+  // The distances grow with j (u does, and both mappings below are increasing), so the march through the grid from the
+  // camera continues from the previous distance: one march per light instead of one per distance (each as fine).
+  vec2 grid = r.range[PREVIEW_MEDIA_GRID];
+  float marchedTo = grid.x, marched = 0.0;
+#endif
   for (int j = 0; j < uMediaSteps; ++j) {
     float u = (float(j) + rotation) / float(uMediaSteps);
     float pdf, t;
@@ -93,9 +99,18 @@ vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, f
       visibility = stored >= length(fromCentre) * (1.0 - 2.0 * texel) ? 1.0 : 0.0;
     }
     float phase = phaseHG(dot(w, r.dir), media[medium].sigmaS.w);
-    vec3 term = cameraTransmittance(r, t) * mediumSigmaS(medium, x) * (phase * falloff * visibility / pdf) *
-                l.weight.rgb * mediaLightTransmittance(l.position, l.axis.xyz, x);
-    sum += m >= 0 && pdf > 0.0 ? term : vec3(0.0);
+    bool contributes = m >= 0 && pdf > 0.0 && falloff * visibility > 0.0;
+#ifdef PREVIEW_MEDIA_GRID
+    float reach = clamp(t, grid.x, grid.y);
+    marched += gridDensityIntegral(r.origin, r.dir, marchedTo, reach);
+    marchedTo = max(marchedTo, reach);
+    vec3 toCamera = cameraTransmittanceGiven(r, t, marched);
+#else
+    vec3 toCamera = cameraTransmittance(r, t, contributes);
+#endif
+    vec3 term = toCamera * mediumSigmaS(medium, x) * (phase * falloff * visibility / pdf) * l.weight.rgb *
+                mediaLightTransmittance(l.position, l.axis.xyz, x, contributes);
+    sum += contributes ? term : vec3(0.0);
   }
   return sum / float(uMediaSteps);
 }

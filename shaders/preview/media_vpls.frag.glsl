@@ -51,9 +51,10 @@ void main() {
     float v = vplVisibility(i - uFirstLight, x2, vpl.geoNormal.xyz, x, dist, vec3(0.0));
     float gb = min(cos2 / dist2, uClampBound);
     float phase = phaseHG(dot(w, r.dir), media[medium].sigmaS.w);
-    vec3 term = cameraTransmittance(r, t) * mediumSigmaS(medium, x) * (phase * gb * v / pdf) * end *
-                mediaTransmittance(x, x2);
-    sum += m >= 0 && faces && cos2 > 0.0 && pdf > 0.0 ? term : vec3(0.0);
+    bool contributes = m >= 0 && faces && cos2 > 0.0 && pdf > 0.0 && v > 0.0;
+    vec3 term = cameraTransmittance(r, t, contributes) * mediumSigmaS(medium, x) * (phase * gb * v / pdf) * end *
+                mediaTransmittance(x, x2, contributes);
+    sum += contributes ? term : vec3(0.0);
   }
   outColor = vec4(sum * float(k2), 1.0);
 }

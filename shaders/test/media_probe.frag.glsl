@@ -19,5 +19,5 @@ void main() {
 #else
   float density = 1.0;
 #endif
-  outColor = vec4(opticalDepth(a, b - a, 0.0, 1.0), density);
+  outColor = vec4(opticalDepth(a, b - a, 0.0, 1.0, true), density);
 }
