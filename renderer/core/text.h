@@ -35,6 +35,13 @@ inline std::string printable(std::string_view text) {
   return out;
 }
 
+/// A number in a message, as printf's %g writes it (1e+07, 0.5).
+inline std::string numberText(double v) {
+  char text[32];
+  std::snprintf(text, sizeof text, "%g", v);
+  return text;
+}
+
 /// The key whose value starts at byte `at` of a JSON text: the last "name": before it, or empty.
 inline std::string jsonKeyBefore(std::string_view text, std::size_t at) {
   std::size_t colon = text.rfind(':', at);

@@ -4,6 +4,8 @@
 #include <cmath>
 #include <cstring>
 
+#include "renderer/core/sampling.h"
+
 namespace vplab {
 
 namespace {
@@ -39,8 +41,7 @@ const std::vector<MediumPiece>& collectPieces(const std::vector<Medium>& media,
   return pieces;
 }
 
-}  // namespace
-
+/// True when a grid medium's interval starts before tMax.
 bool crossesGrid(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals, float tMax) {
   for (const MediumInterval& i : intervals) {
     if (!(i.t0 < tMax)) break;
@@ -49,12 +50,16 @@ bool crossesGrid(const std::vector<Medium>& media, const std::vector<MediumInter
   return false;
 }
 
-Rng rayRng(const glm::vec3& origin, const glm::vec3& direction, float tMax, uint64_t salt) {
+/// A generator for the extra numbers a grid asks for along one ray (null collisions, ratio tracking), seeded from the
+/// ray itself and `salt`: deterministic for a given ray whatever thread traces it, and media-free rays draw nothing.
+Rng rayRng(const glm::vec3& origin, const glm::vec3& direction, float tMax, uint64_t salt = 0) {
   const uint64_t a = (uint64_t(floatBits(origin.x)) << 32) | floatBits(origin.y);
   const uint64_t b = (uint64_t(floatBits(origin.z)) << 32) | floatBits(direction.x);
   const uint64_t c = (uint64_t(floatBits(direction.y)) << 32) | floatBits(direction.z);
   return Rng(hashKey(a, b, c ^ mixBits((uint64_t(floatBits(tMax)) << 32) ^ salt)));
 }
+
+}  // namespace
 
 glm::vec3 transmittanceAlong(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals,
                              const glm::vec3& origin, const glm::vec3& direction, float tMax) {
@@ -135,8 +140,8 @@ FreeFlight sampleFlight(const std::vector<Medium>& media, const std::vector<Medi
       out.scattered = true;
       out.t = tc;
       out.medium = p.medium;
-      out.f = p.exact ? m.sigmaS * tr * nulls : m.sigmaS * density * tr * nulls;
-      out.p = p.exact ? m.sigmaT() * tr * nulls : m.sigmaT() * density * tr * nulls;
+      out.f = m.sigmaS * density * tr * nulls;
+      out.p = m.sigmaT() * density * tr * nulls;
       return false;
     }
   });

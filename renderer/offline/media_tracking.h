@@ -10,7 +10,6 @@
 #include <glm/glm.hpp>
 #include <vector>
 
-#include "renderer/core/sampling.h"
 #include "renderer/scene/density_grid.h"
 #include "renderer/scene/medium.h"
 
@@ -53,18 +52,11 @@ void walkMediumPieces(const std::vector<Medium>& media, const std::vector<Medium
   }
 }
 
-/// True when a grid medium's interval starts before tMax.
-bool crossesGrid(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals, float tMax);
-
 /// sigma_t * length per channel, 0 where sigma_t is 0 (an infinite piece of a channel that does not interact).
 inline glm::vec3 opticalDepth(const glm::vec3& sigmaT, float length) {
   return {sigmaT.x > 0.0f ? sigmaT.x * length : 0.0f, sigmaT.y > 0.0f ? sigmaT.y * length : 0.0f,
           sigmaT.z > 0.0f ? sigmaT.z * length : 0.0f};
 }
-
-/// A generator for the extra numbers a grid asks for along one ray (null collisions, ratio tracking), seeded from the
-/// ray itself and `salt`: deterministic for a given ray whatever thread traces it, and media-free rays draw nothing.
-Rng rayRng(const glm::vec3& origin, const glm::vec3& direction, float tMax, uint64_t salt = 0);
 
 /// Transmittance of the media along origin + t * direction, t in [0, tMax): exact (transmittanceOver) on rays that
 /// cross no grid; through grids an unbiased estimate by residual ratio tracking over the majorant grid (Novak et al.

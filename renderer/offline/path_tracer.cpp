@@ -41,7 +41,7 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
   // Primary ray; emission seen directly belongs to the Direct component (zero reflections). Through media the
   // segment ends at the surface or at a scattering event, with the free flight's weight.
   Segment segment = embree.traceSegment(origin, dir, kUnbounded, draw);
-  if (segment.crossedMedium) spectral.apply(embree, segment, throughput);
+  if (segment.crossedMedium) spectral.apply(segment, throughput);
   if (segment.end == Segment::End::Surface && wantDirect)
     radiance += throughput * lights.emittedRadiance(segment.hit->triangle, segment.hit->geometricNormal,
                                                     segment.hit->uv, -dir);
@@ -82,7 +82,7 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
     ++bounceRays;
     if (nextSegment.end == Segment::End::Escape) break;
     // Free-flight sampling: T sigma_s / pdf for a scattering event, T / P(no event) for the surface.
-    if (nextSegment.crossedMedium) spectral.apply(embree, nextSegment, throughput);
+    if (nextSegment.crossedMedium) spectral.apply(nextSegment, throughput);
     // Emission found by the sampled ray, MIS-weighted against the light pdf next-event estimation used at this
     // vertex: it has interacted `bounce` times, like the NEE term above.
     if (count && nextSegment.end == Segment::End::Surface)

@@ -4,10 +4,8 @@
 
 #include <algorithm>
 #include <glm/glm.hpp>
-#include <vector>
 
 #include "renderer/offline/embree_scene.h"
-#include "renderer/scene/medium.h"
 
 namespace vplab {
 
@@ -34,7 +32,7 @@ struct PathSpectralMis {
   }
 
   /// Multiplies throughput by f(segment) / mean_k(pdf_k p_k(segment)) for a segment that crossed a medium.
-  void apply(const EmbreeScene&, const Segment& segment, glm::vec3& throughput) {
+  void apply(const Segment& segment, glm::vec3& throughput) {
     // The flight's path measure and the density of each channel's sampling (FreeFlight, media_tracking.h): T sigma_s
     // and T sigma_t at a scattering event, T and T for the surface or the end of the ray (homogeneous media).
     const glm::vec3 f = segment.spectralF;

@@ -2,7 +2,6 @@
 
 #include <cassert>
 #include <cmath>
-#include <cstdio>
 
 namespace vplab {
 
@@ -77,21 +76,6 @@ void DensityGrid::buildMajorants(int cellVoxels) {
       }
   for (float& m : cellMin)
     if (!std::isfinite(m)) m = 0.0f;
-}
-
-std::string densityGridProblem(const std::vector<float>& values, glm::ivec3 first, glm::ivec3 size) {
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    const float v = values[i];
-    if (v >= 0.0f && std::isfinite(v)) continue;
-    const int x = static_cast<int>(i % static_cast<std::size_t>(size.x));
-    const int y = static_cast<int>((i / static_cast<std::size_t>(size.x)) % static_cast<std::size_t>(size.y));
-    const int z = static_cast<int>(i / (static_cast<std::size_t>(size.x) * size.y));
-    char text[160];
-    std::snprintf(text, sizeof text, "voxel (%d, %d, %d) holds %g: densities must be finite and >= 0", first.x + x,
-                  first.y + y, first.z + z, static_cast<double>(v));
-    return text;
-  }
-  return {};
 }
 
 std::atomic<uint64_t>& majorantViolations() {

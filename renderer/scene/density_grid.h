@@ -38,7 +38,7 @@ struct DensityGrid {
   glm::dmat4 localFromIndex{1.0};
 
   /// A grid of size.x * size.y * size.z values (x fastest) whose first value sits at index `first`; adds the zero
-  /// margin and builds the majorant grid. Values must be finite and >= 0 (asserted by densityGridProblem first).
+  /// margin and builds the majorant grid. Values must be finite and >= 0 (readVdbDensity checks them as it reads).
   static DensityGrid fromDense(glm::ivec3 first, glm::ivec3 size, const std::vector<float>& values,
                                int majorantCell = kMajorantCell);
 
@@ -59,9 +59,6 @@ struct DensityGrid {
   }
   std::size_t bytes() const { return (values.size() + cellMin.size() + cellMax.size()) * sizeof(float); }
 };
-
-/// What is wrong with a grid's values (a negative or non-finite voxel, named by its index), or empty.
-std::string densityGridProblem(const std::vector<float>& values, glm::ivec3 first, glm::ivec3 size);
 
 /// Counts tracking steps that found the density above its cell's majorant or below its minorant: both are bugs of the
 /// majorant grid (the estimators would be biased), so tests require the count to stay 0.

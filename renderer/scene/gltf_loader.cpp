@@ -84,16 +84,6 @@ bool finite(const glm::vec3& v) {
 /// recurse once per level.
 constexpr int kMaxJsonDepth = 256;
 
-bool withinCoordinateBound(const glm::vec3& v) {
-  return finite(v) && std::abs(v.x) <= kMaxCoordinate && std::abs(v.y) <= kMaxCoordinate &&
-         std::abs(v.z) <= kMaxCoordinate;
-}
-
-std::string boundText(double bound) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", bound);
-  return buf;
-}
 
 /// Extensions the loader implements, and what it does with some it does not (used in the warning).
 bool isSupportedExtension(const std::string& name) {
@@ -553,7 +543,7 @@ void Loader::addPrimitive(int meshIndex, int primitiveIndex, const glm::mat4& wo
     worldPos[i] = glm::vec3(world * glm::vec4(positions[i], 1.0f));
     if (!withinCoordinateBound(worldPos[i]))
       fail(at + ".attributes.POSITION", "element " + std::to_string(i) + " lies beyond +-" +
-                                            boundText(kMaxCoordinate) + " m (or is not finite) in world space");
+                                            numberText(kMaxCoordinate) + " m (or is not finite) in world space");
   }
   bool haveNormals = !normals.empty();
   std::vector<glm::vec3> worldNormal(haveNormals ? vertexCount : 0);
@@ -677,14 +667,14 @@ uint32_t Loader::materialIndex(int gltfMaterial, const std::string& where) {
     const tinygltf::Value& v = it->second.Get(key);
     if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || v.GetNumberAsDouble() < 0.0 ||
         v.GetNumberAsDouble() > kMaxEmission)
-      fail(at + ".extensions." + ext + "." + key, "is not a number in [0, " + boundText(kMaxEmission) + "]");
+      fail(at + ".extensions." + ext + "." + key, "is not a number in [0, " + numberText(kMaxEmission) + "]");
     return static_cast<float>(v.GetNumberAsDouble());
   };
   strength = extNumber("KHR_materials_emissive_strength", "emissiveStrength", 1.0f);
   // The product in double: factor and strength may each fit a float while their product does not.
   for (int c = 0; c < 3; ++c)
     if (std::max(g.emissiveFactor[static_cast<std::size_t>(c)], 0.0) * static_cast<double>(strength) > kMaxEmission)
-      fail(at + ".emissiveFactor", "emitted radiance (times emissiveStrength) exceeds " + boundText(kMaxEmission) +
+      fail(at + ".emissiveFactor", "emitted radiance (times emissiveStrength) exceeds " + numberText(kMaxEmission) +
                                        " cd/m^2");
   m.emission = glm::max(emissive, glm::vec3(0.0f)) * strength;
   m.specular = std::clamp(extNumber("KHR_materials_specular", "specularFactor", 1.0f), 0.0f, 1.0f);
@@ -701,7 +691,7 @@ glm::mat3 Loader::textureTransform(const tinygltf::ExtensionMap& extensions, con
   std::string at = where + ".extensions.KHR_texture_transform";
   auto number = [&](const tinygltf::Value& v, const std::string& field) {
     if (!v.IsNumber() || !std::isfinite(v.GetNumberAsDouble()) || std::abs(v.GetNumberAsDouble()) > kMaxCoordinate)
-      fail(at + "." + field, "is not a finite number within +-" + boundText(kMaxCoordinate));
+      fail(at + "." + field, "is not a finite number within +-" + numberText(kMaxCoordinate));
     return static_cast<float>(v.GetNumberAsDouble());
   };
   auto pair = [&](const char* field, glm::vec2 fallback) {
@@ -829,7 +819,7 @@ void Loader::addLight(int nodeIndex, const glm::mat4& world) {
   for (int c = 0; c < 3; ++c) {
     double v = static_cast<double>(color[c]) * g.intensity;
     if (!std::isfinite(v) || v < 0.0 || v > kMaxEmission)
-      fail(lightAt, "intensity x color must lie in [0, " + boundText(kMaxEmission) + "]");
+      fail(lightAt, "intensity x color must lie in [0, " + numberText(kMaxEmission) + "]");
   }
   l.intensity = color * static_cast<float>(g.intensity);
   // Punctual lights sit at their node's origin and shine down its local -Z (KHR_lights_punctual); a directional
@@ -838,7 +828,7 @@ void Loader::addLight(int nodeIndex, const glm::mat4& world) {
   glm::vec3 dir = glm::mat3(world) * glm::vec3(0.0f, 0.0f, -1.0f);
   if (!withinCoordinateBound(l.position) || !finite(dir) || !(glm::length(dir) > 0.0f))
     fail("nodes[" + std::to_string(nodeIndex) + "]", "degenerate transform for a light (or beyond +-" +
-                                                         boundText(kMaxCoordinate) + " m)");
+                                                         numberText(kMaxCoordinate) + " m)");
   l.direction = glm::normalize(dir);
   scene_.punctualLights.push_back(l);
 }
@@ -862,7 +852,7 @@ void Loader::addCamera(int nodeIndex, const glm::mat4& world) {
   c.position = glm::vec3(world * glm::vec4(0.0f, 0.0f, 0.0f, 1.0f));
   if (!withinCoordinateBound(c.position) || !finite(forward) || !finite(up))
     fail("nodes[" + std::to_string(nodeIndex) + "]",
-         "camera beyond +-" + boundText(kMaxCoordinate) + " m or with a non-finite transform");
+         "camera beyond +-" + numberText(kMaxCoordinate) + " m or with a non-finite transform");
   c.forward = glm::normalize(forward);
   c.up = glm::normalize(up - glm::dot(up, c.forward) * c.forward);
   c.yfov = static_cast<float>(g.perspective.yfov);
@@ -925,7 +915,7 @@ void checkValues(const std::string& file, const nlohmann::json& doc) {
   // An array of n numbers in [lo, hi] (n = 0: any length).
   auto rangeText = [](double lo, double hi) -> std::string {
     const double big = std::numeric_limits<double>::max();
-    return hi >= big ? (lo <= -big ? "" : " >= " + boundText(lo)) : " in [" + boundText(lo) + ", " + boundText(hi) + "]";
+    return hi >= big ? (lo <= -big ? "" : " >= " + numberText(lo)) : " in [" + numberText(lo) + ", " + numberText(hi) + "]";
   };
   auto numbers = [&](const nlohmann::json& v, const std::string& at, std::size_t n, double lo, double hi) {
     std::string range = rangeText(lo, hi);
@@ -1161,6 +1151,11 @@ bool readReferencedFile(std::vector<unsigned char>* out, std::string* err, const
 }
 
 }  // namespace
+
+bool withinCoordinateBound(const glm::vec3& v) {
+  return finite(v) && std::abs(v.x) <= kMaxCoordinate && std::abs(v.y) <= kMaxCoordinate &&
+         std::abs(v.z) <= kMaxCoordinate;
+}
 
 Scene loadScene(const std::string& path) {
   std::vector<unsigned char> bytes;

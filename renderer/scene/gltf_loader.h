@@ -18,6 +18,9 @@ struct SceneError : std::runtime_error {
 /// Largest world-space coordinate accepted (metres). Far inside what Embree accepts (about 1.8e18) and small enough
 /// that squared distances and areas stay finite in float.
 inline constexpr float kMaxCoordinate = 1e9f;
+/// True when every coordinate of v is finite and within +-kMaxCoordinate.
+bool withinCoordinateBound(const glm::vec3& v);
+
 /// Largest emitted radiance (cd/m^2), intensity (cd) or irradiance (lx) accepted: the sun's disk is about 1.6e9
 /// cd/m^2. With kMaxCoordinate it keeps every light's power finite in float.
 inline constexpr double kMaxEmission = 1e15;

@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <filesystem>
 
+#include "renderer/core/text.h"
 #include "renderer/scene/density_grid.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/scene/vdb_grid.h"
@@ -14,18 +15,6 @@
 namespace vplab {
 
 namespace {
-
-std::string numberText(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", v);
-  return buf;
-}
-
-bool withinCoordinateBound(const glm::vec3& v) {
-  for (int i = 0; i < 3; ++i)
-    if (!(std::abs(v[i]) <= kMaxCoordinate)) return false;
-  return true;
-}
 
 /// Checks the medium's box (volume, a finite inverse, within the coordinate bound); what is wrong, or empty.
 std::string boxProblem(const glm::mat4& world, const Medium& m) {

@@ -7,6 +7,7 @@
 #include <limits>
 
 #include "renderer/core/sampling.h"
+#include "renderer/core/text.h"
 #include "renderer/scene/density_grid.h"
 
 namespace vplab {
@@ -71,31 +72,26 @@ glm::vec3 Medium::sigmaTMax() const {
 }
 
 std::string mediumProblem(const Medium& m) {
-  auto number = [](double v) {
-    char text[32];
-    std::snprintf(text, sizeof text, "%g", v);
-    return std::string(text);
-  };
   const std::string who = "medium '" + m.name + "': ";
   const char* channel[3] = {"r", "g", "b"};
   for (int c = 0; c < 3; ++c) {
     if (!(m.sigmaA[c] >= 0.0f && m.sigmaA[c] <= kMaxMediumSigma))
-      return who + "sigmaA." + channel[c] + " must lie in [0, " + number(kMaxMediumSigma) + "] 1/m (got " +
-             number(m.sigmaA[c]) + ")";
+      return who + "sigmaA." + channel[c] + " must lie in [0, " + numberText(kMaxMediumSigma) + "] 1/m (got " +
+             numberText(m.sigmaA[c]) + ")";
     if (!(m.sigmaS[c] >= 0.0f && m.sigmaS[c] <= kMaxMediumSigma))
-      return who + "sigmaS." + channel[c] + " must lie in [0, " + number(kMaxMediumSigma) + "] 1/m (got " +
-             number(m.sigmaS[c]) + ")";
+      return who + "sigmaS." + channel[c] + " must lie in [0, " + numberText(kMaxMediumSigma) + "] 1/m (got " +
+             numberText(m.sigmaS[c]) + ")";
   }
   // |g| = 1 is a delta phase function, which no sampler here can evaluate.
-  if (!(std::abs(m.g) < 1.0f)) return who + "g must lie in (-1, 1) (got " + number(m.g) + ")";
+  if (!(std::abs(m.g) < 1.0f)) return who + "g must lie in (-1, 1) (got " + numberText(m.g) + ")";
   if (!(m.densityScale >= 0.0f && m.densityScale <= kMaxMediumSigma))
-    return who + "density scale must lie in [0, " + number(kMaxMediumSigma) + "] (got " + number(m.densityScale) + ")";
+    return who + "density scale must lie in [0, " + numberText(kMaxMediumSigma) + "] (got " + numberText(m.densityScale) + ")";
   if (m.density) {
     const glm::vec3 peak = m.sigmaTMax();
     for (int c = 0; c < 3; ++c)
       if (!(peak[c] <= kMaxMediumSigma))
-        return who + "scale x largest density x sigma_t." + channel[c] + " = " + number(peak[c]) + " exceeds " +
-               number(kMaxMediumSigma) + " 1/m";
+        return who + "scale x largest density x sigma_t." + channel[c] + " = " + numberText(peak[c]) + " exceeds " +
+               numberText(kMaxMediumSigma) + " 1/m";
   }
   if (m.fillsSpace) return {};
   double lengths = 1.0;

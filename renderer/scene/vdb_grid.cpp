@@ -41,18 +41,6 @@ std::unique_ptr<openvdb::io::File> openFile(const std::string& path) {
 
 }  // namespace
 
-std::vector<std::string> vdbGridNames(const std::string& path) {
-  std::unique_ptr<openvdb::io::File> file = openFile(path);
-  std::vector<std::string> names;
-  try {
-    openvdb::GridPtrVecPtr grids = file->readAllGridMetadata();
-    for (const openvdb::GridBase::Ptr& g : *grids) names.push_back(g->getName() + " (" + g->valueType() + ")");
-  } catch (const std::exception& e) {
-    throw VdbError("'" + path + "': cannot read its grids (" + e.what() + ")");
-  }
-  return names;
-}
-
 std::shared_ptr<const DensityGrid> readVdbDensity(const std::string& path, const std::string& gridName) {
   std::unique_ptr<openvdb::io::File> file = openFile(path);
   openvdb::GridBase::Ptr base;

@@ -4,7 +4,6 @@
 #include <memory>
 #include <stdexcept>
 #include <string>
-#include <vector>
 
 #include "renderer/scene/density_grid.h"
 
@@ -21,9 +20,5 @@ struct VdbError : std::runtime_error {
 /// not float, a level set (signed distances are not densities), a non-linear (frustum) transform, no active voxel,
 /// a negative or non-finite active value, and a bounding box over kMaxDensityGridVoxels.
 std::shared_ptr<const DensityGrid> readVdbDensity(const std::string& path, const std::string& gridName);
-
-/// The names of the grids an OpenVDB file holds, with their value types ("density (float)"), for messages and the
-/// editor; throws VdbError when the file cannot be read.
-std::vector<std::string> vdbGridNames(const std::string& path);
 
 }  // namespace vplab

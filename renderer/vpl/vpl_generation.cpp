@@ -212,7 +212,7 @@ void traceLightPath(const Scene& scene, const EmbreeScene& embree, const LightSa
     }
     if (segment.end == Segment::End::Escape) return;
     // Free-flight weight: T sigma_s / pdf at a scattering event, T / P(no event) at a surface (docs/theory.md §16).
-    if (segment.crossedMedium) spectral.apply(embree, segment, alpha);
+    if (segment.crossedMedium) spectral.apply(segment, alpha);
     glm::vec3 wIn = -dir;
 
     if (segment.scattered()) {
