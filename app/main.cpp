@@ -96,7 +96,7 @@ int main(int argc, char** argv) {
     // One exit status per kind of failure (printed by vplab --help, listed in docs/guide.md), so that a script can
     // tell a mistyped flag from a broken scene from a full disk.
     auto error = [&](int status, const char* what) {
-      std::fprintf(stderr, "vplab %s: %s\n", name.c_str(), vplab::printable(what).c_str());
+      std::fprintf(stderr, "vplab %s: %s\n", name.c_str(), vplab::printableMessage(what).c_str());
       return status;
     };
     try {

@@ -394,6 +394,19 @@ TEST(HostileText, ControlCharactersFromFilesArePrintedEscaped) {
   EXPECT_EQ(cmp.status, 3) << cmp.out;
   EXPECT_FALSE(contains(cmp.out, "\x1b")) << cmp.out;
   EXPECT_TRUE(contains(cmp.out, "invalid PFM dimension '4\\x1b[2J'")) << cmp.out;
+
+  // A message's own line breaks stay line breaks (a list of choices, one per line, that scripts read); typed text in
+  // it is escaped where it entered.
+  EXPECT_EQ(printableMessage("a\nb\x1b"), "a\nb\\x1b");
+#ifdef VPLAB_HAVE_EDITOR
+  std::string script = test::tmpPath("esc-preset.txt");
+  writeText(script, "preset \x1b[2J?\n");
+  CliRun edit = vplab("edit --script " + script);
+  EXPECT_NE(edit.status, 0) << edit.out;
+  EXPECT_FALSE(contains(edit.out, "\x1b")) << edit.out;
+  EXPECT_TRUE(contains(edit.out, "no preset named '\\x1b[2J?'; the presets are:\n  ")) << edit.out;
+  EXPECT_FALSE(contains(edit.out, "\\n")) << edit.out;
+#endif
 }
 
 // --- fuzz ----------------------------------------------------------------------------------------------------------

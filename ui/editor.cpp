@@ -1,5 +1,6 @@
 #include "ui/editor.h"
 
+#include "renderer/core/text.h"
 #include "renderer/core/atomic_file.h"
 #include "renderer/gl/context.h"
 #include "renderer/image/image_io.h"
@@ -203,7 +204,7 @@ Editor::~Editor() {
     try {
       writeFileAtomically(recentFilesPath(), text);
     } catch (const FileWriteError& e) {
-      std::fprintf(stderr, "vplab edit: %s\n", e.what());
+      std::fprintf(stderr, "vplab edit: %s\n", printableMessage(e.what()).c_str());
     }
   }
 }
@@ -453,7 +454,7 @@ void Editor::execute(const ScriptCommand& c) {
       s.drag = light ? ScriptRun::Drag::Light : ScriptRun::Drag::Medium;
       s.dragIndex = static_cast<int>(scriptNumber(c, 2, src));
       const std::size_t count = light ? editableLights(state_->scene()).size() : state_->media().size();
-      if (s.dragIndex < 0 || static_cast<std::size_t>(s.dragIndex) >= count) fail("no " + c.args[1] + " " + c.args[2]);
+      if (s.dragIndex < 0 || static_cast<std::size_t>(s.dragIndex) >= count) fail("no " + c.args[1] + " " + printable(c.args[2]));
     } else if (c.args.size() != 1) {
       fail("usage: time-frames N [light|medium I]");
     }

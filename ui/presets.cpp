@@ -1,5 +1,6 @@
 #include "ui/presets.h"
 
+#include "renderer/core/text.h"
 #include "renderer/offline/render_methods.h"
 
 #include <cmath>
@@ -277,7 +278,7 @@ const TeachingPreset* findPreset(const std::string& name) {
 }
 
 std::string unknownPresetMessage(const std::string& name) {
-  std::string message = "no preset named '" + name + "'; the presets are:";
+  std::string message = "no preset named '" + printable(name) + "'; the presets are:";
   for (const TeachingPreset& p : teachingPresets()) message += "\n  " + p.name;
   return message;
 }

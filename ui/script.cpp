@@ -1,5 +1,6 @@
 #include "ui/script.h"
 
+#include "renderer/core/text.h"
 #include "renderer/image/image_io.h"
 #include "renderer/settings_json.h"
 #include "ui/editor_state.h"
@@ -78,7 +79,7 @@ std::vector<Medium> editedMedia(const EditorState& state, const ScriptCommand& c
   }
   const double index = scriptNumber(c, 0, source);
   if (!(index >= 0.0 && index < static_cast<double>(media.size())))
-    fail(c, source, "no medium " + c.args[0] + " (the scene has " + std::to_string(media.size()) + ")");
+    fail(c, source, "no medium " + printable(c.args[0]) + " (the scene has " + std::to_string(media.size()) + ")");
   Medium& m = media[static_cast<std::size_t>(index)];
   const std::string& what = c.args[1];
   auto v = [&] {
@@ -94,13 +95,13 @@ std::vector<Medium> editedMedia(const EditorState& state, const ScriptCommand& c
     // On a homogeneous medium the scale would be stored and do nothing: say so instead.
     if (!m.heterogeneous())
       fail(c, source,
-           "medium " + c.args[0] + " ('" + m.name + "') has no density grid; 'medium " + c.args[0] +
+           "medium " + c.args[0] + " ('" + printable(m.name) + "') has no density grid; 'medium " + c.args[0] +
                " vdb <path>' attaches one");
     m.densityScale = static_cast<float>(scriptNumber(c, 2, source));
   }
   if (what == "vdb") {
     if (m.fillsSpace)
-      fail(c, source, "medium " + c.args[0] + " ('" + m.name + "') fills all space: a grid needs a box");
+      fail(c, source, "medium " + c.args[0] + " ('" + printable(m.name) + "') fills all space: a grid needs a box");
     attachVdb(state.scene(), media, static_cast<int>(index), c.args[2],
               c.args.size() > 3 ? c.args[3] : kDefaultDensityGrid);  // VdbError: the file's one-line message
   }
@@ -229,7 +230,7 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
     c.line = lineNumber;
     if (!(words >> c.verb)) continue;
     auto it = verbs().find(c.verb);
-    if (it == verbs().end()) throw ScriptError(where(source, lineNumber) + "unknown command '" + c.verb + "'");
+    if (it == verbs().end()) throw ScriptError(where(source, lineNumber) + "unknown command '" + printable(c.verb) + "'");
     if (it->second.max < 0) {
       std::string rest;
       std::getline(words >> std::ws, rest);
@@ -299,7 +300,7 @@ double scriptNumber(const ScriptCommand& c, std::size_t i, const std::string& so
     used = 0;
   }
   if (used != text.size() || text.empty())
-    throw ScriptError(where(source, c.line) + "'" + text + "' is not a number (argument " + std::to_string(i + 1) +
+    throw ScriptError(where(source, c.line) + "'" + printable(text) + "' is not a number (argument " + std::to_string(i + 1) +
                       " of '" + c.verb + "')");
   return value;
 }

@@ -12,13 +12,12 @@
 
 namespace vplab {
 
-/// `text` with every control byte (below 0x20, and 0x7f) written as \n, \t, \r or \xNN. Backslashes stay as they are,
-/// so that escaping twice (a message built from escaped text, escaped again when printed) changes nothing.
-inline std::string printable(std::string_view text) {
+namespace detail {
+inline std::string escapeControls(std::string_view text, bool keepNewlines) {
   std::string out;
   out.reserve(text.size());
   for (unsigned char c : text) {
-    if (c >= 0x20 && c != 0x7f) {
+    if ((c >= 0x20 && c != 0x7f) || (keepNewlines && c == '\n')) {
       out += static_cast<char>(c);
     } else if (c == '\n') {
       out += "\\n";
@@ -34,6 +33,16 @@ inline std::string printable(std::string_view text) {
   }
   return out;
 }
+}  // namespace detail
+
+/// `text` with every control byte (below 0x20, and 0x7f) written as \n, \t, \r or \xNN. Backslashes stay as they are,
+/// so that escaping twice (a message built from escaped text, escaped again when printed) changes nothing. For text
+/// from files and typed text, where it enters a message.
+inline std::string printable(std::string_view text) { return detail::escapeControls(text, false); }
+
+/// A whole message as printed: control bytes escaped as printable() does, except the line breaks, which are the
+/// message's own (a list of choices, one per line); text from files and typed text in it is escaped where it entered.
+inline std::string printableMessage(std::string_view text) { return detail::escapeControls(text, true); }
 
 /// A number in a message, as printf's %g writes it (1e+07, 0.5).
 inline std::string numberText(double v) {
