@@ -116,52 +116,66 @@ TEST_P(GlMedia, FogCornellSingleScatteringMatchesCpu) {
   expectSingleScatteringMatchesCpu("cornell-fog", 64);
 }
 
-// Approximate bias compensation in the medium (media_pass.h, Engelhardt et al. 2012): the light the bound removes from
-// the medium's scattering (the preview's own unbounded scattering of the same VPLs minus the bounded one) against what
-// the compensation returns; and the whole image with compensation against the CPU's vpl-kk (exact compensation,
-// Kollig & Keller on surfaces, Raab et al. in media) and vpl-abc on the same VPLs.
+// Approximate bias compensation in the medium (media_pass.h, Engelhardt et al. 2012): what the preview's compensation
+// adds to the scattered light (its Scattered output with compensation on minus the one without: C times the bounded
+// in-scattering) against what the CPU's vpl-abc adds in the medium on the same VPLs and bound
+// (test::cpuMediumCompensation: its compensation at a forced flight along each camera ray, nothing else). Both take
+// the medium homogeneous and unbounded over the ball of radius 1/sqrt(b) and stop after one residual bounce; the CPU
+// evaluates the bounded light at the ball's points (with their visibility, some of them beyond the walls), the preview
+// takes it equal to the camera ray's, and returns more. Measured (both backends alike): preview / CPU 1.235, 1.237,
+// 1.250, 1.236, 1.267 over five CPU estimates of 256 samples per pixel (mean 1.245, standard deviation 0.013, 1.1 %),
+// 1.248 at 1024; the preview's own model evaluated on the CPU at the camera ray's points (C times the direct light and
+// the bounded gather there) gives 0.99-1.02. Bound: 1.245 within 3.5 % (three standard deviations), below the 5 % of
+// an error in the compensation, which fails it (checked: the factor C times 1.05 or 0.95).
+// Then the whole image with compensation (SSBC on the surfaces, the media's) against the CPU's vpl-kk (exact
+// compensation, Kollig & Keller on surfaces, Raab et al. in media): closer than without.
 TEST_P(GlMedia, CompensationReturnsTheEnergyTheBoundRemoves) {
   auto l = test::loadAssetScene("cornell-fog");
   Settings s = test::indirectSettings(32, 256);
   s.components = Components::All;
-  VplSet vpls = generateVpls(*l, s);
-  auto scattered = [&](float bound, int ssbcSteps) {
-    Settings t = s;
-    t.clampBound = bound;
-    t.ssbcSteps = ssbcSteps;
-    return meanLuminance(previewDownscaled(l->scene(), vpls, t, PreviewOutput::Scattered));
-  };
   const float bound = 20.0f;
-  const double unbounded = scattered(kInfinity, 0), bounded = scattered(bound, 0), compensated = scattered(bound, 2);
-  const double removed = unbounded - bounded, returned = compensated - bounded;
-  std::printf(
-      "[ measured ] cornell-fog medium, b = %g: the bound removes %.1f %% of the scattered light, the "
-      "compensation returns %.0f %% of that\n",
-      bound, 100.0 * removed / unbounded, 100.0 * returned / removed);
+  s.clampBound = bound;
+  VplSet vpls = generateVpls(*l, s);
+  auto scattered = [&](float b, int ssbcSteps) {
+    Settings t = s;
+    t.clampBound = b;
+    t.ssbcSteps = ssbcSteps;
+    return previewDownscaled(l->scene(), vpls, t, PreviewOutput::Scattered);
+  };
+  const Image bounded = scattered(bound, 0);
+  Image gl = scattered(bound, 2);
+  for (std::size_t i = 0; i < gl.pixels.size(); ++i) gl.pixels[i] -= bounded.pixels[i];
+  const double unbounded = meanLuminance(scattered(kInfinity, 0));
+  const double removed = unbounded - meanLuminance(bounded), returned = meanLuminance(gl);
   EXPECT_GT(removed, 0.02 * unbounded);
-  // One bounce of the residual applied to the bounded light (no recursion, as the CPU's vpl-abc) returns less than
-  // the bound removes, but most of it.
-  EXPECT_GT(returned / removed, 0.4);
-  EXPECT_LT(returned / removed, 1.1);
+  const Image& cpu = test::cachedCpu("cornell-fog vpl-abc medium compensation", [&] {
+    return test::cpuMediumCompensation(*l, vpls, Method::VplAbc, s, 256);
+  });
+  const double ratio = returned / meanLuminance(cpu);
+  const ImageMetrics blocks =
+      compareAtUnitMean(blockAverage(gl, 4), blockAverage(cpu, 4), PixelMask(s.width / 4, s.height / 4));
+  std::printf(
+      "[ measured ] cornell-fog medium, b = %g: the bound removes %.1f %% of the scattered light, the compensation "
+      "returns %.0f %% of that; the compensation / CPU vpl-abc's in the medium %.4f (4x4-block relMSE at unit mean "
+      "%.4f)\n",
+      bound, 100.0 * removed / unbounded, 100.0 * returned / removed, ratio, blocks.relMse);
+  EXPECT_EQ(blocks.nonFinitePixels, 0u);
+  EXPECT_NEAR(ratio / 1.245, 1.0, 0.035);
 
   Settings t = s;
-  t.clampBound = bound;
   const Image withoutCompensation = previewDownscaled(l->scene(), vpls, t, PreviewOutput::Final);
   t.ssbcSteps = 2;
   const Image withCompensation = previewDownscaled(l->scene(), vpls, t, PreviewOutput::Final);
   Settings c = t;
   c.samplesPerPixel = 64;
   const PixelMask emitters = emitterMask(l->embree(), s.width, s.height, 1);
-  const Image kk = renderVpl(*l, vpls, Method::VplKK, c).image;
-  const Image abc = renderVpl(*l, vpls, Method::VplAbc, c).image;
+  const Image& kk = test::cachedCpu("cornell-fog vpl-kk", [&] { return renderVpl(*l, vpls, Method::VplKK, c).image; });
   const double before = meanRatioExcludingEmitters(withoutCompensation, kk, emitters);
   const double after = meanRatioExcludingEmitters(withCompensation, kk, emitters);
-  const double againstAbc = meanRatioExcludingEmitters(withCompensation, abc, emitters);
   std::printf("[ measured ] cornell-fog b = %g, whole image / CPU vpl-kk: %.4f without compensation, %.4f with (SSBC "
-              "and the media's); with / CPU vpl-abc %.4f; CPU vpl-abc / vpl-kk %.4f\n",
-              bound, before, after, againstAbc, meanRatioExcludingEmitters(abc, kk, emitters));
+              "and the media's)\n",
+              bound, before, after);
   EXPECT_GT(after, before + 0.05);
-  EXPECT_NEAR(againstAbc, 1.0, 0.07);
 }
 
 // Same scene, settings and seed: the same image, bit for bit (the media passes draw no random numbers of their own

@@ -126,15 +126,20 @@ TEST(Lvl, TileSizeDoesNotChangeTheExpectedImage) {
   EXPECT_GT(single / bounded, 1.05);  // the residual is a visible share
 }
 
-// On the glossy counter, all components against the path-traced reference (emitters and their edges left out),
-// averaged over VPL sets: within 2 % over all the renders, and each bound within 3.5 %. The spread between VPL sets
-// is large on the metal counter (a VPL on a wall seen in the counter's GGX lobe is a rare, large contribution that no
-// bound on G removes: about 4 % per set of 4096 VPLs at 16^2, so a bound's mean over 16 sets has a standard error
-// near 1 %), so the test takes many small renders, each bound its own sets.
+// On the glossy counter, the indirect light (Components::Indirect: what the VPLs, the bound and the local lights
+// change; the direct light, the same estimator in every method, would dilute an error in it) against the path-traced
+// reference's (emitters and their edges left out), averaged over VPL sets. The spread between VPL sets is large on
+// the metal counter (a VPL on a wall seen in the counter's GGX lobe is a rare, large contribution that no bound on G
+// removes), so the test takes many small renders, each bound its own sets. Measured (16 sets of 4096 VPLs at 16^2 per
+// bound): b = 20 0.9885, b = 5 0.9924, b = 1 0.9810 (standard errors 1.7, 1.3, 1.6 %), all bounds 0.9873 (standard
+// error 0.9 %). Bounds: each bound within 4.5 % (about 3 standard errors), all bounds within 2.5 % (2.8), below the
+// 5 % of an error in the indirect light, which fails the latter (checked: the lvl image times 1.05 or 0.95).
 TEST(Lvl, GlossyCounterMatchesTheReferenceAtAnyBound) {
   auto scene = test::loadAssetScene("glossy-counter");
   const int size = 16;
-  const Image reference = renderReference(*scene, test::smallReferenceSettings(size, 8192)).image;
+  Settings r = test::smallReferenceSettings(size, 8192);
+  r.components = Components::Indirect;
+  const Image reference = renderReference(*scene, r).image;
   const PixelMask emitters = emitterMask(scene->embree(), size, size);
   const int seeds = 16;
   const std::vector<float> bounds = {20.0f, 5.0f, 1.0f};
@@ -146,20 +151,21 @@ TEST(Lvl, GlossyCounterMatchesTheReferenceAtAnyBound) {
       s.seed = 70 + 100 * static_cast<uint32_t>(b) + static_cast<uint32_t>(i);
       s.clampBound = bounds[b];
       s.lvlTileSize = 4;
-      const double r =
+      s.components = Components::Indirect;
+      const double q =
           meanRatioExcludingEmitters(renderLvl(*scene, generateVpls(*scene, s), s).image, reference, emitters);
-      sum += r;
-      sumSquares += r * r;
+      sum += q;
+      sumSquares += q * q;
     }
     const double mean = sum / seeds;
     const double standardError = std::sqrt((sumSquares / seeds - mean * mean) / (seeds - 1));
     std::printf("[ measured ] b = %g: lvl / reference %.4f (standard error %.4f over %d VPL sets)\n", bounds[b], mean,
                 standardError, seeds);
-    EXPECT_NEAR(mean, 1.0, 0.035) << "b = " << bounds[b];
+    EXPECT_NEAR(mean, 1.0, 0.045) << "b = " << bounds[b];
     total += mean / static_cast<double>(bounds.size());
   }
   std::printf("[ measured ] all bounds: lvl / reference %.4f\n", total);
-  EXPECT_NEAR(total, 1.0, 0.02);
+  EXPECT_NEAR(total, 1.0, 0.025);
 }
 
 }  // namespace

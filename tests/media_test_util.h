@@ -7,6 +7,7 @@
 #include <string>
 #include <vector>
 
+#include "renderer/core/parallel.h"
 #include "renderer/core/sampling.h"
 #include "renderer/image/image.h"
 #include "renderer/image/metrics.h"
@@ -26,16 +27,20 @@ inline const Image& cachedCpu(const std::string& key, const std::function<Image(
   return it->second;
 }
 
-/// The CPU's single scattering of the lights along camera rays: per pixel sample, one forced free flight in the media
-/// before the surface (ratio tracking through a grid) and the reference's direct-light estimator there
-/// (renderer/offline/camera_sample.h, as the VPL render draws it), nothing else.
-inline Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int spp) {
+/// The light of one forced free flight per pixel sample in the media before the surface (ratio tracking through a
+/// grid), as the VPL render draws its camera rays' direct light and compensation (renderer/offline/vpl_renderer.cpp,
+/// mediumAlongRay, step 1): per pixel `spp` jittered camera rays, each adding the flight's weight times `at(x, rng)`,
+/// the radiance leaving the medium point x toward the camera. Nothing else: no surfaces, no VPLs' in-scattering.
+template <class AtMediumPoint>
+Image cpuForcedFlights(const OfflineScene& l, const Settings& s, int spp, uint64_t salt, AtMediumPoint&& at) {
   const Scene& scene = l.scene();
   Image image(s.width, s.height);
-  std::vector<MediumInterval> intervals;
-  for (int y = 0; y < s.height; ++y)
+  // A row per work item on the settings' threads; each pixel's random numbers are its own.
+  parallelFor(s.height, resolveThreadCount(s.threads), [&](int64_t row, int) {
+    const int y = static_cast<int>(row);
+    std::vector<MediumInterval> intervals;
     for (int x = 0; x < s.width; ++x) {
-      Rng rng(hashKey(static_cast<uint64_t>(y) * s.width + x, 0x73696e676c65ull));
+      Rng rng(hashKey(static_cast<uint64_t>(y) * s.width + x, salt));
       glm::vec3 sum(0.0f);
       for (int i = 0; i < spp; ++i) {
         const glm::vec2 jitter = rng.next2D();
@@ -50,12 +55,56 @@ inline Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int s
         if (intervals.empty() || !sampleForcedFlight(scene.media, intervals, scene.camera.position, dir, end,
                                                      rng.next2D(), t, medium, weight))
           continue;
-        const Interaction at = Interaction::inMediumAt(scene, scene.camera.position + dir * t, medium, -dir);
-        sum += weight * estimateDirectLight(l.embree(), l.lights(), at, rng);
+        sum += weight * at(Interaction::inMediumAt(scene, scene.camera.position + dir * t, medium, -dir), rng);
       }
       image.at(x, y) = sum / static_cast<float>(spp);
     }
+  });
   return image;
+}
+
+/// The CPU's single scattering of the lights along camera rays: the reference's direct-light estimator at each forced
+/// flight (renderer/offline/camera_sample.h, as the VPL render draws it), nothing else.
+inline Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int spp) {
+  return cpuForcedFlights(l, s, spp, 0x73696e676c65ull, [&](const Interaction& at, Rng& rng) {
+    return estimateDirectLight(l.embree(), l.lights(), at, rng);
+  });
+}
+
+/// The medium's part of the residual's compensation in a CPU VPL render of `method` (VplAbc: Engelhardt et al.'s
+/// approximate one; VplKK: Raab et al.'s) on `vpls` with the settings' bound: the method's compensation at each forced
+/// flight along the camera rays, exactly what renderVpl adds in the media besides the bounded light, nothing else.
+inline Image cpuMediumCompensation(const OfflineScene& l, const VplSet& vpls, Method method, const Settings& s,
+                                   int spp) {
+  const VplTransport transport(l, vpls, method, s);
+  return cpuForcedFlights(l, s, spp, 0x636f6d70656eull, [&](const Interaction& at, Rng& rng) {
+    GatherTally tally;
+    return transport.methodCompensation(at, rng, tally);
+  });
+}
+
+/// The camera rays' transmittance to the first surface (or to infinity), per channel, averaged over the image's
+/// pixels at `raysPerPixel` x `raysPerPixel` stratified positions each: in a closed furnace whose walls hold radiance
+/// L everywhere, the surfaces' part of the image is L times this, and the media's in-scattered part L times one minus
+/// it (a non-absorbing medium in a uniform field scatters in what it scatters out).
+inline glm::dvec3 meanCameraTransmittance(const OfflineScene& l, int width, int height, int raysPerPixel) {
+  const Scene& scene = l.scene();
+  std::vector<MediumInterval> intervals;
+  glm::dvec3 sum(0.0);
+  for (int y = 0; y < height; ++y)
+    for (int x = 0; x < width; ++x)
+      for (int j = 0; j < raysPerPixel; ++j)
+        for (int i = 0; i < raysPerPixel; ++i) {
+          const glm::vec3 dir = cameraRayDirection(scene.camera, x + (i + 0.5f) / raysPerPixel,
+                                                   y + (j + 0.5f) / raysPerPixel, width, height);
+          const auto hit = l.embree().intersect(scene.camera.position, dir);
+          const float end = hit ? hit->distance : kInfinity;
+          mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
+          sum += intervals.empty()
+                     ? glm::dvec3(1.0)
+                     : glm::dvec3(transmittanceAlong(scene.media, intervals, scene.camera.position, dir, end));
+        }
+  return sum / (static_cast<double>(width) * height * raysPerPixel * raysPerPixel);
 }
 
 /// The media methods' mean luminance (as the bound's removed share is measured) over `sets` VPL sets (seeds firstSeed, firstSeed + 1, ...) at 2 pixel samples each,

@@ -370,6 +370,10 @@ glm::vec3 VplTransport::compensation(const Interaction& x, Rng& rng, int depth, 
   return vplab::compensation(*ctx_, x, rng, depth, tally, incident);
 }
 
+glm::vec3 VplTransport::methodCompensation(const Interaction& x, Rng& rng, GatherTally& tally) const {
+  return compensationFor(*ctx_, x, rng, tally);
+}
+
 const std::vector<Vpl>& VplTransport::vpls() const { return ctx_->vpls; }
 const std::vector<BrdfParams>& VplTransport::vplBrdfs() const { return ctx_->vplBrdfs; }
 float VplTransport::clampBound() const { return ctx_->clampBound; }

@@ -79,6 +79,10 @@ class VplTransport {
   /// valid) receives the sampled direction and the light behind it, so that K toward another wo is f(wo, wi) weight.
   glm::vec3 compensation(const Interaction& x, Rng& rng, int depth, GatherTally& tally,
                          IncidentSample* incident = nullptr) const;
+  /// The compensation of the residual that renderVpl adds at x for the transport's method: Kollig & Keller's for
+  /// VplKK, the approximate one for VplAbc (in a medium one residual bounce over the ball |y - x| < 1/sqrt(b)), 0 for
+  /// Vpl and Vsl or without a bound. Tests take the medium's part of an image with it.
+  glm::vec3 methodCompensation(const Interaction& x, Rng& rng, GatherTally& tally) const;
 
   const std::vector<Vpl>& vpls() const;
   const std::vector<BrdfParams>& vplBrdfs() const;  ///< f(x2) parameters of each VPL
