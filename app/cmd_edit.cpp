@@ -23,7 +23,12 @@ int cmdEdit(const Args& args) {
                            "(default 0.4; --size turns fitting off)"},
                       });
   const unsigned use = kUseImage | kUseReference | kUseGeneration | kUseCpuVpl | kUseGl;
-  cl.addOptions(cli::settingOptions(Settings{}, use));
+#ifdef VPLAB_HAVE_EDITOR
+  const Settings defaults = ui::editorDefaultSettings();
+#else
+  const Settings defaults;
+#endif
+  cl.addOptions(cli::settingOptions(defaults, use));
   if (!cl.parse(args)) {
     std::printf("%s", cl.help().c_str());
     std::printf("Opens the editor on a scene (default: the Cornell box). Needs a display: use xvfb-run without one.\n");

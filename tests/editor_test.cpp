@@ -21,6 +21,7 @@
 #include "ui/camera_controller.h"
 #include "ui/change_timer.h"
 #include "ui/chart.h"
+#include "ui/editor.h"
 #include "ui/offline_job.h"
 #include "ui/panels.h"
 #include "ui/presets.h"
@@ -289,8 +290,9 @@ TEST(EditorPresets, DescriptionsSayWhatEachPresetStarts) {
     EXPECT_EQ(d.find("path-traced reference") != std::string::npos, p.offline == ui::PresetOffline::Reference) << d;
     EXPECT_EQ(d.find("exact VPL render") != std::string::npos, p.offline == ui::PresetOffline::ExactVpl) << d;
     EXPECT_EQ(d.find("animates the light") != std::string::npos, p.animateLight) << d;
-    if (p.offline == ui::PresetOffline::Chosen)
+    if (p.offline == ui::PresetOffline::Chosen) {
       EXPECT_NE(d.find(std::string("(") + toString(p.offlineMethod) + ")"), std::string::npos) << d;
+    }
     // What the presets compare against must be started by them, not left to the reader.
     const bool compares =
         p.view == ui::ViewMode::Split || p.view == ui::ViewMode::Difference || p.view == ui::ViewMode::Reference;
@@ -463,7 +465,7 @@ TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) 
 
   // The same settings and camera through the headless preview.
   Scene scene = loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf");
-  Settings settings;
+  Settings settings = ui::editorDefaultSettings();
   settings.width = settings.height = 96;
   settings.vplCount = 48;
   settings.directLightSamples = 16;

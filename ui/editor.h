@@ -10,11 +10,23 @@
 
 namespace vplab::ui {
 
+/// The editor's initial settings where the command line and a settings file say nothing: interleaved over 4 x 4
+/// subsets, the indirect light on the half-resolution grid. At the fitted size they make an edit show in about a tenth
+/// of a second on llvmpipe, where k = s = 1 takes 0.2-0.8 s on the Cornell boxes and seconds in the smoke
+/// (docs/benchmarks.md, "Editing in the editor"); the accuracy tests pin this configuration against the CPU as they
+/// pin k = s = 1. The settings panel, a settings file or --interleave 1 --indirect-downscale 1 give the full gather.
+inline Settings editorDefaultSettings() {
+  Settings s;
+  s.interleave = 4;
+  s.indirectDownscale = 2;
+  return s;
+}
+
 struct EditorOptions {
   std::string scenePath;       ///< glTF file opened at start
   std::string scriptPath;      ///< empty: interactive
   std::string screenshotPath;  ///< written (PNG, whole window) after the script, then the editor exits
-  Settings settings;           ///< initial settings (CLI options and --settings applied)
+  Settings settings = editorDefaultSettings();  ///< initial settings (CLI options and --settings applied)
   /// The preview's size follows the view area (times the resolution scale) instead of settings.width x height;
   /// an explicit image size (--size, the offline panel's image size, a script's `set width`) turns it off.
   bool fitPreview = true;
