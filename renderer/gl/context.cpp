@@ -14,6 +14,7 @@
 #include <cstring>
 #include <mutex>
 #include <string>
+#include <type_traits>
 #include <vector>
 
 namespace vplab {
@@ -88,7 +89,42 @@ int collectGlDriver(dl_phdr_info* info, std::size_t, void* names) {
 }
 
 GLADapiproc eglLoad(const char* name) { return reinterpret_cast<GLADapiproc>(eglGetProcAddress(name)); }
-GLADapiproc osMesaLoad(const char* name) { return reinterpret_cast<GLADapiproc>(OSMesaGetProcAddress(name)); }
+
+// OSMesa is opened when a context first asks for it, not linked: libOSMesa links Mesa's LLVM, whose relocations cost
+// every process that loads it about 0.1 s at start (most of `vplab info`'s time, and of every command a script runs),
+// and most processes never render or render through EGL.
+struct OsMesaApi {
+  decltype(&OSMesaCreateContextAttribs) createContextAttribs = nullptr;
+  decltype(&OSMesaMakeCurrent) makeCurrent = nullptr;
+  decltype(&OSMesaDestroyContext) destroyContext = nullptr;
+  decltype(&OSMesaGetProcAddress) getProcAddress = nullptr;
+  std::string error;  ///< why the library or one of its functions could not be had; empty when all are there
+};
+
+const OsMesaApi& osMesa() {
+  static const OsMesaApi api = [] {
+    OsMesaApi a;
+    void* library = dlopen("libOSMesa.so.8", RTLD_NOW | RTLD_LOCAL);
+    if (!library) {
+      const char* why = dlerror();
+      a.error = "OSMesa: cannot open libOSMesa.so.8 (" + std::string(why ? why : "unknown reason") +
+                "; Debian package libosmesa6)";
+      return a;
+    }
+    auto load = [&](auto& function, const char* name) {
+      function = reinterpret_cast<std::remove_reference_t<decltype(function)>>(dlsym(library, name));
+      if (!function && a.error.empty()) a.error = std::string("OSMesa: libOSMesa.so.8 has no ") + name;
+    };
+    load(a.createContextAttribs, "OSMesaCreateContextAttribs");
+    load(a.makeCurrent, "OSMesaMakeCurrent");
+    load(a.destroyContext, "OSMesaDestroyContext");
+    load(a.getProcAddress, "OSMesaGetProcAddress");
+    return a;
+  }();
+  return api;
+}
+
+GLADapiproc osMesaLoad(const char* name) { return reinterpret_cast<GLADapiproc>(osMesa().getProcAddress(name)); }
 
 }  // namespace
 
@@ -134,7 +170,7 @@ struct HeadlessGlContext::Impl {
       eglDisplay = EGL_NO_DISPLAY;
     }
     if (osMesaContext) {
-      OSMesaDestroyContext(osMesaContext);
+      osMesa().destroyContext(osMesaContext);
       osMesaContext = nullptr;
     }
   }
@@ -240,10 +276,11 @@ struct HeadlessGlContext::Impl {
                            OSMESA_CONTEXT_MINOR_VERSION,
                            kWantedMinor,
                            0};
-    osMesaContext = OSMesaCreateContextAttribs(attribs, nullptr);
+    if (!osMesa().error.empty()) return osMesa().error;
+    osMesaContext = osMesa().createContextAttribs(attribs, nullptr);
     if (!osMesaContext) return "OSMesa: OSMesaCreateContextAttribs(4.5 core) returned NULL";
     osMesaBuffer.assign(kOsMesaBufferSize * kOsMesaBufferSize * 4, 0);
-    if (!OSMesaMakeCurrent(osMesaContext, osMesaBuffer.data(), GL_UNSIGNED_BYTE, kOsMesaBufferSize, kOsMesaBufferSize))
+    if (!osMesa().makeCurrent(osMesaContext, osMesaBuffer.data(), GL_UNSIGNED_BYTE, kOsMesaBufferSize, kOsMesaBufferSize))
       return "OSMesa: OSMesaMakeCurrent failed";
     if (!gladLoadGL(osMesaLoad)) return "OSMesa: glad could not load GL";
     backend = GlBackend::OsMesa;
@@ -304,7 +341,7 @@ void HeadlessGlContext::makeCurrent() {
       throw GlError("eglMakeCurrent failed");
     gladLoadGL(eglLoad);
   } else {
-    if (!OSMesaMakeCurrent(impl_->osMesaContext, impl_->osMesaBuffer.data(), GL_UNSIGNED_BYTE, kOsMesaBufferSize,
+    if (!osMesa().makeCurrent(impl_->osMesaContext, impl_->osMesaBuffer.data(), GL_UNSIGNED_BYTE, kOsMesaBufferSize,
                            kOsMesaBufferSize))
       throw GlError("OSMesaMakeCurrent failed");
     gladLoadGL(osMesaLoad);
