@@ -3,17 +3,23 @@
 # path-traced tests stay within minutes; -g1, line tables only, gives the sanitizers' reports the same file:line stack
 # frames as -g at about 60 % of the compile time), into build-sanitized/ (or $VPLAB_SANITIZE_BUILD_DIR). Any ASan or
 # UBSan finding, and any leak outside Mesa's own libraries (tests/lsan-mesa.supp), fails the test it occurs in.
-# $VPLAB_SANITIZE_LABELS picks the CTest labels (a regex for `ctest -L`; default: every test). The statistical tests
-# (labels cpu-statistical and gl-statistical, listed in tests/statistical-tests.txt) are left out: their cost is many
-# seeds, VPL sets or samples on code paths that quicker tests run under the sanitizers too (checked line by line with
-# gcov), and the Release run checks their bounds (docs/benchmarks.md, "The test suite in CI").
-# VPLAB_SANITIZE_STATISTICAL=1 runs them as well.
+# $VPLAB_SANITIZE_LABELS picks the CTest labels (a regex for `ctest -L`; default: every test). Left out, and run by
+# the Release suite (docs/benchmarks.md, "The test suite in CI"):
+# - the statistical tests (labels cpu-statistical and gl-statistical, listed in tests/statistical-tests.txt): their
+#   cost is many seeds, VPL sets or samples on code paths that quicker tests run under the sanitizers too (checked
+#   line by line with gcov); VPLAB_SANITIZE_STATISTICAL=1 runs them as well;
+# - the OSMesa instances of the suites run on both backends (label gl-osmesa-twin): the same renders and CPU
+#   references as their EGL twins through the same code but the context's, which the context tests take on OSMesa;
+#   VPLAB_SANITIZE_TWINS=1 runs them as well.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${VPLAB_SANITIZE_BUILD_DIR:-$root/build-sanitized}"
 labels="${VPLAB_SANITIZE_LABELS:-.}"
-exclude=(-LE statistical)
-if [ "${VPLAB_SANITIZE_STATISTICAL:-0}" = 1 ]; then exclude=(); fi
+left_out=()
+[ "${VPLAB_SANITIZE_STATISTICAL:-0}" = 1 ] || left_out+=(statistical)
+[ "${VPLAB_SANITIZE_TWINS:-0}" = 1 ] || left_out+=(osmesa-twin)
+exclude=()
+if [ "${#left_out[@]}" -gt 0 ]; then exclude=(-LE "$(IFS='|'; echo "${left_out[*]}")"); fi
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1" -DVPLAB_SANITIZE=ON \
   -DVPLAB_BUILD_BENCH=OFF >/dev/null
 cmake --build "$build" -j "$(nproc)"

@@ -506,11 +506,16 @@ TEST(HostileFuzz, MutatedScenesAndSettingsEndCleanly) {
   std::mt19937 rng(seedText ? static_cast<unsigned>(std::strtoul(seedText, nullptr, 10)) : 27u);
   const std::string out = test::tmpPath("out.pfm");
   const auto start = std::chrono::steady_clock::now();
+  // A fixed number of cases, so that the seed checks the same inputs on any machine at any load (a time bound made the
+  // count, and the test's verdict, depend on the load): 400 take about a minute in Release; under the sanitizers each
+  // case's process costs about 0.6 s, and 100 cases are the same minute.
+#if defined(__SANITIZE_ADDRESS__)
+  const int kCases = 100;
+#else
   const int kCases = 400;
-  const double kSeconds = 60.0;
+#endif
   int cases = 0, successes = 0, statusCount[8] = {};
   for (; cases < kCases; ++cases) {
-    if (std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count() > kSeconds) break;
     const int kind = std::uniform_int_distribution<int>(0, 11)(rng);
     std::string input, command;
     fs::remove(out);
@@ -572,7 +577,6 @@ TEST(HostileFuzz, MutatedScenesAndSettingsEndCleanly) {
   const double seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   std::printf("fuzz: %d cases in %.1f s: %d successes, %d usage errors (exit 2), %d input errors (exit 3)\n", cases,
               seconds, successes, statusCount[2], statusCount[3]);
-  EXPECT_GE(cases, 100) << "the time bound cut the run short";
 }
 
 }  // namespace

@@ -5,6 +5,7 @@
 
 #include <gtest/gtest.h>
 
+#include <algorithm>
 #include <cctype>
 #include <fstream>
 #include <sstream>
@@ -111,6 +112,21 @@ TEST(TestLabels, StatisticalPatternsNameExistingTestsOfTheirGroup) {
     EXPECT_GT(selected, 0) << "the statistical pattern " << pattern << " selects no test: rename it with its test";
   }
   EXPECT_GT(patterns, 0);
+}
+
+// The sanitized run leaves the OSMesa instances of the two-backend suites out (tests/CMakeLists.txt): each must have
+// its EGL twin, which the sanitized run keeps, and be a GL test.
+TEST(TestLabels, EveryOsMesaTwinHasItsEglTwin) {
+  const std::vector<std::string> names = allTestNames();
+  int twins = 0;
+  for (const std::string& full : names) {
+    if (!globMatches(VPLAB_OSMESA_TWINS, full.c_str())) continue;
+    ++twins;
+    const std::string egl = full.substr(0, full.size() - std::string("OsMesa").size()) + "Egl";
+    EXPECT_NE(std::find(names.begin(), names.end(), egl), names.end()) << full << " has no EGL twin " << egl;
+    EXPECT_TRUE(anyPatternMatches(VPLAB_GL_SUITES, full)) << full << " is not a GL test";
+  }
+  EXPECT_GT(twins, 0) << "the pattern " << VPLAB_OSMESA_TWINS << " selects no test";
 }
 
 }  // namespace
