@@ -76,8 +76,8 @@ RayEstimate estimateRay(const OfflineScene& offline, const glm::vec3& origin, co
 
 // The walls hold L = 2 (emission 1, reflected 1), seen through the medium: a pixel gets 2 T from the walls and
 // 2 (1 - T) from the medium's in-scattering (T its camera ray's transmittance to the wall). The image mean minus the
-// walls' exact part, 2 mean(T) (test::meanCameraTransmittance), is the medium's part, checked per channel against
-// its exact value 2 (1 - mean(T)), so that a medium thinner than these (whose part of the image is small, and the
+// walls' exact part, 2 mean(T), is the medium's part, checked per channel against its exact value 2 (1 - mean(T))
+// (test::furnaceMediumPart), so that a medium thinner than these (whose part of the image is small, and the
 // image mean's bound of 0.02 large beside it) stays pinned: the smallest part here is the box's red, 0.70 of the 2.
 // Measured: the medium's part within -0.15 % and +0.22 % of exact in every furnace and channel (the image mean's
 // standard error of 0.005 is 0.7 % of 0.70). Bound 2 % of the part (3 standard errors of the smallest), below the 5 %
@@ -99,7 +99,7 @@ void expectMediumFurnace(const Medium& medium, const char* what) {
   RayEstimate axis =
       estimateRay(offline, scene.camera.position, scene.camera.forward, 4096, Components::All, s.maxDepth, 99);
   EXPECT_EQ(axis.nonFinite, 0) << what;
-  const glm::dvec3 exactMedium = 2.0 * (1.0 - test::meanCameraTransmittance(offline, s.width, s.height, 4));
+  const glm::dvec3 exactMedium = test::furnaceMediumPart(offline, s.width, s.height);
   const glm::dvec3 mediumError = (mean - 2.0) / exactMedium;
   int outliers = 0;
   double worst = 0.0;

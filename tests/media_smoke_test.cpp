@@ -261,7 +261,7 @@ TEST(SmokeReference, FurnaceFilledWithNonAbsorbingSmokeKeepsTwo) {
   const glm::dvec3 error = glm::sqrt(glm::max(mean2 - mean * mean, glm::dvec3(0.0)) / n);
   std::printf("[ measured ] furnace with smoke: (%.4f %.4f %.4f) +- (%.4f %.4f %.4f), exact 2, %.2f s\n", mean.x,
               mean.y, mean.z, error.x, error.y, error.z, r.seconds);
-  const glm::dvec3 exactMedium = 2.0 * (1.0 - test::meanCameraTransmittance(offline, s.width, s.height, 4));
+  const glm::dvec3 exactMedium = test::furnaceMediumPart(offline, s.width, s.height);
   const glm::dvec3 mediumError = (mean - 2.0) / exactMedium;
   std::printf("[ measured ] the smoke's part exact (%.4f %.4f %.4f): %+.2f %+.2f %+.2f %% (+- %.2f %.2f %.2f %%)\n",
               exactMedium.x, exactMedium.y, exactMedium.z, 100.0 * mediumError.x, 100.0 * mediumError.y,

@@ -83,28 +83,30 @@ inline Image cpuMediumCompensation(const OfflineScene& l, const VplSet& vpls, Me
   });
 }
 
-/// The camera rays' transmittance to the first surface (or to infinity), per channel, averaged over the image's
-/// pixels at `raysPerPixel` x `raysPerPixel` stratified positions each: in a closed furnace whose walls hold radiance
-/// L everywhere, the surfaces' part of the image is L times this, and the media's in-scattered part L times one minus
-/// it (a non-absorbing medium in a uniform field scatters in what it scatters out).
-inline glm::dvec3 meanCameraTransmittance(const OfflineScene& l, int width, int height, int raysPerPixel) {
+/// The media's exact part of a furnace image's mean, per channel: in a closed furnace whose walls hold radiance 2
+/// everywhere (test::makeFurnaceBox(0.5)), a pixel gets 2 T from the walls (T its camera ray's transmittance to the
+/// first surface) and 2 (1 - T) from the media's in-scattering (a non-absorbing medium in a uniform field scatters in
+/// what it scatters out). T exactly, averaged over the width x height pixels at 4 x 4 stratified positions each.
+inline glm::dvec3 furnaceMediumPart(const OfflineScene& l, int width, int height) {
+  constexpr int kRays = 4;
   const Scene& scene = l.scene();
   std::vector<MediumInterval> intervals;
-  glm::dvec3 sum(0.0);
+  glm::dvec3 transmittance(0.0);
   for (int y = 0; y < height; ++y)
     for (int x = 0; x < width; ++x)
-      for (int j = 0; j < raysPerPixel; ++j)
-        for (int i = 0; i < raysPerPixel; ++i) {
-          const glm::vec3 dir = cameraRayDirection(scene.camera, x + (i + 0.5f) / raysPerPixel,
-                                                   y + (j + 0.5f) / raysPerPixel, width, height);
+      for (int j = 0; j < kRays; ++j)
+        for (int i = 0; i < kRays; ++i) {
+          const glm::vec3 dir =
+              cameraRayDirection(scene.camera, x + (i + 0.5f) / kRays, y + (j + 0.5f) / kRays, width, height);
           const auto hit = l.embree().intersect(scene.camera.position, dir);
           const float end = hit ? hit->distance : kInfinity;
           mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
-          sum += intervals.empty()
-                     ? glm::dvec3(1.0)
-                     : glm::dvec3(transmittanceAlong(scene.media, intervals, scene.camera.position, dir, end));
+          transmittance += intervals.empty()
+                               ? glm::dvec3(1.0)
+                               : glm::dvec3(transmittanceAlong(scene.media, intervals, scene.camera.position, dir, end));
         }
-  return sum / (static_cast<double>(width) * height * raysPerPixel * raysPerPixel);
+  transmittance /= static_cast<double>(width) * height * kRays * kRays;
+  return 2.0 * (1.0 - transmittance);
 }
 
 /// The media methods' mean luminance (as the bound's removed share is measured) over `sets` VPL sets (seeds firstSeed, firstSeed + 1, ...) at 2 pixel samples each,

@@ -76,7 +76,7 @@ TEST(MediaVpl, VacuumMediumChangesNothing) {
 // (docs/theory.md §16): in-scattering equals out-scattering in a uniform radiance field. Kollig-Keller compensation
 // in media (Raab et al. 2008) makes the bounded VPL render unbiased again.
 // What the medium adds is checked apart from the walls: a pixel gets 2 T from the walls (T its camera ray's
-// transmittance) and 2 (1 - T) in-scattered, 1.09 of the image's 2 here (test::meanCameraTransmittance); the error of
+// transmittance) and 2 (1 - T) in-scattered, 1.09 of the image's 2 here (test::furnaceMediumPart); the error of
 // the image mean is taken relative to that part. Medium VPLs have no cosines to tame 1/d^2, so single VPL sets
 // scatter: vpl-kk per set (8^2, 4 samples per pixel, 4096 VPLs) 4.3 % of the medium's part (standard deviation, 8
 // sets; 6.6 % for 1024 VPLs at 16^2, at the same cost), so the mean over 24 sets has a standard error of 0.9 %.
@@ -106,7 +106,7 @@ TEST(MediaVpl, FurnaceWithFogStaysAtTwoUnderCompensation) {
     ASSERT_TRUE(allFinite(k.image));
     kk += meanOf(k.image) / seeds;
   }
-  const double exactMedium = 2.0 * (1.0 - luminance(glm::vec3(test::meanCameraTransmittance(offline, 8, 8, 4))));
+  const double exactMedium = luminance(glm::vec3(test::furnaceMediumPart(offline, 8, 8)));
   std::printf(
       "[ measured ] fog furnace (sigma_s = 0.4/0.7/1, g = 0.5), 8^2, 4096 VPLs: vpl %.4f (%d sets), b = 4: clamped "
       "%.4f (removed %.1f%%), vpl-kk %.4f (%d sets; exact 2, the medium's part %.4f: %+.2f %% of it)\n",
