@@ -91,8 +91,9 @@ int collectGlDriver(dl_phdr_info* info, std::size_t, void* names) {
 GLADapiproc eglLoad(const char* name) { return reinterpret_cast<GLADapiproc>(eglGetProcAddress(name)); }
 
 // OSMesa is opened when a context first asks for it, not linked: libOSMesa links Mesa's LLVM, whose relocations cost
-// every process that loads it about 0.1 s at start (most of `vplab info`'s time, and of every command a script runs),
-// and most processes never render or render through EGL.
+// every process that loads it about 60 ms at start (most of `vplab info`'s time, and of every command a script runs),
+// and most processes never render or render through EGL. Sanitized builds link it all the same
+// (renderer/CMakeLists.txt).
 struct OsMesaApi {
   decltype(&OSMesaCreateContextAttribs) createContextAttribs = nullptr;
   decltype(&OSMesaMakeCurrent) makeCurrent = nullptr;
@@ -280,7 +281,8 @@ struct HeadlessGlContext::Impl {
     osMesaContext = osMesa().createContextAttribs(attribs, nullptr);
     if (!osMesaContext) return "OSMesa: OSMesaCreateContextAttribs(4.5 core) returned NULL";
     osMesaBuffer.assign(kOsMesaBufferSize * kOsMesaBufferSize * 4, 0);
-    if (!osMesa().makeCurrent(osMesaContext, osMesaBuffer.data(), GL_UNSIGNED_BYTE, kOsMesaBufferSize, kOsMesaBufferSize))
+    if (!osMesa().makeCurrent(osMesaContext, osMesaBuffer.data(), GL_UNSIGNED_BYTE, kOsMesaBufferSize,
+                              kOsMesaBufferSize))
       return "OSMesa: OSMesaMakeCurrent failed";
     if (!gladLoadGL(osMesaLoad)) return "OSMesa: glad could not load GL";
     backend = GlBackend::OsMesa;
@@ -342,7 +344,7 @@ void HeadlessGlContext::makeCurrent() {
     gladLoadGL(eglLoad);
   } else {
     if (!osMesa().makeCurrent(impl_->osMesaContext, impl_->osMesaBuffer.data(), GL_UNSIGNED_BYTE, kOsMesaBufferSize,
-                           kOsMesaBufferSize))
+                              kOsMesaBufferSize))
       throw GlError("OSMesaMakeCurrent failed");
     gladLoadGL(osMesaLoad);
   }
