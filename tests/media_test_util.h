@@ -101,9 +101,10 @@ inline glm::dvec3 furnaceMediumPart(const OfflineScene& l, int width, int height
           const auto hit = l.embree().intersect(scene.camera.position, dir);
           const float end = hit ? hit->distance : kInfinity;
           mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
-          transmittance += intervals.empty()
-                               ? glm::dvec3(1.0)
-                               : glm::dvec3(transmittanceAlong(scene.media, intervals, scene.camera.position, dir, end));
+          transmittance +=
+              intervals.empty()
+                  ? glm::dvec3(1.0)
+                  : glm::dvec3(transmittanceAlong(scene.media, intervals, scene.camera.position, dir, end));
         }
   transmittance /= static_cast<double>(width) * height * kRays * kRays;
   return 2.0 * (1.0 - transmittance);

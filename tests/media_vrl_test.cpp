@@ -90,9 +90,9 @@ TEST(MediaVrl, FogCornellAgreesWithTheReference) {
 // the image mean is taken relative to that part. Single sets spread by the surface VPLs' unbounded 1/d^2: per set
 // 5.0 % of the medium's part for 2048 VPLs at 12^2, 1.9 % for 8192 VPLs at 6^2 at the same cost (standard deviations
 // over 8 sets), so eight of the latter have a standard error of 0.7 %; the beams' 24 passes spread by 0.45 %.
-// Measured: vrl -0.6 %, vbl -0.4 % (were -1.5 % and -0.4 % with 2048 VPLs at 12^2). Bound 2.5 % of the medium's part for
-// both (3.7 standard errors for vrl), below the 5 % of an error in the in-scattering, which fails them (checked: the
-// medium's part of every camera sample times 1.05 or 0.95).
+// Measured: vrl -0.6 %, vbl -0.4 % (were -1.5 % and -0.4 % with 2048 VPLs at 12^2). Bound 2.5 % of the medium's part
+// for both (3.7 standard errors for vrl), below the 5 % of an error in the in-scattering, which fails them (checked:
+// the medium's part of every camera sample times 1.05 or 0.95).
 TEST(MediaVrl, FurnaceWithFogStaysAtTwo) {
   Scene scene = test::makeFurnaceBox(0.5f);
   scene.media.push_back(spaceMedium(glm::vec3(0.0f), glm::vec3(0.4f, 0.7f, 1.0f), 0.5f));

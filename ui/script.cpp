@@ -230,7 +230,8 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
     c.line = lineNumber;
     if (!(words >> c.verb)) continue;
     auto it = verbs().find(c.verb);
-    if (it == verbs().end()) throw ScriptError(where(source, lineNumber) + "unknown command '" + printable(c.verb) + "'");
+    if (it == verbs().end())
+      throw ScriptError(where(source, lineNumber) + "unknown command '" + printable(c.verb) + "'");
     if (it->second.max < 0) {
       std::string rest;
       std::getline(words >> std::ws, rest);
@@ -300,8 +301,8 @@ double scriptNumber(const ScriptCommand& c, std::size_t i, const std::string& so
     used = 0;
   }
   if (used != text.size() || text.empty())
-    throw ScriptError(where(source, c.line) + "'" + printable(text) + "' is not a number (argument " + std::to_string(i + 1) +
-                      " of '" + c.verb + "')");
+    throw ScriptError(where(source, c.line) + "'" + printable(text) + "' is not a number (argument " +
+                      std::to_string(i + 1) + " of '" + c.verb + "')");
   return value;
 }
 

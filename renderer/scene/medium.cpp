@@ -85,7 +85,8 @@ std::string mediumProblem(const Medium& m) {
   // |g| = 1 is a delta phase function, which no sampler here can evaluate.
   if (!(std::abs(m.g) < 1.0f)) return who + "g must lie in (-1, 1) (got " + numberText(m.g) + ")";
   if (!(m.densityScale >= 0.0f && m.densityScale <= kMaxMediumSigma))
-    return who + "density scale must lie in [0, " + numberText(kMaxMediumSigma) + "] (got " + numberText(m.densityScale) + ")";
+    return who + "density scale must lie in [0, " + numberText(kMaxMediumSigma) + "] (got " +
+           numberText(m.densityScale) + ")";
   if (m.density) {
     const glm::vec3 peak = m.sigmaTMax();
     for (int c = 0; c < 3; ++c)
