@@ -453,6 +453,18 @@ TEST(GlPreview, KeptPassesGiveTheImageOfAFreshRenderer) {
   expectFreshImage("a clamp change on the half-resolution grid");
   settings.indirectDownscale = 1;
   expectFreshImage("back to per pixel");
+  // The VPLs' maps are kept while they hold the set (shadow_maps.cpp): a set that grows, one that fits the grown maps
+  // and one that shrinks into them.
+  for (float x : {0.3f, 0.6f}) {
+    Vpl added = vpls.vpls[0];
+    added.position.x = x;
+    vpls.vpls.push_back(added);
+    kept.invalidateVpls();
+    expectFreshImage(x < 0.5f ? "a second VPL" : "a third VPL");
+  }
+  vpls.vpls.pop_back();
+  kept.invalidateVpls();
+  expectFreshImage("back to two VPLs");
 }
 
 // A new set assigned to the variable the renderer was handed (the same address, as in a loop that regenerates VPLs) is

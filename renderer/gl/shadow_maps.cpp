@@ -20,20 +20,27 @@ int CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& c
   count_ = static_cast<int>(casters.size());
   far_ = far;
   int chunks = (count_ + capacity_ - 1) / capacity_;
-  // Keep the textures when the layout did not change (the common case: VPLs moved, count and size the same).
+  // Keep the textures while they hold the casters: a new VPL set has about as many VPLs as the last (225-281 for 256
+  // expected on the smoke box), and a fresh array costs its size in page faults, as llvmpipe zero-fills it (for 281
+  // VPLs at 128^2, 55 MB: about 100 ms on a 2-core VM, docs/benchmarks.md "Smoke in the preview"). An array that
+  // grows gets a quarter more than it needs; one that would hold over twice the casters is made anew.
   bool reuse = faceSize == faceSize_ && static_cast<int>(chunks_.size()) == chunks;
-  for (int c = 0; reuse && c < chunks; ++c)
-    reuse = chunks_[static_cast<std::size_t>(c)].layers() == 6 * (chunkEnd(c) - chunkBegin(c));
+  for (int c = 0; reuse && c < chunks; ++c) {
+    const int layers = chunks_[static_cast<std::size_t>(c)].layers(), needed = 6 * (chunkEnd(c) - chunkBegin(c));
+    reuse = layers >= needed && layers <= 2 * needed;
+  }
   if (!reuse) {
+    const bool growing = faceSize == faceSize_ && !chunks_.empty();
     chunks_.clear();
     for (int c = 0; c < chunks; ++c) {
+      const int casters = chunkEnd(c) - chunkBegin(c);
+      const int allocated = growing ? std::min(capacity_, casters + (casters + 3) / 4) : casters;
       // A plain 2D array of 6 faces per caster, not a cube-map array: the lookup selects the face itself
       // (shadow.glsl), because llvmpipe's seamless cube filtering costs several times a 2D-array PCF fetch.
       // 16-bit depth: the stored distance / far (far = 2 scene diagonals) is quantised to 3e-5 diagonals, far below
       // the depth bias (0.002 diagonals by default), and the gather, which misses the cache on nearly every shadow
       // fetch, reads half the bytes (8% faster at 640x480, 291 VPLs, k = 4).
-      chunks_.push_back(
-          GlTexture(faceSize, faceSize, TextureFormat::Depth16, 1, 6 * (chunkEnd(c) - chunkBegin(c)), true));
+      chunks_.push_back(GlTexture(faceSize, faceSize, TextureFormat::Depth16, 1, 6 * allocated, true));
       chunks_.back().setDepthCompare(true);
     }
     faceSize_ = faceSize;
