@@ -1,10 +1,12 @@
-// vplab render <scene> --method vpl|vpl-kk|vpl-abc|vsl|vrl|vbl|lvl: VPL generation (with optional rejection) and the
-// exact VPL render, or the virtual ray / progressive virtual beam light render (renderer/offline/vrl_renderer.h), or
-// local virtual lights (renderer/offline/lvl_renderer.h).
+// vplab render <scene> --method vpl|vpl-kk|vpl-abc|vsl|vrl|vbl|lvl|lightcuts|lightcuts-kk: VPL generation (with
+// optional rejection) and the exact VPL render, or the virtual ray / progressive virtual beam light render
+// (renderer/offline/vrl_renderer.h), or local virtual lights (renderer/offline/lvl_renderer.h), or the VPL sum through
+// lightcuts (renderer/offline/lightcuts_renderer.h).
 
 #include <cctype>
 #include <cstdio>
 #include <filesystem>
+#include <stdexcept>
 #include <system_error>
 
 #include "app/cli.h"
@@ -17,6 +19,7 @@
 #include "renderer/core/atomic_file.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
+#include "renderer/offline/lightcuts_renderer.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/render_methods.h"
 #include "renderer/offline/vpl_renderer.h"
@@ -84,6 +87,15 @@ int cmdRender(const Args& args) {
 
   Scene scene = cli::loadSceneForCommand("render", cl.positional()[0], settings.stage);
   resolveClampBound(settings, scene.geometryBounds.diagonal());
+  // What lightcuts refuses, before the VPLs are generated.
+  const bool lightcuts = method == Method::Lightcuts || method == Method::LightcutsKK;
+  if (lightcuts) {
+    try {
+      requireLightcutsApply(scene, settings);
+    } catch (const std::invalid_argument& e) {
+      throw cli::CliError(std::string("--method ") + toString(method) + ": " + e.what());
+    }
+  }
   OfflineScene offline(scene);
 
   RenderControl genControl;
@@ -104,7 +116,15 @@ int cmdRender(const Args& args) {
   cli::ProgressReporter progress("render");
   control.onProgress = [&](float f) { progress.update(f); };
   const Settings renderSettings = offlineRenderSettings(settings, method);
-  VplRenderResult result = renderMethod(method).render(offline, vpls, renderSettings, &control, {});
+  // Lightcuts are called directly for their cut statistics.
+  LightcutsRenderResult cutResult;
+  VplRenderResult result;
+  if (lightcuts) {
+    cutResult = renderLightcuts(offline, vpls, method, renderSettings, &control, {});
+    result = cutResult;
+  } else {
+    result = renderMethod(method).render(offline, vpls, renderSettings, &control, {});
+  }
   progress.finish();
 
   if (out) writeImage(*out, result.image, settings.exposure, cli::renderInfo(settings, toString(method), result));
@@ -122,6 +142,14 @@ int cmdRender(const Args& args) {
   std::printf("time        %.3f s on %d threads (%llu VPL shadow rays, %.2f Mrays/s)\n", result.seconds,
               resolveThreadCount(settings.threads), static_cast<unsigned long long>(result.shadowRays),
               result.seconds > 0.0 ? 1e-6 * static_cast<double>(result.shadowRays) / result.seconds : 0.0);
+  if (lightcuts)
+    std::printf(
+        "lightcuts   tree %zu nodes (%.1f MB, %zu B per node) built in %.1f ms; mean cut %.1f nodes, %.1f shadow "
+        "rays; %llu of %llu cuts stopped at --lightcut-max %d\n",
+        cutResult.treeNodes, 1e-6 * static_cast<double>(cutResult.treeBytes), sizeof(LightTreeNode),
+        1e3 * cutResult.treeSeconds, cutResult.meanCut, cutResult.meanShadowRays,
+        static_cast<unsigned long long>(cutResult.cutsAtMax), static_cast<unsigned long long>(cutResult.cuts),
+        settings.lightcutMax);
   if (refPath) {
     ImageMetrics m = compareImages(result.image, reference);
     std::printf("vs ref      relMSE %.6g, RMSE %.6g, energy ratio %.4f (%zu non-finite pixels)\n", m.relMse, m.rmse,

@@ -105,6 +105,11 @@ const std::vector<SettingInfo>& settingsTable() {
        kUseCpuVpl},
       {"lvlLightsPerTile", &Settings::lvlLightsPerTile, 1, 4096, "K",
        "local virtual lights per tile and camera sample", kUseCpuVpl},
+      {"lightcutError", &Settings::lightcutError, 0, 1, "e",
+       "lightcuts: refine a node while its error bound exceeds e x the receiver's estimate; 0 = the exact sum",
+       kUseCpuVpl},
+      {"lightcutMax", &Settings::lightcutMax, 1, 1 << 24, "N", "lightcuts: most light-tree nodes per cut",
+       kUseCpuVpl},
       {"vrlSamples", &Settings::vrlSamples, 1, 256, "N", "samples per VRL and pixel sample", kUseCpuVpl},
       {"beamRadius", &Settings::beamRadius, 0, kMaxFloat, "r",
        "first virtual beam radius in metres, 0 = 2 % of the scene diagonal", kUseCpuVpl},
@@ -258,6 +263,8 @@ const char* toString(Method method) {
     case Method::Vrl: return "vrl";
     case Method::Vbl: return "vbl";
     case Method::Lvl: return "lvl";
+    case Method::Lightcuts: return "lightcuts";
+    case Method::LightcutsKK: return "lightcuts-kk";
   }
   return "?";
 }
@@ -320,7 +327,7 @@ bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out) {
 
 bool parseMethod(const std::string& text, Method& out) {
   for (Method m : {Method::Reference, Method::Vpl, Method::VplKK, Method::Vsl, Method::VplAbc, Method::Vrl, Method::Vbl,
-                   Method::Lvl})
+                   Method::Lvl, Method::Lightcuts, Method::LightcutsKK})
     if (text == toString(m)) {
       out = m;
       return true;

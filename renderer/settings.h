@@ -22,6 +22,8 @@ enum class Method {
   Vbl,        ///< progressive virtual beam lights (Novak et al. 2012b): VRLs of shrinking radius, pass after pass
   Lvl,        ///< bounded global VPLs plus local virtual lights per pixel tile carrying the residual (Davidovic et
               ///< al. 2010): Kollig-Keller's compensation vertices shared by the pixels of a tile
+  Lightcuts,  ///< Vpl's bounded sum through a cut of a light tree (Walter et al. 2005): sublinear in the VPLs
+  LightcutsKK,  ///< Lightcuts plus vpl-kk's exact Kollig-Keller compensation of the residual
 };
 
 /// How the GL preview answers the visibility between a VPL and a shading point (docs/methods.md "VPL visibility").
@@ -198,6 +200,15 @@ struct Settings {
   /// each) [1, 4096]. Each costs one gather of the global VPLs at its vertex and one shadow ray per pixel of its
   /// group. Default 32 (docs/benchmarks.md "Local virtual lights").
   int lvlLightsPerTile = 32;
+
+  // --- lightcuts, Walter et al. 2005 (section 23) -----------------------------------------------------------------
+  /// Relative error threshold of a cut: a light-tree node is refined while its error bound exceeds this times the
+  /// luminance of the receiver's current estimate [0, 1]; 0 refines every node that can contribute down to its VPLs
+  /// (the exact sum). Default 0.01 (docs/benchmarks.md "Lightcuts": mean per-pixel error about 1 %).
+  float lightcutError = 0.01f;
+  /// Largest cut, in light-tree nodes per receiver [1, 1<<24]; a cut that reaches it stops refining (counted).
+  /// Default 1000 (Walter et al. 2005).
+  int lightcutMax = 1000;
 
   // --- virtual ray lights and progressive virtual beam lights, Novak et al. 2012a, 2012b (sections 19, 20) -----
   /// Samples per VRL and pixel sample of the exact CPU VRL/VBL render (each for the camera ray's media part and

@@ -188,6 +188,28 @@ TEST(AtomicWrite, AFullDiskLeavesTheOldFileAndNoTemporary) {
   EXPECT_EQ(temporariesIn(folder), 0u);
 }
 
+TEST(CliRender, LightcutsPrintsItsCutAndRefusesBadThresholdsVslsAndMedia) {
+  const std::string base = "render " + kScene + " --size 8x8 --vpl-count 64 --method lightcuts -o " +
+                           test::tmpPath("lc.exr");
+  CliRun ok = vplab(base + " --clamp-bound 10 --lightcut-error 0.02 --lightcut-max 50");
+  EXPECT_EQ(ok.status, 0) << ok.out;
+  EXPECT_TRUE(contains(ok.out, "mean cut")) << ok.out;
+  EXPECT_TRUE(contains(ok.out, "B per node")) << ok.out;
+  for (const char* bad : {"--lightcut-error -0.1", "--lightcut-error nan", "--lightcut-error 2",
+                          "--lightcut-max 0", "--lightcut-max 100000000", "--lightcut-max 1e99"}) {
+    CliRun r = vplab(base + " " + bad);
+    EXPECT_EQ(r.status, 2) << bad << ": " << r.out;
+    EXPECT_TRUE(contains(r.out, std::string(bad).substr(0, std::string(bad).find(' ')))) << r.out;
+  }
+  CliRun vsl = vplab(base + " --vsl-radius 0.05");
+  EXPECT_EQ(vsl.status, 2) << vsl.out;
+  EXPECT_TRUE(contains(vsl.out, "lights point VPLs")) << vsl.out;
+  CliRun fog = vplab("render " + std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-fog.gltf --size 8x8 --vpl-count 16 "
+                     "--method lightcuts -o " + test::tmpPath("lc-fog.exr"));
+  EXPECT_NE(fog.status, 0) << fog.out;
+  EXPECT_TRUE(contains(fog.out, "participating media")) << fog.out;
+}
+
 TEST(CliRender, AFullDiskIsAnErrorNotAWroteAndTheOldFileSurvives) {
   std::string out = test::tmpPath("full_render.png");
   writeImage(out, Image(2, 2, glm::vec3(0.5f)));

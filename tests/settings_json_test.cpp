@@ -66,6 +66,8 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.clampBoundRelative = 12.5f;
   s.ismTileSize = 32;
   s.ismPointBudget = 5000;
+  s.lightcutError = 0.125f;
+  s.lightcutMax = 77;
 
   Settings back;
   applySettingsJson(settingsToJson(s), back);
@@ -89,7 +91,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_THROW(applySettingsJson("{\"generation\": \"bidirectional\", \"rejection\": true}", back),
                SettingsJsonError);
   // Every key the writer emits must be one the reader knows, and none may be missing.
-  EXPECT_EQ(settingsJsonKeys().size(), 47u);
+  EXPECT_EQ(settingsJsonKeys().size(), 49u);
 }
 
 TEST(SettingsJson, InfiniteClampIsWrittenAsStringAndReadBack) {

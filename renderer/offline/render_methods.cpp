@@ -3,6 +3,7 @@
 #include <cassert>
 #include <utility>
 
+#include "renderer/offline/lightcuts_renderer.h"
 #include "renderer/offline/lvl_renderer.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vrl_renderer.h"
@@ -39,6 +40,12 @@ VplRenderResult renderLvlMethod(const OfflineScene& offline, const VplSet& vpls,
   return renderLvl(offline, vpls, settings, control, std::move(onPass));
 }
 
+template <Method M>
+VplRenderResult renderLightcutsMethod(const OfflineScene& offline, const VplSet& vpls, const Settings& settings,
+                                      RenderControl* control, OnPass onPass) {
+  return renderLightcuts(offline, vpls, M, settings, control, std::move(onPass));
+}
+
 }  // namespace
 
 const std::vector<RenderMethod>& renderMethods() {
@@ -67,6 +74,13 @@ const std::vector<RenderMethod>& renderMethods() {
       {Method::Lvl, "global + local virtual lights", "Davidovic et al. 2010",
        "bounded VPLs plus local lights per pixel tile carrying the residual: Kollig-Keller's vertices shared by a tile",
        true, true, false, renderLvlMethod},
+      {Method::Lightcuts, "lightcuts", "Walter et al. 2005",
+       "vpl's bounded sum through a cut of a light tree, refined until each node's error bound is under "
+       "--lightcut-error of the estimate: sublinear in the VPLs",
+       true, true, false, renderLightcutsMethod<Method::Lightcuts>},
+      {Method::LightcutsKK, "lightcuts + Kollig-Keller", "Walter et al. 2005; Kollig & Keller 2004",
+       "the lightcut sum plus vpl-kk's exact compensation of the residual (not accelerated)", true, true, false,
+       renderLightcutsMethod<Method::LightcutsKK>},
   };
   return methods;
 }
