@@ -13,6 +13,7 @@
 #include <chrono>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <thread>
 #include <tuple>
 
@@ -22,7 +23,9 @@
 #include "renderer/offline/render_methods.h"
 #include "renderer/scene/density_grid.h"
 #include "renderer/scene/lights_json.h"
+#include "tests/gl_test_util.h"
 #include "tests/test_tmp.h"
+#include "ui/coarse_preview.h"
 #include "ui/editor_panels.h"
 #include "ui/media_panel.h"
 #include "ui/script.h"
@@ -334,6 +337,44 @@ TEST_F(EditorStateGl, EachEditRendersWhatItMadeStaleAndNothingElse) {
   EXPECT_EQ(n.vplGenerations, 0);
   EXPECT_EQ(n.vplShadowMaps, 0);
   EXPECT_EQ(n.gathers, 0);
+}
+
+// A slow change shows its new state at a quarter of the pixels first (CoarsePreview): neither the old image nor a mix,
+// and then the full-size image, the one an update without a coarse image gives.
+TEST_F(EditorStateGl, ASlowChangeShowsACoarseImageOfTheNewStateFirst) {
+  auto state = fogState();
+  state->coarseFirstAfterMs = 0.0;  // every change after the first update counts as slow
+  state->finishWork();
+  ASSERT_TRUE(state->previewError().empty()) << state->previewError();
+  const Image before = state->previewImage();
+  state->camera().orbit(0.3f, 0.0f);
+  state->cameraMoved();
+  state->updateWork(0.0);  // the full-size update stops after its first slice
+  ASSERT_TRUE(state->previewUpdating()) << "the camera move must take the full-size update more than one call";
+  const Settings& settings = state->settings();
+  PreviewRenderer coarse;
+  coarse.render(state->scene(), state->vpls(), ui::CoarsePreview::coarseSettings(settings), state->camera().camera());
+  const Image coarseImage = coarse.readLinear();
+  ASSERT_EQ(coarseImage.width, settings.width / 2);
+  EXPECT_EQ(test::differingPixels(state->previewImage(), resizedBilinear(coarseImage, settings.width, settings.height)),
+            0u);
+  EXPECT_GT(compareImages(state->previewImage(), before).relMse, 1e-3) << "the old camera's image is shown";
+
+  state->finishWork();
+  PreviewRenderer full;
+  full.render(state->scene(), state->vpls(), settings, state->camera().camera());
+  EXPECT_EQ(test::differingPixels(state->previewImage(), full.readLinear()), 0u);
+  EXPECT_TRUE(state->changeTimer().lastHadCoarseImage());
+  EXPECT_GT(state->changeTimer().lastFirstImageMs(), 0.0);
+  EXPECT_LE(state->changeTimer().lastFirstImageMs(), state->changeTimer().lastMs());
+
+  // A change while the last update took no longer than coarseFirstAfterMs: the final image is the first.
+  state->coarseFirstAfterMs = std::numeric_limits<double>::infinity();
+  state->camera().orbit(-0.3f, 0.0f);
+  state->cameraMoved();
+  state->finishWork();
+  EXPECT_FALSE(state->changeTimer().lastHadCoarseImage());
+  EXPECT_EQ(state->changeTimer().lastFirstImageMs(), state->changeTimer().lastMs());
 }
 
 // A slider dragged while an update runs: the update finishes with the media it started with (an image every time one

@@ -586,12 +586,15 @@ TEST(EditorWindow, FittedPreviewFillsTheViewAtTheResolutionScale) {
   EXPECT_TRUE(std::abs(rect.w - areaW) <= 1 || std::abs(rect.h - areaH) <= 1)
       << "the image must fill the view: " << rect.w << "x" << rect.h;
   std::smatch m;
-  ASSERT_TRUE(std::regex_search(run.output, m, std::regex("change-cost size=(\\d+)x(\\d+) ms=([0-9.]+) frames=(\\d+) "
-                                                          "pending=0")))
+  ASSERT_TRUE(std::regex_search(run.output, m,
+                                std::regex("change-cost size=(\\d+)x(\\d+) ms=([0-9.]+) first_image_ms=([0-9.]+) "
+                                           "coarse=[01] frames=(\\d+) pending=0")))
       << run.output;
   EXPECT_EQ(std::stoi(m[1]), image.width);
   EXPECT_GT(std::stod(m[3]), 0.0);
-  EXPECT_GE(std::stoi(m[4]), 1);
+  EXPECT_GT(std::stod(m[4]), 0.0);
+  EXPECT_LE(std::stod(m[4]), std::stod(m[3]));
+  EXPECT_GE(std::stoi(m[5]), 1);
 }
 
 TEST(EditorWindow, FailedExpectationExitsWithStatusOne) {

@@ -15,10 +15,15 @@ void ChangeTimer::changed(double seconds) {
   frames_ = 0;
   passes_ = PreviewTimings{};
   vplMs_ = 0.0;
+  firstMs_ = -1.0;
 }
 
 void ChangeTimer::vplsGenerated(double ms) {
   if (pending_) vplMs_ += ms;
+}
+
+void ChangeTimer::coarseShown(double seconds) {
+  if (pending_ && firstMs_ < 0.0) firstMs_ = 1e3 * (seconds - start_);
 }
 
 void ChangeTimer::rendered(double seconds, const PreviewTimings& t) {
@@ -35,6 +40,8 @@ void ChangeTimer::rendered(double seconds, const PreviewTimings& t) {
   if (!t.complete) return;
   pending_ = false;
   lastMs_ = 1e3 * (seconds - start_);
+  lastCoarse_ = firstMs_ >= 0.0;
+  lastFirstMs_ = lastCoarse_ ? firstMs_ : lastMs_;
   lastFrames_ = frames_;
   lastPasses_ = passes_;
   lastVplMs_ = vplMs_;

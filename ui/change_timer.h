@@ -18,8 +18,11 @@ class ChangeTimer {
   void changed(double seconds);
   /// VPL generation for the current change took `ms` (CPU).
   void vplsGenerated(double ms);
-  /// One budgeted render call ended at `seconds`; its pass times are added to the change's.
+  /// One budgeted render call ended at `seconds`; its pass times are added to the change's. A complete image is the
+  /// change's first image too, when no coarse one came before it.
   void rendered(double seconds, const PreviewTimings& timings);
+  /// A coarse image of the change's new state was shown at `seconds` (CoarsePreview), before the final one.
+  void coarseShown(double seconds);
 
   bool pending() const { return pending_; }
   /// Milliseconds since the pending change (0 when none is pending).
@@ -31,6 +34,10 @@ class ChangeTimer {
   int lastFrames() const { return lastFrames_; }
   const PreviewTimings& lastPasses() const { return lastPasses_; }
   double lastVplGenerationMs() const { return lastVplMs_; }
+  /// The last converged change: wall milliseconds from the change to its first image, coarse or final.
+  double lastFirstImageMs() const { return lastFirstMs_; }
+  /// Whether the last converged change showed a coarse image first.
+  bool lastHadCoarseImage() const { return lastCoarse_; }
 
  private:
   bool pending_ = false;
@@ -38,7 +45,9 @@ class ChangeTimer {
   int frames_ = 0;
   PreviewTimings passes_;
   double vplMs_ = 0.0;
-  double lastMs_ = -1.0;
+  double firstMs_ = -1.0;  ///< of the pending change; < 0 until its first image
+  double lastMs_ = -1.0, lastFirstMs_ = -1.0;
+  bool lastCoarse_ = false;
   int lastFrames_ = 0;
   PreviewTimings lastPasses_;
   double lastVplMs_ = 0.0;

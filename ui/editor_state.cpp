@@ -76,6 +76,9 @@ bool EditorState::openScene(const std::string& path) {
   lightScales_.clear();
   // An update of the old scene is abandoned: the next one starts from scratch.
   if (preview_) preview_->invalidateScene();
+  coarse_.invalidateScene();
+  fullUpdateMsByKind_.clear();  // another scene's costs predict nothing here
+  lastFullUpdateMs_ = 0.0;
   previewUpdating_ = false;
   pendingPreviewInvalidation_ = LightEdit::None;
   markStale(Staleness::all());
@@ -238,6 +241,7 @@ void EditorState::regenerateVpls() {
   ++vplGenerations_;
   vslRadiiStale_ = false;
   if (preview_) preview_->invalidateVpls();
+  coarse_.invalidateVpls();
 }
 
 void EditorState::measureClampEnergy() {
@@ -285,6 +289,7 @@ void EditorState::updateWork(double budgetMs) {
       std::vector<float> radii = vslRadii(vpls_.vpls, settings_, scene_.bounds.diagonal());
       for (std::size_t i = 0; i < radii.size(); ++i) vpls_.vpls[i].radius = radii[i];
       if (preview_) preview_->invalidateVpls();
+  coarse_.invalidateVpls();
       vslRadiiStale_ = false;
     }
     if (clampEnergyStale_) measureClampEnergy();
@@ -297,8 +302,14 @@ void EditorState::updateWork(double budgetMs) {
     pendingOffline_ = PresetOffline::None;
   }
   if (startUpdate) {
-    if (preview_ && pendingPreviewInvalidation_ == LightEdit::Geometry) preview_->invalidateScene();
-    if (preview_ && pendingPreviewInvalidation_ == LightEdit::Punctual) preview_->invalidateLights();
+    if (pendingPreviewInvalidation_ == LightEdit::Geometry) {
+      if (preview_) preview_->invalidateScene();
+      coarse_.invalidateScene();
+    }
+    if (pendingPreviewInvalidation_ == LightEdit::Punctual) {
+      if (preview_) preview_->invalidateLights();
+      coarse_.invalidateLights();
+    }
     pendingPreviewInvalidation_ = LightEdit::None;
     updateSettings_ = settings_;
     updateCamera_ = camera_.camera();
@@ -309,7 +320,29 @@ void EditorState::updateWork(double budgetMs) {
     if (!preview_) preview_ = std::make_unique<PreviewRenderer>();  // the first update: GL is current from here on
     // Long work is split across frames (PreviewRenderer::render's budget): the last finished image stays on screen
     // with "updating n %" until the new one is complete, which is then the image `vplab preview` gives.
-    timings_ = preview_->render(scene_, vpls_, updateSettings_, updateCamera_, budgetMs);
+    // A change whose last update took longer than coarseFirstAfterMs shows the new state at a quarter of the pixels
+    // first (CoarsePreview), and the full-size update goes on with what is left of this frame's budget.
+    double fullBudgetMs = budgetMs;
+    // What the update is predicted to take: the last update that redid the same stages, else the last update.
+    bool slow = false;
+    if (startUpdate) {
+      updateCoarseMs_ = 0.0;
+      updateKind_ = toString(stale_);
+      const auto same = fullUpdateMsByKind_.find(updateKind_);
+      slow = (same != fullUpdateMsByKind_.end() ? same->second : lastFullUpdateMs_) > coarseFirstAfterMs;
+    }
+    if (slow && view_.view != ViewMode::SsbcResidual) {
+      try {
+        previewLinear_ = coarse_.render(scene_, vpls_, updateSettings_, updateCamera_);
+        updateCoarseMs_ = coarse_.lastMs();
+        fullBudgetMs = std::max(1.0, budgetMs - updateCoarseMs_);
+        changeTimer_.coarseShown(steadySeconds());
+        displayDirty_ = true;
+      } catch (const std::exception&) {
+        // The full-size render meets the same problem and reports it below.
+      }
+    }
+    timings_ = preview_->render(scene_, vpls_, updateSettings_, updateCamera_, fullBudgetMs);
     changeTimer_.rendered(steadySeconds(), timings_);
     previewUpdating_ = !timings_.complete;
     previewProgress_ = timings_.progress;
@@ -317,6 +350,8 @@ void EditorState::updateWork(double budgetMs) {
       previewLinear_ = preview_->readLinear();
       residual_ = view_.view == ViewMode::SsbcResidual ? preview_->readLinear(PreviewOutput::Residual) : Image();
       lastUpdateMs_ = (steadySeconds() - updateStart_) * 1e3;
+      lastFullUpdateMs_ = lastUpdateMs_ - updateCoarseMs_;
+      fullUpdateMsByKind_[updateKind_] = lastFullUpdateMs_;
       ++updatesFinished_;
     }
     previewError_.clear();

@@ -24,6 +24,7 @@
 #include "ui/camera_controller.h"
 #include "ui/change_timer.h"
 #include "ui/chart.h"
+#include "ui/coarse_preview.h"
 #include "ui/offline_job.h"
 #include "ui/panels.h"
 #include "ui/presets.h"
@@ -175,6 +176,10 @@ class EditorState {
   Settings presetSettingsHere(const TeachingPreset& preset) const;
   /// Everything applyPreset sets, as one line (the preset-state script verb).
   std::string presetState() const;
+  /// A change shows a coarse image of its new state first (CoarsePreview) when the last update that redid the same
+  /// stages (else the last update) took longer than this, without its own coarse image (ms): the first image of an
+  /// orbit within about 100 ms where the full one takes several frames. Infinity: never.
+  double coarseFirstAfterMs = 100.0;
   bool animateLight = false;      ///< moves the first light on a small circle every frame
   bool reseedEveryFrame = false;  ///< a new seed every frame (the flicker demonstration)
   /// One frame of the light animation, when it is on.
@@ -221,6 +226,7 @@ class EditorState {
   bool vplSeenStale_ = true;
 
   std::unique_ptr<PreviewRenderer> preview_;  ///< made by the first update
+  CoarsePreview coarse_;
   PreviewTimings timings_, lastPassMs_;
   ChangeTimer changeTimer_;
   Image previewLinear_, residual_;
@@ -232,6 +238,11 @@ class EditorState {
   Settings updateSettings_;
   Camera updateCamera_;
   double updateStart_ = 0.0, lastUpdateMs_ = 0.0;
+  /// The coarse image's share of the update under way, and the last finished update's time without it (ms).
+  double updateCoarseMs_ = 0.0, lastFullUpdateMs_ = 0.0;
+  /// What the update under way redoes (toString(Staleness)), and the last full-size time of each such update (ms).
+  std::string updateKind_;
+  std::map<std::string, double> fullUpdateMsByKind_;
   int updatesFinished_ = 0;
   /// The preview invalidation an edit asks for, applied when the next update starts.
   LightEdit pendingPreviewInvalidation_ = LightEdit::None;

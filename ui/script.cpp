@@ -12,6 +12,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <fstream>
+#include <limits>
 #include <map>
 #include <sstream>
 
@@ -50,6 +51,7 @@ const std::map<std::string, Arity>& verbs() {
       {"preset-state", {0, 0}},
       {"preview-scale", {1, 1}},
       {"change-cost", {0, 0}},
+      {"coarse-first-after", {1, 1}},
       {"medium", {2, 5}},
       {"save-sidecar", {0, 0}},
   };
@@ -152,11 +154,14 @@ bool runStateVerb(EditorState& state, const ScriptCommand& c, const std::string&
     print(presetDescription(*preset));
   } else if (c.verb == "preview-scale") {
     state.setPreviewScale(num(0));
+  } else if (c.verb == "coarse-first-after") {
+    state.coarseFirstAfterMs = c.args[0] == "off" ? std::numeric_limits<double>::infinity() : num(0);
   } else if (c.verb == "change-cost") {
     char line[160];
     const ChangeTimer& t = state.changeTimer();
-    std::snprintf(line, sizeof line, "change-cost size=%dx%d ms=%.1f frames=%d pending=%d", state.settings().width,
-                  state.settings().height, t.lastMs(), t.lastFrames(), t.pending());
+    std::snprintf(line, sizeof line, "change-cost size=%dx%d ms=%.1f first_image_ms=%.1f coarse=%d frames=%d pending=%d",
+                  state.settings().width, state.settings().height, t.lastMs(), t.lastFirstImageMs(),
+                  t.lastHadCoarseImage(), t.lastFrames(), t.pending());
     print(line);
   } else if (c.verb == "preset-state") {
     print("preset-state " + state.presetState());
@@ -275,7 +280,7 @@ std::vector<ScriptCommand> parseScript(const std::string& text, const std::strin
       const bool mediumNumber = c.verb == "medium" && c.args[0] != "add" && i != 1 && (c.args[1] != "vdb" || i == 0);
       bool numeric = c.verb == "orbit" || c.verb == "pan" || c.verb == "zoom" || c.verb == "frames" ||
                      (c.verb == "time-frames" && i != 1) || c.verb == "preview-scale" || (c.verb == "light" && i != 1) ||
-                     mediumNumber;
+                     (c.verb == "coarse-first-after" && c.args[0] != "off") || mediumNumber;
       if (numeric) scriptNumber(c, i, source);
     }
     commands.push_back(std::move(c));

@@ -6,6 +6,7 @@
 #include <cmath>
 #include <cstdio>
 #include <filesystem>
+#include <limits>
 #include <utility>
 
 #include "renderer/image/image_io.h"
@@ -280,6 +281,13 @@ void drawRightPanel(EditorState& state, PanelState& panels) {
     if (state.fitPreview() &&
         ImGui::SliderFloat("resolution scale", &scale, 0.1f, 1.0f, "%.2f", ImGuiSliderFlags_AlwaysClamp))
       state.setPreviewScale(scale);
+    bool coarseFirst = !std::isinf(state.coarseFirstAfterMs);
+    if (ImGui::Checkbox("coarse image first", &coarseFirst))
+      state.coarseFirstAfterMs = coarseFirst ? 100.0 : std::numeric_limits<double>::infinity();
+    if (ImGui::IsItemHovered())
+      ImGui::SetTooltip(
+          "A change whose update took over 100 ms last time shows its new state at a quarter of the\n"
+          "pixels first, then the full image (about a quarter later than without it).");
     if (view.view == ViewMode::Split && ImGui::SliderFloat("divider", &view.divider, 0.0f, 1.0f)) state.viewChanged();
     if (view.view == ViewMode::Difference) {
       if (ImGui::RadioButton("relative error", view.relativeDifference))

@@ -25,6 +25,9 @@ void drawStatusBar(const EditorState& state, double frameMs, float x, float y) {
   if (timer.pending())
     std::snprintf(change, sizeof change, "updating %d %%, %.0f ms so far",
                   static_cast<int>(100.0f * state.previewProgress()), timer.pendingMs(steadySeconds()));
+  else if (timer.lastMs() >= 0.0 && timer.lastHadCoarseImage())
+    std::snprintf(change, sizeof change, "last change: coarse image %.0f ms, final %.0f ms (%d frame%s)",
+                  timer.lastFirstImageMs(), timer.lastMs(), timer.lastFrames(), timer.lastFrames() == 1 ? "" : "s");
   else if (timer.lastMs() >= 0.0)
     std::snprintf(change, sizeof change, "last change %.0f ms (%d frame%s)", timer.lastMs(), timer.lastFrames(),
                   timer.lastFrames() == 1 ? "" : "s");

@@ -24,4 +24,8 @@ struct Image {
   const glm::vec3& at(int x, int y) const { return pixels[static_cast<std::size_t>(y) * width + x]; }
 };
 
+/// `image` resampled to width x height by bilinear interpolation between pixel centres (edges clamped): a coarse
+/// image shown at the size of the one it stands in for.
+Image resizedBilinear(const Image& image, int width, int height);
+
 }  // namespace vplab
