@@ -20,6 +20,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/lightcuts_renderer.h"
+#include "renderer/offline/mrcs_renderer.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/render_methods.h"
 #include "renderer/offline/vpl_renderer.h"
@@ -89,11 +90,11 @@ int cmdRender(const Args& args) {
   resolveClampBound(settings, scene.geometryBounds.diagonal());
   // What lightcuts refuses, before the VPLs are generated.
   const bool lightcuts = method == Method::Lightcuts || method == Method::LightcutsKK;
-  if (lightcuts) {
+  if (lightcuts || method == Method::Mrcs) {
     try {
-      requireLightcutsApply(scene, settings);
+      requireLightcutsApply(scene, settings, method);
     } catch (const std::invalid_argument& e) {
-      throw cli::CliError(std::string("--method ") + toString(method) + ": " + e.what());
+      throw cli::CliError(std::string("option --method: ") + e.what());
     }
   }
   OfflineScene offline(scene);
@@ -118,10 +119,14 @@ int cmdRender(const Args& args) {
   const Settings renderSettings = offlineRenderSettings(settings, method);
   // Lightcuts are called directly for their cut statistics.
   LightcutsRenderResult cutResult;
+  MrcsRenderResult mrcsResult;
   VplRenderResult result;
   if (lightcuts) {
     cutResult = renderLightcuts(offline, vpls, method, renderSettings, &control, {});
     result = cutResult;
+  } else if (method == Method::Mrcs) {
+    mrcsResult = renderMrcs(offline, vpls, renderSettings, &control, {});
+    result = mrcsResult;
   } else {
     result = renderMethod(method).render(offline, vpls, renderSettings, &control, {});
   }
@@ -150,6 +155,11 @@ int cmdRender(const Args& args) {
         1e3 * cutResult.treeSeconds, cutResult.meanCut, cutResult.meanShadowRays,
         static_cast<unsigned long long>(cutResult.cutsAtMax), static_cast<unsigned long long>(cutResult.cuts),
         settings.lightcutMax);
+  if (method == Method::Mrcs)
+    std::printf("mrcs        %zu rows (%zu hit a surface) in %.1f ms, %zu clusters in %.1f ms, %zu VPLs light no row\n",
+                static_cast<std::size_t>(settings.mrcsRows), mrcsResult.reduction.rows,
+                1e3 * mrcsResult.reduction.rowSeconds, mrcsResult.reduction.reduced.vpls.size(),
+                1e3 * mrcsResult.reduction.clusterSeconds, mrcsResult.reduction.darkColumns);
   if (refPath) {
     ImageMetrics m = compareImages(result.image, reference);
     std::printf("vs ref      relMSE %.6g, RMSE %.6g, energy ratio %.4f (%zu non-finite pixels)\n", m.relMse, m.rmse,

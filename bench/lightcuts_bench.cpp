@@ -9,9 +9,15 @@
 // errors at that N compare lightcuts and the exact sum on that reduced image (the speed-up takes lightcuts' time at
 // the full size).
 //
+// Matrix row-column sampling (mrcs_renderer.h) gets rows for each --mrcs rows/clusters pair (default 100/300,300/900)
+// at VPL counts up to --mrcs-limit (default 300000: its rows x VPLs matrix takes rows x N floats); its "cut" column is
+// the cluster count and its time includes the rows and the clustering. A model without lights is staged in the studio
+// (renderer/scene/staging.h); --clamp-bound-relative B sets b = B / diagonal^2 of the scene instead of --clamp-bound.
+//
 // usage: vplab_bench_lightcuts_bench [--scene file.gltf] [--size N] [--vpls 100000,1000000]
-//                                    [--thresholds 0.01,0.005] [--clamp-bound B] [--exact-limit N] [--exact-size N]
-//                                    [--threads T] [--csv out.csv]
+//                                    [--thresholds 0.01,0.005] [--mrcs R/K,...] [--mrcs-limit N] [--clamp-bound B]
+//                                    [--clamp-bound-relative B]
+//                                    [--exact-limit N] [--exact-size N] [--threads T] [--csv out.csv]
 
 #include <algorithm>
 #include <chrono>
@@ -23,10 +29,13 @@
 #include "bench/bench_args.h"
 #include "renderer/core/parallel.h"
 #include "renderer/core/sampling.h"
+#include "renderer/image/metrics.h"
 #include "renderer/offline/lightcuts_renderer.h"
+#include "renderer/offline/mrcs_renderer.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
+#include "renderer/scene/staging.h"
 #include "renderer/vpl/vpl_generation.h"
 
 namespace {
@@ -41,37 +50,16 @@ std::vector<double> parseList(const std::string& text) {
   return out;
 }
 
-struct ErrorStats {
-  double mean = 0.0, p95 = 0.0, energy = 0.0;
-};
-
-/// Per-pixel relative error of `image` against `exact` (luminance), over the pixels exact lights.
-ErrorStats compare(const Image& image, const Image& exact) {
-  std::vector<double> rel;
-  double sumImage = 0.0, sumExact = 0.0;
-  for (std::size_t i = 0; i < exact.pixels.size(); ++i) {
-    const double e = luminance(exact.pixels[i]), c = luminance(image.pixels[i]);
-    sumImage += c, sumExact += e;
-    if (e > 0.0) rel.push_back(std::abs(c - e) / e);
-  }
-  ErrorStats s;
-  if (rel.empty()) return s;
-  for (double r : rel) s.mean += r;
-  s.mean /= static_cast<double>(rel.size());
-  std::sort(rel.begin(), rel.end());
-  s.p95 = rel[std::min(rel.size() - 1, static_cast<std::size_t>(0.95 * static_cast<double>(rel.size())))];
-  s.energy = sumExact > 0.0 ? sumImage / sumExact : 0.0;
-  return s;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   std::string scenePath = "assets/scenes/cornell-box.gltf", csvPath = "lightcuts_bench.csv";
   int size = 256, exactSize = 64, threads = 0;
   double exactLimit = 300000;
-  float clampBound = 10.0f;
+  float clampBound = 10.0f, clampBoundRelative = 0.0f;
   std::vector<double> counts = {100000, 1000000}, thresholds = {0.01, 0.005};
+  std::vector<std::pair<int, int>> mrcs = {{100, 300}, {300, 900}};
+  double mrcsLimit = 300000;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--scene") scenePath = benchOptionValue(argc, argv, i);
@@ -79,8 +67,16 @@ int main(int argc, char** argv) {
     else if (a == "--vpls") counts = parseList(benchOptionValue(argc, argv, i));
     else if (a == "--thresholds") thresholds = parseList(benchOptionValue(argc, argv, i));
     else if (a == "--clamp-bound") clampBound = std::stof(benchOptionValue(argc, argv, i));
+    else if (a == "--clamp-bound-relative") clampBoundRelative = std::stof(benchOptionValue(argc, argv, i));
     else if (a == "--exact-limit") exactLimit = std::stod(benchOptionValue(argc, argv, i));
     else if (a == "--exact-size") exactSize = std::stoi(benchOptionValue(argc, argv, i));
+    else if (a == "--mrcs") {
+      mrcs.clear();
+      std::stringstream in(benchOptionValue(argc, argv, i));
+      std::string item;
+      while (std::getline(in, item, ','))
+        mrcs.push_back({std::stoi(item.substr(0, item.find('/'))), std::stoi(item.substr(item.find('/') + 1))});
+    } else if (a == "--mrcs-limit") mrcsLimit = std::stod(benchOptionValue(argc, argv, i));
     else if (a == "--threads") threads = std::stoi(benchOptionValue(argc, argv, i));
     else if (a == "--csv") csvPath = benchOptionValue(argc, argv, i);
     else {
@@ -88,7 +84,9 @@ int main(int argc, char** argv) {
       return 2;
     }
   }
-  const Scene scene = loadScene(scenePath);
+  // A model without lights gets the studio, as the commands stage it (Stage::Auto).
+  Scene scene = loadScene(scenePath);
+  stageScene(scene, Stage::Auto);
   const OfflineScene offline(scene);
   std::FILE* csv = std::fopen(csvPath.c_str(), "w");
   if (!csv) {
@@ -96,16 +94,18 @@ int main(int argc, char** argv) {
     return 1;
   }
   std::fprintf(csv,
-               "scene,vpls,threshold,clamp_b,width,threads,tree_ms,tree_mb,lightcuts_ms,exact_ms,exact_width,speedup,"
-               "mean_cut,mean_rays,cuts_at_max,mean_rel_err,p95_rel_err,energy_ratio\n");
-  std::printf("%-9s %-9s %-8s %-8s %-11s %-11s %-8s %-9s %-9s %-8s %-8s %-8s %-7s\n", "vpls", "threshold", "tree ms",
-              "tree MB", "lc ms", "exact ms", "exact px", "speed-up", "mean cut", "rays", "mean err", "p95 err",
-              "energy");
+               "scene,vpls,method,parameters,clamp_b,width,threads,tree_ms,tree_mb,render_ms,exact_ms,exact_width,"
+               "speedup,mean_cut,mean_rays,cuts_at_max,mean_rel_err,p95_rel_err,energy_ratio\n");
+  std::printf("%-8s %-10s %-13s %-7s %-7s %-9s %-9s %-6s %-8s %-8s %-7s %-8s %-8s %-7s\n", "vpls", "method",
+              "parameters", "tree ms", "tree MB", "ms", "exact ms", "ex. px", "speed-up", "cut", "rays", "mean err",
+              "p95 err", "energy");
   for (double countValue : counts) {
     Settings s;
     s.width = s.height = size;
     s.vplCount = static_cast<int>(countValue);
     s.clampBound = clampBound;
+    s.clampBoundRelative = clampBoundRelative;
+    resolveClampBound(s, scene.geometryBounds.diagonal());
     s.components = Components::Indirect;
     s.samplesPerPixel = 1;
     s.threads = threads;
@@ -126,26 +126,51 @@ int main(int argc, char** argv) {
     const double exactScale =
         static_cast<double>(size) * size / (static_cast<double>(exactSettings.width) * exactSettings.height);
     const double exactMs = 1e3 * exact.seconds * exactScale;
-    for (double threshold : thresholds) {
-      s.lightcutError = static_cast<float>(threshold);
-      const LightcutsRenderResult cut = renderLightcuts(offline, vpls, Method::Lightcuts, s);
-      ErrorStats err;
+    // One row: `render` renders at the given settings; its errors are taken at the exact sum's size.
+    auto row = [&](const char* method, const std::string& parameters, const Settings& rs, auto render) {
+      const auto full = render(rs);
+      PixelRelativeError err;
       if (reduced) {
-        Settings small = exactSettings;
-        small.lightcutError = s.lightcutError;
-        err = compare(renderLightcuts(offline, vpls, Method::Lightcuts, small).image, exact.image);
+        Settings small = rs;
+        small.width = exactSettings.width, small.height = exactSettings.height;
+        err = pixelRelativeError(render(small).image, exact.image);
       } else {
-        err = compare(cut.image, exact.image);
+        err = pixelRelativeError(full.image, exact.image);
       }
-      const double lcMs = 1e3 * cut.seconds;
-      std::printf("%-9zu %-9.4g %-8.1f %-8.1f %-11.1f %-11.0f %-8d %-9.1f %-9.1f %-8.1f %-8.4f %-8.4f %-7.4f\n",
-                  vpls.vpls.size(), threshold, 1e3 * builds[1], treeMb, lcMs, exactMs, exactSettings.width,
-                  exactMs / lcMs, cut.meanCut, cut.meanShadowRays, err.mean, err.p95, err.energy);
-      std::fprintf(csv, "%s,%zu,%g,%g,%d,%d,%.2f,%.1f,%.1f,%.0f,%d,%.2f,%.2f,%.2f,%llu,%.5f,%.5f,%.5f\n",
-                   scenePath.c_str(), vpls.vpls.size(), threshold, clampBound, size, resolveThreadCount(threads),
-                   1e3 * builds[1], treeMb, lcMs, exactMs, exactSettings.width, exactMs / lcMs, cut.meanCut,
-                   cut.meanShadowRays, static_cast<unsigned long long>(cut.cutsAtMax), err.mean, err.p95, err.energy);
+      const double ms = 1e3 * full.seconds;
+      const double lit = full.cuts;
+      const double cut = lit > 0 ? full.meanCut : 0.0, rays = lit > 0 ? full.meanShadowRays : 0.0;
+      std::printf("%-8zu %-10s %-13s %-7.1f %-7.1f %-9.1f %-9.0f %-6d %-8.1f %-8.1f %-7.1f %-8.4f %-8.4f %-7.4f\n",
+                  vpls.vpls.size(), method, parameters.c_str(), 1e3 * builds[1], treeMb, ms, exactMs,
+                  exactSettings.width, exactMs / ms, cut, rays, err.mean, err.p95, err.energyRatio);
+      std::fprintf(csv, "%s,%zu,%s,%s,%g,%d,%d,%.2f,%.1f,%.1f,%.0f,%d,%.2f,%.2f,%.2f,%llu,%.5f,%.5f,%.5f\n",
+                   scenePath.c_str(), vpls.vpls.size(), method, parameters.c_str(), s.clampBound, size,
+                   resolveThreadCount(threads), 1e3 * builds[1], treeMb, ms, exactMs, exactSettings.width,
+                   exactMs / ms, cut, rays, static_cast<unsigned long long>(full.cutsAtMax), err.mean, err.p95,
+                   err.energyRatio);
       std::fflush(stdout);
+      std::fflush(csv);
+    };
+    for (double threshold : thresholds) {
+      Settings rs = s;
+      rs.lightcutError = static_cast<float>(threshold);
+      row("lightcuts", "e=" + std::to_string(threshold).substr(0, 5), rs,
+          [&](const Settings& t) { return renderLightcuts(offline, vpls, Method::Lightcuts, t); });
+    }
+    if (static_cast<double>(vpls.vpls.size()) > mrcsLimit) continue;
+    for (const auto& [rows, clusters] : mrcs) {
+      Settings rs = s;
+      rs.mrcsRows = rows, rs.mrcsClusters = clusters;
+      row("mrcs", std::to_string(rows) + "/" + std::to_string(clusters), rs, [&](const Settings& t) {
+        // Cut statistics for MRCS: one "node" and at most one shadow ray per cluster and pixel sample.
+        LightcutsRenderResult r;
+        const MrcsRenderResult m = renderMrcs(offline, vpls, t);
+        static_cast<VplRenderResult&>(r) = m;
+        r.cuts = 1;
+        r.meanCut = static_cast<double>(m.reduction.reduced.vpls.size());
+        r.meanShadowRays = static_cast<double>(m.shadowRays) / (static_cast<double>(t.width) * t.height);
+        return r;
+      });
     }
   }
   std::fclose(csv);

@@ -110,6 +110,10 @@ const std::vector<SettingInfo>& settingsTable() {
        kUseCpuVpl},
       {"lightcutMax", &Settings::lightcutMax, 1, 1 << 24, "N", "lightcuts: most light-tree nodes per cut",
        kUseCpuVpl},
+      {"mrcsRows", &Settings::mrcsRows, 1, 4096, "R", "matrix row-column sampling: pixels rendered against every VPL",
+       kUseCpuVpl},
+      {"mrcsClusters", &Settings::mrcsClusters, 1, 1 << 20, "K",
+       "matrix row-column sampling: VPL clusters (one representative each per pixel sample)", kUseCpuVpl},
       {"vrlSamples", &Settings::vrlSamples, 1, 256, "N", "samples per VRL and pixel sample", kUseCpuVpl},
       {"beamRadius", &Settings::beamRadius, 0, kMaxFloat, "r",
        "first virtual beam radius in metres, 0 = 2 % of the scene diagonal", kUseCpuVpl},
@@ -265,6 +269,7 @@ const char* toString(Method method) {
     case Method::Lvl: return "lvl";
     case Method::Lightcuts: return "lightcuts";
     case Method::LightcutsKK: return "lightcuts-kk";
+    case Method::Mrcs: return "mrcs";
   }
   return "?";
 }
@@ -327,7 +332,8 @@ bool parseVisibilityMethod(const std::string& text, VisibilityMethod& out) {
 
 bool parseMethod(const std::string& text, Method& out) {
   for (Method m : {Method::Reference, Method::Vpl, Method::VplKK, Method::Vsl, Method::VplAbc, Method::Vrl, Method::Vbl,
-                   Method::Lvl, Method::Lightcuts, Method::LightcutsKK})
+                   Method::Lvl, Method::Lightcuts, Method::LightcutsKK,
+                   Method::Mrcs})
     if (text == toString(m)) {
       out = m;
       return true;

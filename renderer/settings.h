@@ -24,6 +24,8 @@ enum class Method {
               ///< al. 2010): Kollig-Keller's compensation vertices shared by the pixels of a tile
   Lightcuts,  ///< Vpl's bounded sum through a cut of a light tree (Walter et al. 2005): sublinear in the VPLs
   LightcutsKK,  ///< Lightcuts plus vpl-kk's exact Kollig-Keller compensation of the residual
+  Mrcs,       ///< Vpl's bounded sum over cluster representatives found by matrix row-column sampling (Hasan et al.
+              ///< 2007): a few pixels against every VPL, the VPLs clustered by those rows
 };
 
 /// How the GL preview answers the visibility between a VPL and a shading point (docs/methods.md "VPL visibility").
@@ -209,6 +211,14 @@ struct Settings {
   /// Largest cut, in light-tree nodes per receiver [1, 1<<24]; a cut that reaches it stops refining (counted).
   /// Default 1000 (Walter et al. 2005).
   int lightcutMax = 1000;
+
+  // --- matrix row-column sampling, Hasan et al. 2007 (section 23) --------------------------------------------------
+  /// Rows: pixels rendered against every VPL with exact visibility, whose values cluster the VPLs [1, 4096]. Costs
+  /// rows x VPLs shadow rays and as many floats of memory. Default 300 (Hasan et al. 2007).
+  int mrcsRows = 300;
+  /// Clusters of VPLs, each rendered through one representative per pixel sample [1, 1<<20]. Default 900 (Hasan et
+  /// al. 2007).
+  int mrcsClusters = 900;
 
   // --- virtual ray lights and progressive virtual beam lights, Novak et al. 2012a, 2012b (sections 19, 20) -----
   /// Samples per VRL and pixel sample of the exact CPU VRL/VBL render (each for the camera ray's media part and

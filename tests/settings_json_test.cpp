@@ -68,6 +68,8 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.ismPointBudget = 5000;
   s.lightcutError = 0.125f;
   s.lightcutMax = 77;
+  s.mrcsRows = 33;
+  s.mrcsClusters = 99;
 
   Settings back;
   applySettingsJson(settingsToJson(s), back);
@@ -91,7 +93,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_THROW(applySettingsJson("{\"generation\": \"bidirectional\", \"rejection\": true}", back),
                SettingsJsonError);
   // Every key the writer emits must be one the reader knows, and none may be missing.
-  EXPECT_EQ(settingsJsonKeys().size(), 49u);
+  EXPECT_EQ(settingsJsonKeys().size(), 51u);
 }
 
 TEST(SettingsJson, InfiniteClampIsWrittenAsStringAndReadBack) {

@@ -40,6 +40,28 @@ double meanLuminance(const Image& image) {
   return image.empty() ? 0.0 : sum / static_cast<double>(image.size());
 }
 
+PixelRelativeError pixelRelativeError(const Image& image, const Image& reference) {
+  if (image.width != reference.width || image.height != reference.height)
+    throw std::invalid_argument("pixelRelativeError: image sizes differ");
+  std::vector<double> relative;
+  double sumImage = 0.0, sumReference = 0.0;
+  for (std::size_t i = 0; i < reference.pixels.size(); ++i) {
+    const double r = luminance(reference.pixels[i]), v = luminance(image.pixels[i]);
+    sumImage += v, sumReference += r;
+    if (r > 0.0) relative.push_back(std::abs(v - r) / r);
+  }
+  PixelRelativeError e;
+  e.pixels = relative.size();
+  e.energyRatio = sumReference > 0.0 ? sumImage / sumReference : 0.0;
+  if (relative.empty()) return e;
+  for (double r : relative) e.mean += r;
+  e.mean /= static_cast<double>(relative.size());
+  const std::size_t at = std::min(relative.size() - 1, static_cast<std::size_t>(0.95 * relative.size()));
+  std::nth_element(relative.begin(), relative.begin() + static_cast<std::ptrdiff_t>(at), relative.end());
+  e.p95 = relative[at];
+  return e;
+}
+
 ImageMetrics compareImages(const Image& image, const Image& reference) {
   return compareImagesExcluding(image, reference, PixelMask(image.width, image.height));
 }

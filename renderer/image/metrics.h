@@ -38,6 +38,17 @@ ImageMetrics compareImages(const Image& image, const Image& reference);
 /// Mean Rec. 709 luminance over the pixels (0 for an empty image).
 double meanLuminance(const Image& image);
 
+/// Per-pixel relative error of the luminance, |L(I) - L(R)| / L(R), over the pixels where L(R) > 0: how closely an
+/// approximation of a sum (lightcuts, matrix row-column sampling) matches the exact sum of the same terms pixel by
+/// pixel. energyRatio = sum L(I) / sum L(R) over every pixel. Throws std::invalid_argument on a size mismatch.
+struct PixelRelativeError {
+  double mean = 0.0;
+  double p95 = 0.0;  ///< 95th percentile
+  double energyRatio = 0.0;
+  std::size_t pixels = 0;  ///< pixels with L(R) > 0
+};
+PixelRelativeError pixelRelativeError(const Image& image, const Image& reference);
+
 /// Per pixel and channel (I-R)^2 / (R^2 + 0.01): its mean over finite pixels is relMSE. NaN where either is not
 /// finite, so heatmaps can mark those pixels. Throws std::invalid_argument on a size mismatch.
 Image relativeErrorImage(const Image& image, const Image& reference);

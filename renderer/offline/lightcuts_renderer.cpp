@@ -131,15 +131,16 @@ Lightcut LightcutGather::gather(const ShadingPoint& sp) const {
   return cut;
 }
 
-void requireLightcutsApply(const Scene& scene, const Settings& settings) {
+void requireLightcutsApply(const Scene& scene, const Settings& settings, Method method) {
+  const std::string name = toString(method);
   if (scene.hasMedia())
-    throw SceneError(
-        "lightcuts renders surfaces only and this scene has participating media: medium VPLs have no orientation "
-        "cone and medium receivers no bound here (use vpl, vpl-kk or vpl-abc)");
+    throw SceneError(name +
+                     " renders surfaces only and this scene has participating media: medium VPLs have no orientation "
+                     "cone and medium receivers no bound here (use vpl, vpl-kk or vpl-abc)");
   if (settings.vslRadius > 0.0f || settings.vslRadiusFromDensity)
-    throw std::invalid_argument(
-        "lightcuts lights point VPLs: a VSL's sphere integral is not bounded by 1 / d_min^2 (set the VSL radius to "
-        "0, or use the vsl method)");
+    throw std::invalid_argument(name +
+                                " lights point VPLs: a VSL's sphere integral is not bounded by 1 / d_min^2 (set the "
+                                "VSL radius to 0, or use the vsl method)");
 }
 
 namespace {
@@ -156,7 +157,7 @@ LightcutsRenderResult renderLightcuts(const OfflineScene& offline, const VplSet&
   const auto start = std::chrono::steady_clock::now();
   const Scene& scene = offline.scene();
   const EmbreeScene& embree = offline.embree();
-  requireLightcutsApply(scene, settings);
+  requireLightcutsApply(scene, settings, method);
   std::vector<BrdfParams> brdfs;
   brdfs.reserve(vplSet.vpls.size());
   for (const Vpl& v : vplSet.vpls) brdfs.push_back(brdfParamsAt(scene, v.material, v.uv));

@@ -67,8 +67,9 @@ struct LightcutsRenderResult : VplRenderResult {
   uint64_t cutsAtMax = 0;       ///< cuts stopped by lightcutMax
 };
 
-/// Throws SceneError for a scene with media and std::invalid_argument for VSLs (see above), each saying what to use.
-void requireLightcutsApply(const Scene& scene, const Settings& settings);
+/// Throws SceneError for a scene with media and std::invalid_argument for VSLs (see above), each saying what to use;
+/// `method` names the method refusing (lightcuts, or mrcs, which refuses the same).
+void requireLightcutsApply(const Scene& scene, const Settings& settings, Method method);
 
 /// Renders settings.width x settings.height with lightcuts (method Lightcuts or LightcutsKK), after
 /// requireLightcutsApply.

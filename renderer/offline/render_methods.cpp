@@ -5,6 +5,7 @@
 
 #include "renderer/offline/lightcuts_renderer.h"
 #include "renderer/offline/lvl_renderer.h"
+#include "renderer/offline/mrcs_renderer.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vrl_renderer.h"
 
@@ -46,6 +47,11 @@ VplRenderResult renderLightcutsMethod(const OfflineScene& offline, const VplSet&
   return renderLightcuts(offline, vpls, M, settings, control, std::move(onPass));
 }
 
+VplRenderResult renderMrcsMethod(const OfflineScene& offline, const VplSet& vpls, const Settings& settings,
+                                 RenderControl* control, OnPass onPass) {
+  return renderMrcs(offline, vpls, settings, control, std::move(onPass));
+}
+
 }  // namespace
 
 const std::vector<RenderMethod>& renderMethods() {
@@ -81,6 +87,10 @@ const std::vector<RenderMethod>& renderMethods() {
       {Method::LightcutsKK, "lightcuts + Kollig-Keller", "Walter et al. 2005; Kollig & Keller 2004",
        "the lightcut sum plus vpl-kk's exact compensation of the residual (not accelerated)", true, true, false,
        renderLightcutsMethod<Method::LightcutsKK>},
+      {Method::Mrcs, "matrix row-column sampling", "Hasan et al. 2007",
+       "vpl's bounded sum over one representative per VPL cluster, the clusters from --mrcs-rows pixels rendered "
+       "against every VPL: VPLs that light none of those pixels are lost",
+       true, true, false, renderMrcsMethod},
   };
   return methods;
 }
