@@ -16,7 +16,7 @@ namespace {
 
 // Tableau 10: distinguishable in print and for the common colour-vision deficiencies; markers also differ by shape.
 constexpr unsigned kPalette[] = {0x4e79a7, 0xf28e2b, 0xe15759, 0x76b7b2, 0x59a14f, 0xedc948, 0xb07aa1,
-                                  0xff9da7, 0x9c755f, 0xbab0ac, 0x17becf, 0x6a3d9a, 0x3d3d3d};
+                                  0xff9da7, 0x9c755f, 0xbab0ac, 0x17becf, 0x6a3d9a, 0x3d3d3d, 0xbcbd22};
 constexpr std::size_t kPaletteSize = sizeof kPalette / sizeof kPalette[0];
 
 std::string svgColour(std::size_t index) {

@@ -119,7 +119,9 @@ int seriesRank(const std::string& method, const std::string& backend) {
 std::string describeRow(const CsvRow& r) {
   const std::string& m = r.at("method");
   std::string d = "N=" + r.at("vpls");
-  if (m == "clamp" || m == "ssbc" || m == "vpl-kk" || m == "vpl-abc" || m == "lvl") d += " b=" + r.at("clamp_b");
+  if (m == "clamp" || m == "ssbc" || m == "vpl-kk" || m == "vpl-abc" || m == "lvl" || m == "lightcuts" ||
+      m == "mrcs")
+    d += " b=" + r.at("clamp_b");
   if (m == "ssbc") d += " s=" + r.at("ssbc");
   if (m == "vsl") d += " r=" + r.at("vsl_r");
   if (m == "reject") d += " eps=" + r.at("epsilon");
@@ -164,6 +166,9 @@ const std::vector<std::string>& benchMethodNames() {
       if (m.forMedia) n.push_back(toString(m.id));
     // Local virtual lights, rows on scenes without media.
     n.push_back(toString(Method::Lvl));
+    // The many-light methods for large VPL counts (surfaces only).
+    n.push_back(toString(Method::Lightcuts));
+    n.push_back(toString(Method::Mrcs));
     return n;
   }();
   return names;
@@ -256,6 +261,15 @@ std::vector<BenchCase> benchCases(const Scene& scene, const BenchConfig& config)
   // Local virtual lights at Kollig-Keller's bounds (surfaces only).
   if (!scene.hasMedia())
     for (float b : bounds) add("lvl", Backend::Cpu, [&](Settings& s) { s.clampBound = b; });
+  // Lightcuts (1 %) and matrix row-column sampling (300 rows, 900 clusters) at 4x and 16x the largest plain VPL count,
+  // at the middle bound: what the VPL count they afford buys at their cost (surfaces only; docs/methods.md).
+  if (!scene.hasMedia())
+    for (int factor : config.quick ? std::vector<int>{4} : std::vector<int>{4, 16})
+      for (const char* m : {"lightcuts", "mrcs"})
+        add(m, Backend::Cpu, [&](Settings& s) {
+          s.vplCount = counts.back() * factor;
+          s.clampBound = bounds[bounds.size() / 2];
+        });
   if (scene.hasMedia()) {
     // The media methods (docs/methods.md, "Participating media"): the approximate compensation at the same bounds as
     // Kollig-Keller, ray lights at the VPL counts of plain VPLs, beams at those counts per pass.
