@@ -85,6 +85,24 @@ TEST(LightTree, EveryNodeHoldsItsVplsInItsBoxConeAndIntensity) {
   EXPECT_FLOAT_EQ(tree.intensities()[7].g, vpls[7].flux.g * 0.5f * kInvPi);
 }
 
+TEST(LightTree, VplsSpreadOverManyScalesKeepTheTreeShallow) {
+  // Positions 1.3^k, 17 orders of magnitude: the tree stays shallow (the binned splits, and from depth 48 on the
+  // median, keep the depth O(log N) and so the build O(N log N)).
+  std::vector<Vpl> vpls(150);
+  for (std::size_t i = 0; i < vpls.size(); ++i) vpls[i].position = glm::vec3(std::pow(1.3f, static_cast<float>(i)));
+  const std::vector<BrdfParams> brdfs(vpls.size(), BrdfParams{glm::vec3(0.5f), 0.0f, 1.0f, 0.0f});
+  const LightTree tree(vpls, brdfs, 1, 1);
+  std::vector<int> depth(tree.nodes().size(), 0);
+  int deepest = 0;
+  for (uint32_t i = 0; i < tree.nodes().size(); ++i) {
+    const LightTreeNode& n = tree.nodes()[i];
+    deepest = std::max(deepest, depth[i]);
+    if (n.leaf()) continue;
+    depth[i + 1] = depth[n.secondChild] = depth[i] + 1;
+  }
+  EXPECT_LE(deepest, 48 + 8);
+}
+
 TEST(LightTree, RefusesMediumVpls) {
   std::vector<Vpl> vpls(2);
   vpls[1].inMedium = true;

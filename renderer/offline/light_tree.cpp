@@ -64,6 +64,8 @@ struct BuildItem {
 };
 
 constexpr int kBins = 16;
+/// Tree depth from which nodes split at the median instead of the binned cost (a balanced tree of 2^31 VPLs is 31 deep).
+constexpr int kBinnedDepth = 48;
 
 struct Bin {
   glm::vec3 pMin{std::numeric_limits<float>::max()}, pMax{-std::numeric_limits<float>::max()};
@@ -109,24 +111,26 @@ class Builder {
     normalScale_ = vpls.empty() ? 1.0f : 0.5f * glm::length(hi - lo);
   }
 
-  /// Builds the subtree over order_[begin, end) into nodes_[node ...], the top `parallelDepth` levels' first
-  /// children on threads of their own.
-  void build(uint32_t begin, uint32_t end, uint32_t node, int parallelDepth) {
+  /// Builds the subtree over order_[begin, end) into nodes_[node ...] at tree depth `depth`, the top `parallelDepth`
+  /// levels' first children on threads of their own.
+  void build(uint32_t begin, uint32_t end, uint32_t node, int parallelDepth, int depth = 0) {
     const uint32_t count = end - begin;
     if (count == 1) {
       makeLeaf(node, order_[begin]);
       return;
     }
-    const uint32_t mid = split(begin, end);
+    // Below kBinnedDepth levels the median halves the range: the binned split may peel a few far VPLs off at a time,
+    // and the median keeps the depth (and so the build) O(log N) whatever the positions.
+    const uint32_t mid = split(begin, end, depth >= kBinnedDepth);
     const uint32_t first = node + 1;
     const uint32_t second = node + 2 * (mid - begin);  // the first subtree holds 2 n - 1 nodes
     if (parallelDepth > 0 && count > (1u << 14)) {
-      auto left = std::async(std::launch::async, [&] { build(begin, mid, first, parallelDepth - 1); });
-      build(mid, end, second, parallelDepth - 1);
+      auto left = std::async(std::launch::async, [&] { build(begin, mid, first, parallelDepth - 1, depth + 1); });
+      build(mid, end, second, parallelDepth - 1, depth + 1);
       left.get();
     } else {
-      build(begin, mid, first, 0);
-      build(mid, end, second, 0);
+      build(begin, mid, first, 0, depth + 1);
+      build(mid, end, second, 0, depth + 1);
     }
     merge(node, first, second, begin);
   }
@@ -164,8 +168,9 @@ class Builder {
     n.count = a.count + b.count;
   }
 
-  /// Partitions order_[begin, end) in two non-empty parts; returns where the second starts.
-  uint32_t split(uint32_t begin, uint32_t end) {
+  /// Partitions order_[begin, end) in two non-empty parts (halves at the median when `median`); returns where the
+  /// second starts.
+  uint32_t split(uint32_t begin, uint32_t end, bool median) {
     // Step 1: the extents of the positions and (scaled) normals; the widest of the six dimensions is split.
     Bin all;
     for (uint32_t i = begin; i < end; ++i) all.add(items_[order_[i]]);
@@ -180,6 +185,12 @@ class Builder {
     const uint32_t mid = begin + (end - begin) / 2;
     auto key = [&](uint32_t v) { return dim < 3 ? items_[v].position[dim] : items_[v].normal[dim - 3]; };
     if (!(width > 0.0f)) return mid;  // every VPL at one place facing one way: any halving will do
+    auto halve = [&] {
+      std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
+                       [&](uint32_t a, uint32_t b) { return key(a) < key(b) || (key(a) == key(b) && a < b); });
+      return mid;
+    };
+    if (median) return halve();
     // Step 2: bin along it and take the split of least cost.
     auto binOf = [&](uint32_t v) {
       return std::clamp(static_cast<int>(kBins * (key(v) - lo) / width), 0, kBins - 1);
@@ -209,9 +220,7 @@ class Builder {
       const uint32_t m = static_cast<uint32_t>(at - order_.data());
       if (m > begin && m < end) return m;
     }
-    std::nth_element(order_.begin() + begin, order_.begin() + mid, order_.begin() + end,
-                     [&](uint32_t a, uint32_t b) { return key(a) < key(b) || (key(a) == key(b) && a < b); });
-    return mid;
+    return halve();
   }
 
   const std::vector<Vpl>& vpls_;
