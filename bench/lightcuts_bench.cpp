@@ -62,23 +62,34 @@ int main(int argc, char** argv) {
   double mrcsLimit = 300000;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--scene") scenePath = benchOptionValue(argc, argv, i);
-    else if (a == "--size") size = std::stoi(benchOptionValue(argc, argv, i));
-    else if (a == "--vpls") counts = parseList(benchOptionValue(argc, argv, i));
-    else if (a == "--thresholds") thresholds = parseList(benchOptionValue(argc, argv, i));
-    else if (a == "--clamp-bound") clampBound = std::stof(benchOptionValue(argc, argv, i));
-    else if (a == "--clamp-bound-relative") clampBoundRelative = std::stof(benchOptionValue(argc, argv, i));
-    else if (a == "--exact-limit") exactLimit = std::stod(benchOptionValue(argc, argv, i));
-    else if (a == "--exact-size") exactSize = std::stoi(benchOptionValue(argc, argv, i));
+    if (a == "--scene")
+      scenePath = benchOptionValue(argc, argv, i);
+    else if (a == "--size")
+      size = std::stoi(benchOptionValue(argc, argv, i));
+    else if (a == "--vpls")
+      counts = parseList(benchOptionValue(argc, argv, i));
+    else if (a == "--thresholds")
+      thresholds = parseList(benchOptionValue(argc, argv, i));
+    else if (a == "--clamp-bound")
+      clampBound = std::stof(benchOptionValue(argc, argv, i));
+    else if (a == "--clamp-bound-relative")
+      clampBoundRelative = std::stof(benchOptionValue(argc, argv, i));
+    else if (a == "--exact-limit")
+      exactLimit = std::stod(benchOptionValue(argc, argv, i));
+    else if (a == "--exact-size")
+      exactSize = std::stoi(benchOptionValue(argc, argv, i));
     else if (a == "--mrcs") {
       mrcs.clear();
       std::stringstream in(benchOptionValue(argc, argv, i));
       std::string item;
       while (std::getline(in, item, ','))
         mrcs.push_back({std::stoi(item.substr(0, item.find('/'))), std::stoi(item.substr(item.find('/') + 1))});
-    } else if (a == "--mrcs-limit") mrcsLimit = std::stod(benchOptionValue(argc, argv, i));
-    else if (a == "--threads") threads = std::stoi(benchOptionValue(argc, argv, i));
-    else if (a == "--csv") csvPath = benchOptionValue(argc, argv, i);
+    } else if (a == "--mrcs-limit")
+      mrcsLimit = std::stod(benchOptionValue(argc, argv, i));
+    else if (a == "--threads")
+      threads = std::stoi(benchOptionValue(argc, argv, i));
+    else if (a == "--csv")
+      csvPath = benchOptionValue(argc, argv, i);
     else {
       std::fprintf(stderr, "%s: unknown option %s\n", argv[0], a.c_str());
       return 2;
@@ -145,9 +156,8 @@ int main(int argc, char** argv) {
                   exactSettings.width, exactMs / ms, cut, rays, err.mean, err.p95, err.energyRatio);
       std::fprintf(csv, "%s,%zu,%s,%s,%g,%d,%d,%.2f,%.1f,%.1f,%.0f,%d,%.2f,%.2f,%.2f,%llu,%.5f,%.5f,%.5f\n",
                    scenePath.c_str(), vpls.vpls.size(), method, parameters.c_str(), s.clampBound, size,
-                   resolveThreadCount(threads), 1e3 * builds[1], treeMb, ms, exactMs, exactSettings.width,
-                   exactMs / ms, cut, rays, static_cast<unsigned long long>(full.cutsAtMax), err.mean, err.p95,
-                   err.energyRatio);
+                   resolveThreadCount(threads), 1e3 * builds[1], treeMb, ms, exactMs, exactSettings.width, exactMs / ms,
+                   cut, rays, static_cast<unsigned long long>(full.cutsAtMax), err.mean, err.p95, err.energyRatio);
       std::fflush(stdout);
       std::fflush(csv);
     };

@@ -3,8 +3,6 @@
 // renderVpl on the same VPLs, the error bound holds on a closed-form case, and the image does not depend on the
 // thread count.
 
-#include "renderer/offline/lightcuts_renderer.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -14,6 +12,7 @@
 #include "renderer/core/sampling.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/lightcut_bound.h"
+#include "renderer/offline/lightcuts_renderer.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"

@@ -2,8 +2,6 @@
 // with its own flux, a few hundred clusters stay near the exact sum of the same VPLs, and the image does not depend on
 // the thread count.
 
-#include "renderer/offline/mrcs_renderer.h"
-
 #include <gtest/gtest.h>
 
 #include <cmath>
@@ -11,6 +9,7 @@
 
 #include "renderer/core/sampling.h"
 #include "renderer/image/metrics.h"
+#include "renderer/offline/mrcs_renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "tests/test_scenes.h"

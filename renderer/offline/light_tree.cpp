@@ -64,7 +64,8 @@ struct BuildItem {
 };
 
 constexpr int kBins = 16;
-/// Tree depth from which nodes split at the median instead of the binned cost (a balanced tree of 2^31 VPLs is 31 deep).
+/// Tree depth from which nodes split at the median instead of the binned cost (a balanced tree of 2^31 VPLs is 31
+/// deep).
 constexpr int kBinnedDepth = 48;
 
 struct Bin {
@@ -192,9 +193,7 @@ class Builder {
     };
     if (median) return halve();
     // Step 2: bin along it and take the split of least cost.
-    auto binOf = [&](uint32_t v) {
-      return std::clamp(static_cast<int>(kBins * (key(v) - lo) / width), 0, kBins - 1);
-    };
+    auto binOf = [&](uint32_t v) { return std::clamp(static_cast<int>(kBins * (key(v) - lo) / width), 0, kBins - 1); };
     std::array<Bin, kBins> bins;
     for (uint32_t i = begin; i < end; ++i) bins[binOf(order_[i])].add(items_[order_[i]]);
     std::array<double, kBins> leftCost{};
@@ -215,8 +214,8 @@ class Builder {
     }
     // Step 3: partition; if every VPL fell in one bin (a few far outliers), halve at the median instead.
     if (bestSplit > 0) {
-      uint32_t* at = std::partition(order_.data() + begin, order_.data() + end,
-                                    [&](uint32_t v) { return binOf(v) < bestSplit; });
+      uint32_t* at =
+          std::partition(order_.data() + begin, order_.data() + end, [&](uint32_t v) { return binOf(v) < bestSplit; });
       const uint32_t m = static_cast<uint32_t>(at - order_.data());
       if (m > begin && m < end) return m;
     }

@@ -14,13 +14,13 @@
 // Built top-down in O(N log N): each node splits its VPLs in two along the widest of six dimensions (the positions
 // and the normals scaled by half the root's diagonal, so that orientation splits count like spatial ones, the
 // cluster size metric of Walter et al. 2005 §4.1), at the best of 16 bins by the cost sum over both sides of
-// I * (box diagonal^2 + (diagonal / 2)^2 normal-box diagonal^2). Nodes are stored depth first: a node's first child
-// follows it, its second child is stored by index; a tree of N VPLs has 2N - 1 nodes of 64 bytes.
+// I * (box diagonal^2 + (diagonal / 2)^2 normal-box diagonal^2); from depth 48 on at the median, which bounds the depth
+// by 48 + log2 N. Nodes are stored depth first: a node's first child follows it, its second child is stored by index;
+// a tree of N VPLs has 2N - 1 nodes of 64 bytes.
 
 #include <cstdint>
-#include <vector>
-
 #include <glm/glm.hpp>
+#include <vector>
 
 #include "renderer/core/brdf.h"
 #include "renderer/vpl/vpl.h"

@@ -20,7 +20,6 @@
 
 #include <algorithm>
 #include <cmath>
-
 #include <glm/glm.hpp>
 
 #include "renderer/core/brdf.h"
@@ -41,7 +40,9 @@ inline float cosMaxWithinCone(float cosAngle, float cosHalf, float sinHalf) {
   return cosAngle * cosHalf + sinAngle * sinHalf;
 }
 
-inline float maxChannel(const glm::vec3& c) { return std::max({c.r, c.g, c.b}); }
+inline float maxChannel(const glm::vec3& c) {
+  return std::max({c.r, c.g, c.b});
+}
 
 }  // namespace lightcut_detail
 

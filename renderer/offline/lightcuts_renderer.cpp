@@ -28,7 +28,7 @@ namespace {
 
 /// A node of the cut being refined.
 struct CutNode {
-  float bound;          ///< B_C luminance(I_C)
+  float bound;  ///< B_C luminance(I_C)
   uint32_t node;
   glm::vec3 estimate;   ///< E_C with visibility
   glm::vec3 unclamped;  ///< E_C with G instead of G_b
@@ -47,8 +47,8 @@ Lightcut LightcutGather::gather(const ShadingPoint& sp) const {
   // Reused per thread: the cut's heap holds up to lightcutMax nodes.
   static thread_local std::vector<CutNode> heap;
   heap.clear();
-  glm::vec3 total(0.0f);   // running estimate, for the threshold
-  glm::vec3 settled(0.0f); // single VPLs and nodes of bound 0: final
+  glm::vec3 total(0.0f);    // running estimate, for the threshold
+  glm::vec3 settled(0.0f);  // single VPLs and nodes of bound 0: final
   glm::vec3 settledUnclamped(0.0f);
 
   // E_C (without V) of a node at sp; a single VPL's exact contribution.

@@ -32,12 +32,12 @@ namespace vplab {
 
 /// One receiver's cut.
 struct Lightcut {
-  glm::vec3 radiance{0.0f};  ///< sum over the cut of E_C
-  glm::vec3 unclamped{0.0f}; ///< the same with G instead of G_b (for the energy the bound removes)
-  float errorBound = 0.0f;   ///< sum of B_C luminance(I_C) over the cut's inner nodes: |estimate - exact| (luminance)
-  uint32_t nodes = 0;        ///< nodes in the cut
+  glm::vec3 radiance{0.0f};   ///< sum over the cut of E_C
+  glm::vec3 unclamped{0.0f};  ///< the same with G instead of G_b (for the energy the bound removes)
+  float errorBound = 0.0f;    ///< sum of B_C luminance(I_C) over the cut's inner nodes: |estimate - exact| (luminance)
+  uint32_t nodes = 0;         ///< nodes in the cut
   uint32_t shadowRays = 0;
-  bool maxReached = false;   ///< stopped by lightcutMax before every bound fell below the threshold
+  bool maxReached = false;  ///< stopped by lightcutMax before every bound fell below the threshold
 };
 
 /// The cut at one surface point, for a tree over `vpls` (brdfs: the VPLs' f(x2) parameters).
@@ -58,13 +58,13 @@ class LightcutGather {
 };
 
 struct LightcutsRenderResult : VplRenderResult {
-  double treeSeconds = 0.0;     ///< light tree build (inside `seconds`)
+  double treeSeconds = 0.0;  ///< light tree build (inside `seconds`)
   std::size_t treeNodes = 0;
   std::size_t treeBytes = 0;    ///< nodes x sizeof(LightTreeNode)
   double meanCut = 0.0;         ///< nodes per cut, over every camera sample that hit a lit surface
   double meanShadowRays = 0.0;  ///< shadow rays per such cut
   uint64_t cuts = 0;
-  uint64_t cutsAtMax = 0;       ///< cuts stopped by lightcutMax
+  uint64_t cutsAtMax = 0;  ///< cuts stopped by lightcutMax
 };
 
 /// Throws SceneError for a scene with media and std::invalid_argument for VSLs (see above), each saying what to use;

@@ -19,7 +19,9 @@ namespace {
 
 using Clock = std::chrono::steady_clock;
 
-double secondsSince(Clock::time_point t) { return std::chrono::duration<double>(Clock::now() - t).count(); }
+double secondsSince(Clock::time_point t) {
+  return std::chrono::duration<double>(Clock::now() - t).count();
+}
 
 /// Step 1: the reduced columns, stored column by column: rho[j * rows + r] = luminance of A_{p_r, j}.
 std::vector<float> sampleRows(const OfflineScene& offline, const VplSet& vplSet, const Settings& settings,
@@ -36,9 +38,9 @@ std::vector<float> sampleRows(const OfflineScene& offline, const VplSet& vplSet,
   parallelFor(static_cast<int64_t>(rows), resolveThreadCount(settings.threads), [&](int64_t r, int) {
     // The row's pixel: stratified over the raster order, jittered by a hash of the seed and the row.
     const double u = static_cast<double>(hashKey(settings.seed, 0x6d726373u, static_cast<uint64_t>(r)) >> 11) * 0x1p-53;
-    const int64_t pixel = std::min<int64_t>(pixels - 1, static_cast<int64_t>((static_cast<double>(r) + u) *
-                                                                             static_cast<double>(pixels) /
-                                                                             static_cast<double>(rows)));
+    const int64_t pixel = std::min<int64_t>(
+        pixels - 1,
+        static_cast<int64_t>((static_cast<double>(r) + u) * static_cast<double>(pixels) / static_cast<double>(rows)));
     const int x = static_cast<int>(pixel % settings.width), y = static_cast<int>(pixel / settings.width);
     const glm::vec3 dir = cameraRayDirection(scene.camera, x + 0.5f, y + 0.5f, settings.width, settings.height);
     const std::optional<SurfaceHit> h = embree.intersect(scene.camera.position, dir);
@@ -50,8 +52,8 @@ std::vector<float> sampleRows(const OfflineScene& offline, const VplSet& vplSet,
     // Every VPL's term with an exact shadow ray (one ray at a time: rows x VPLs rays, a small part of the time).
     for (std::size_t j = 0; j < vpls.size(); ++j) {
       const float c = luminance(vplUnoccludedContribution(sp, vpls[j], brdfs[j], settings.clampBound));
-      if (c > 0.0f && embree.visible(sp.hit.position, sp.hit.geometricNormal, vpls[j].position,
-                                     vpls[j].geometricNormal))
+      if (c > 0.0f &&
+          embree.visible(sp.hit.position, sp.hit.geometricNormal, vpls[j].position, vpls[j].geometricNormal))
         rho[j * rows + static_cast<std::size_t>(r)] = c;
     }
   });

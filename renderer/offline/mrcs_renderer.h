@@ -25,10 +25,10 @@ namespace vplab {
 
 /// The reduced VPL set of steps 1-3, with what it cost.
 struct MrcsReduction {
-  VplSet reduced;              ///< the representatives, fluxes scaled by W_C / |rho_r|
+  VplSet reduced;                         ///< the representatives, fluxes scaled by W_C / |rho_r|
   std::vector<uint32_t> representatives;  ///< index of each reduced VPL in the input set
-  std::size_t rows = 0;        ///< rows that hit a surface
-  std::size_t darkColumns = 0; ///< VPLs that light no row (left out)
+  std::size_t rows = 0;                   ///< rows that hit a surface
+  std::size_t darkColumns = 0;            ///< VPLs that light no row (left out)
   double rowSeconds = 0.0;
   double clusterSeconds = 0.0;
 };
