@@ -116,7 +116,8 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   if (a.vslSamples != b.vslSamples) s.offline |= method == Method::Vsl;
 
   // Preview-only parameters (section 8).
-  if (a.directLightSamples != b.directLightSamples) s.lightShadowMaps = true;
+  if (a.directLightSamples != b.directLightSamples || a.lightShadowMapSize != b.lightShadowMapSize)
+    s.lightShadowMaps = true;
   // Both the direct light and the gather are interleaved; the bias is the VPL maps' (the lights' maps offset the
   // receiver by a texel instead).
   if (a.interleave != b.interleave) s.direct = s.gather = true;

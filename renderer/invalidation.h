@@ -10,7 +10,8 @@
 //                        importancePoints and the image size, since the importance points are pixels)
 //   VPL shadow maps   <- the VPLs, the visibility technique and its sizes (shadowMapSize; ismTileSize,
 //                        ismPointBudget)
-//   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points); not shadowMapSize
+//   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points), lightShadowMapSize; not
+//                        shadowMapSize
 //   G-buffer          <- scene, the camera, image size, indirectDownscale (the indirect light's G-buffer)
 //   direct light      <- the G-buffer, the light shadow maps, interleave
 //   gather            <- the G-buffer, the VPLs and their shadow maps, clampBound, the VSL radius, interleave,

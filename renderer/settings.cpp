@@ -126,6 +126,10 @@ const std::vector<SettingInfo>& settingsTable() {
       {"indirectDownscale", &Settings::indirectDownscale, 1, 4, "s",
        "indirect light and its compensation at 1/s of the width and height, upsampled along surfaces", kUseGl},
       {"shadowMapSize", &Settings::shadowMapSize, 16, 2048, "S", "VPL shadow-map resolution in texels", kUseGl},
+      {"lightShadowMapSize", &Settings::lightShadowMapSize, 16, 4096, "S",
+       "lights' shadow maps: texels per side of a point or spot light's cube face (area-light cells S/2, directional "
+       "lights 2S)",
+       kUseGl, true, SettingBound::PowerOfTwo},
       {"shadowBias", &Settings::shadowBias, 0, 0.1, "B", "VPL shadow depth bias, fraction of the scene diagonal",
        kUseGl},
       {"visibility", choice<VisibilityMethod, 3, &Settings::visibility>(), 0, 0, "cube|ism|auto",

@@ -246,6 +246,10 @@ struct Settings {
   int indirectDownscale = 1;
   /// Resolution of each VPL's shadow map, in texels per side [16, 2048]. Default 256.
   int shadowMapSize = 256;
+  /// Texels per side of a point or spot light's shadow-map face in the preview, a power of two [16, 4096]; an
+  /// area-light cell's faces have half as many, a directional light's map twice (LightMapSizes,
+  /// renderer/gl/direct_pass.h). Default 1024.
+  int lightShadowMapSize = 1024;
   /// Depth bias of VPL shadow lookups, as a fraction of the scene diagonal [0, 0.1]. Default 0.002.
   float shadowBias = 0.002f;
   /// VPL visibility technique of the preview. Default Auto: cube maps on small scenes, ISM where they would cost

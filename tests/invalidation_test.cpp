@@ -99,6 +99,7 @@ TEST(Invalidation, PreviewOnlyParametersNeverTouchTheOfflineResult) {
   EXPECT_EQ(toString(bias), "gather ssbc tonemap");
   Staleness direct = change([](Settings& x) { x.directLightSamples = 16; });
   EXPECT_EQ(toString(direct), "lightShadowMaps direct ssbc tonemap");
+  EXPECT_EQ(toString(change([](Settings& x) { x.lightShadowMapSize = 256; })), "lightShadowMaps direct ssbc tonemap");
   EXPECT_FALSE(change([](Settings& x) { x.threads = 1; }).any());
 }
 

@@ -203,6 +203,7 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   }
   changed |= settingSliderFloat(s, "shadowBias", 0.0f, 0.1f, "%.4f", ImGuiSliderFlags_Logarithmic);
   changed |= settingSliderInt(s, "directLightSamples", 1, 256, ImGuiSliderFlags_Logarithmic);
+  powerOfTwoSlider("lightShadowMapSize", 4, 12);
   changed |= settingSliderFloat(s, "exposure", -10.0f, 10.0f, "%.1f");
   return changed;
 }

@@ -18,9 +18,9 @@ struct DirectLightGpu {
 
 namespace {
 // Splits an emitter's samples [begin, end) into `cells` cells of nearby samples (median splits across the longest
-// extent, recursively), each behind a new caster at its samples' centroid: shadow.x is its map, centre its position
-// (shadow.y, the emitter, stays).
-void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std::size_t end, int cells,
+// extent, recursively), each behind a new caster at its samples' centroid with faces of faceSize^2: shadow.x is its
+// map, centre its position (shadow.y, the emitter, stays).
+void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std::size_t end, int cells, int faceSize,
                     std::vector<LightShadowCaster>& casters) {
   if (cells > 1 && end - begin >= 2) {
     glm::vec3 lo(std::numeric_limits<float>::max()), hi(-std::numeric_limits<float>::max());
@@ -35,8 +35,8 @@ void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std
         samples.begin() + static_cast<std::ptrdiff_t>(begin), samples.begin() + static_cast<std::ptrdiff_t>(middle),
         samples.begin() + static_cast<std::ptrdiff_t>(end),
         [axis](const DirectLightGpu& a, const DirectLightGpu& b) { return a.position[axis] < b.position[axis]; });
-    splitIntoCells(samples, begin, middle, cells / 2, casters);
-    splitIntoCells(samples, middle, end, cells - cells / 2, casters);
+    splitIntoCells(samples, begin, middle, cells / 2, faceSize, casters);
+    splitIntoCells(samples, middle, end, cells - cells / 2, faceSize, casters);
     return;
   }
   glm::vec3 centre(0.0f), normal(0.0f);
@@ -54,7 +54,7 @@ void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std
   if (normalLength > 0.5f * static_cast<float>(end - begin))
     centre += normal / normalLength * (1e-3f * radius + 1e-5f * glm::length(centre));
   const float map = static_cast<float>(casters.size());
-  casters.push_back({centre, kAreaShadowFaceSize});
+  casters.push_back({centre, faceSize});
   for (std::size_t i = begin; i < end; ++i) {
     samples[i].shadow.x = map;
     samples[i].centre = glm::vec4(centre, 0.0f);
@@ -83,7 +83,7 @@ void DirectLightPass::useMedia(const MediaShaderLayout& media) {
 
 DirectLightPass::TableView DirectLightPass::bindTable() const {
   shadows_.bind();
-  TableView view{&table_, tableLayout_, 0, 0, runs_.empty() ? 0 : runs_.back().end};
+  TableView view{&table_, tableLayout_, 0, 0, runs_.empty() ? 0 : runs_.back().end, sizes_};
   for (const MapRun& run : runs_) {
     if (run.kind == AreaMap) view.areaEnd = run.end;
     if (run.kind != DirectionalMap) view.punctualEnd = run.end;
@@ -105,7 +105,7 @@ bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, f
     if (!casters_.empty() && !directionalDirections_.empty() && outOfTime && outOfTime()) return false;
   }
   nextDirectional_ = shadows_.renderDirectional(scene, directionalDirections_, scene.bounds.center(), sceneRadius,
-                                                kDirectionalShadowSize, settings.threads, nextDirectional_, outOfTime);
+                                                sizes_.directional, settings.threads, nextDirectional_, outOfTime);
   if (nextDirectional_ >= 0) return false;
   mapsStarted_ = false;
   return true;
@@ -119,11 +119,11 @@ bool DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sce
     if (std::none_of(runs_.begin(), runs_.end(), [kind](const MapRun& run) { return run.kind == kind; })) continue;
     ShaderProgram& direct = programs_[static_cast<std::size_t>(kind)][lambertOnly];
     direct.set("uCameraPosition", camera.position);
-    direct.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
-    direct.set("uAreaShadowTexel", 2.0f / static_cast<float>(kAreaShadowFaceSize));
+    direct.set("uLightShadowTexel", 2.0f / static_cast<float>(sizes_.punctualFace));
+    direct.set("uAreaShadowTexel", 2.0f / static_cast<float>(sizes_.areaFace));
     direct.set("uSceneCentre", sceneCentre);
     direct.set("uSceneRadius", sceneRadius);
-    direct.set("uDirectionalShadowTexel", 2.0f * sceneRadius / static_cast<float>(kDirectionalShadowSize));
+    direct.set("uDirectionalShadowTexel", 2.0f * sceneRadius / static_cast<float>(sizes_.directional));
   }
   // Every map is a layer of one cube-map array or of one 2D array, all bound at once; a chunk per run of lights behind
   // one map, drawn by the program of the map's kind.
@@ -155,6 +155,7 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
     runs_.back().end = index + 1;
   };
   casters_.clear();
+  sizes_ = LightMapSizes::of(settings);
   // Shadow maps: a few per area emitter, one per cell of its samples (below), and one per punctual light.
   std::vector<AreaLightGroup> groups = groupAreaLights(scene);
   std::unordered_map<uint32_t, int> groupOf;
@@ -212,7 +213,7 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
       while (end < samples.size() && samples[end].shadow.y == samples[begin].shadow.y) ++end;
       const int cells = std::max(1, std::min({kAreaShadowCells, kMaxAreaGroups / static_cast<int>(groups.size()),
                                               static_cast<int>(end - begin) / 4}));
-      splitIntoCells(samples, begin, end, cells, casters_);
+      splitIntoCells(samples, begin, end, cells, sizes_.areaFace, casters_);
       begin = end;
     }
     for (const DirectLightGpu& sample : samples) add(sample, AreaMap);
@@ -222,7 +223,7 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
     if (l.isDirectional()) continue;
     bool spot = l.type == PunctualLight::Type::Spot;
     const float cube = static_cast<float>(casters_.size());
-    casters_.push_back({l.position, kLightShadowFaceSize});
+    casters_.push_back({l.position, sizes_.punctualFace});
     add({glm::vec4(l.position, spot ? 2.0f : 1.0f), glm::vec4(l.direction, std::cos(l.outerConeAngle)),
          glm::vec4(l.intensity, std::cos(l.innerConeAngle)), glm::vec4(cube, 0.0f, 0.0f, 0.0f),
          glm::vec4(l.position, 0.0f)},

@@ -16,17 +16,23 @@
 
 namespace vplab {
 
-// Texels per side of a light's cube-map face: a few lights, not one map per sample, so they can be sharp (a texel spans
-// 0.1 degrees: no stair-steps at contact shadows).
-inline constexpr int kLightShadowFaceSize = 1024;
-// Texels per side of an area-light cell's faces: as accurate as at 1024 (the emitter's own samples filter its shadow)
-// at a quarter of the texels to draw on the CPU and, in a scene without point or spot lights, to allocate (llvmpipe
-// zero-fills a texture's pages on allocation; docs/benchmarks.md "Preview with media"). A point or spot light's map
-// loses 1 % at 512 (its filter is about a texel wide), so with one in the scene the array's faces are
-// kLightShadowFaceSize and a cell's map is repeated over 2x2 texels there: the same values under nearest sampling.
-inline constexpr int kAreaShadowFaceSize = 512;
-// Texels per side of a directional light's orthographic map over the scene's bounding sphere.
-inline constexpr int kDirectionalShadowSize = 2048;
+// Texels per side of the lights' shadow maps, from Settings::lightShadowMapSize S (default 1024).
+struct LightMapSizes {
+  // A point or spot light's cube face: a few lights, not one map per sample, so they can be sharp (at 1024 a texel
+  // spans 0.1 degrees: no stair-steps at contact shadows).
+  int punctualFace;
+  // An area-light cell's faces, S / 2: as accurate as at S (the emitter's own samples filter its shadow) at a quarter
+  // of the texels to draw on the CPU and, in a scene without point or spot lights, to allocate (llvmpipe zero-fills a
+  // texture's pages on allocation; docs/benchmarks.md "Preview with media"). A point or spot light's map loses 1 % at
+  // 512 (its filter is about a texel wide), so with one in the scene the array's faces are punctualFace and a cell's
+  // map is repeated over 2x2 texels there: the same values under nearest sampling.
+  int areaFace;
+  // A directional light's orthographic map over the scene's bounding sphere, 2 S.
+  int directional;
+  static LightMapSizes of(const Settings& settings) {
+    return {settings.lightShadowMapSize, settings.lightShadowMapSize / 2, 2 * settings.lightShadowMapSize};
+  }
+};
 
 class DirectLightPass {
  public:
@@ -61,6 +67,7 @@ class DirectLightPass {
     const GlBuffer* buffer;
     UniformTableLayout layout;
     int areaEnd, punctualEnd, count;
+    LightMapSizes sizes;
   };
   TableView bindTable() const;
 
@@ -83,6 +90,7 @@ class DirectLightPass {
   LightShadowMaps shadows_;
   std::vector<LightShadowCaster> casters_;
   std::vector<glm::vec3> directionalDirections_;
+  LightMapSizes sizes_ = LightMapSizes::of(Settings{});
   // The map rendering under way: the next cube face and directional map (-1: done).
   bool mapsStarted_ = false;
   MediaShaderLayout media_;

@@ -180,11 +180,11 @@ bool MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
     ShaderProgram& program = *lights_;
     common(program);
     program.set("uMediaSteps", kMediaLightSteps);
-    program.set("uLightShadowTexel", 2.0f / static_cast<float>(kLightShadowFaceSize));
-    program.set("uAreaShadowTexel", 2.0f / static_cast<float>(kAreaShadowFaceSize));
+    program.set("uLightShadowTexel", 2.0f / static_cast<float>(table.sizes.punctualFace));
+    program.set("uAreaShadowTexel", 2.0f / static_cast<float>(table.sizes.areaFace));
     program.set("uSceneCentre", frame.sceneCentre);
     program.set("uSceneRadius", frame.sceneRadius);
-    program.set("uDirectionalShadowTexel", 2.0f * frame.sceneRadius / static_cast<float>(kDirectionalShadowSize));
+    program.set("uDirectionalShadowTexel", 2.0f * frame.sceneRadius / static_cast<float>(table.sizes.directional));
     program.set("uPunctualEnd", table.punctualEnd);
     lightsRaw_->framebuffer.bind(rawWidth_, rawHeight_);
     slices_.step([&] { lightsRaw_->framebuffer.clearColor(0, glm::vec4(0.0f)); });

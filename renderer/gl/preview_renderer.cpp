@@ -259,8 +259,10 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   // The lights' maps: an R32F cube per area-light group and per point or spot light, an R32F square per directional.
   int cubes = scene.emissiveTriangles.empty() ? 0 : kMaxAreaGroups, squares = 0;
   for (const PunctualLight& l : scene.punctualLights) (l.isDirectional() ? squares : cubes) += 1;
-  const double lightBytes = 4.0 * (6.0 * cubes * kLightShadowFaceSize * kLightShadowFaceSize +
-                                   static_cast<double>(squares) * kDirectionalShadowSize * kDirectionalShadowSize);
+  const LightMapSizes lightMaps = LightMapSizes::of(settings);
+  const double lightBytes =
+      4.0 * (6.0 * cubes * lightMaps.punctualFace * lightMaps.punctualFace +
+             static_cast<double>(squares) * lightMaps.directional * lightMaps.directional);
   // A density grid is an R32F 3D texture of its stored voxels (MediaPass::upload).
   double gridBytes = 0.0;
   for (const Medium& m : scene.media) {
@@ -285,8 +287,8 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   // (10,000 point lights need 10,000 cubes).
   if (total > limits.memoryBytes && lightBytes > 0.5 * total) {
     why << "the scene's " << cubes + squares << " lights need " << formatBytes(lightBytes)
-        << " of light shadow maps (one R32F cube of 6x" << kLightShadowFaceSize << "^2 per point or spot light, a "
-        << kDirectionalShadowSize << "^2 map per directional light): the preview needs " << formatBytes(total)
+        << " of light shadow maps (one R32F cube of 6x" << lightMaps.punctualFace << "^2 per point or spot light, a "
+        << lightMaps.directional << "^2 map per directional light): the preview needs " << formatBytes(total)
         << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
         << limits.memorySource << "); the lights are the cause: use fewer lights, or vplab render, which has no "
         << "light shadow maps";
