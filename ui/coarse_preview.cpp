@@ -1,7 +1,8 @@
 #include "ui/coarse_preview.h"
 
 #include <algorithm>
-#include <chrono>
+
+#include "ui/change_timer.h"
 
 namespace vplab::ui {
 
@@ -17,24 +18,16 @@ Settings CoarsePreview::coarseSettings(const Settings& full) {
 }
 
 Image CoarsePreview::render(const Scene& scene, const VplSet& vpls, const Settings& full, const Camera& camera) {
-  const auto start = std::chrono::steady_clock::now();
+  const double start = steadySeconds();
   if (!renderer_) renderer_ = std::make_unique<PreviewRenderer>();
   renderer_->render(scene, vpls, coarseSettings(full), camera);
   Image image = resizedBilinear(renderer_->readLinear(), full.width, full.height);
-  lastMs_ = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count();
+  lastMs_ = 1e3 * (steadySeconds() - start);
   return image;
 }
 
-void CoarsePreview::invalidateScene() {
-  if (renderer_) renderer_->invalidateScene();
-}
-
-void CoarsePreview::invalidateLights() {
-  if (renderer_) renderer_->invalidateLights();
-}
-
-void CoarsePreview::invalidateVpls() {
-  if (renderer_) renderer_->invalidateVpls();
+void CoarsePreview::invalidate(void (PreviewRenderer::*what)()) {
+  if (renderer_) (renderer_.get()->*what)();
 }
 
 }  // namespace vplab::ui

@@ -27,10 +27,8 @@ class CoarsePreview {
 
   /// Renders the new state completely (needs a current GL context) and returns it resampled to full's size.
   Image render(const Scene& scene, const VplSet& vpls, const Settings& full, const Camera& camera);
-  /// As PreviewRenderer's: what the editor tells the full-size renderer, it tells this one.
-  void invalidateScene();
-  void invalidateLights();
-  void invalidateVpls();
+  /// One of PreviewRenderer's invalidate functions: what the editor tells the full-size renderer, it tells this one.
+  void invalidate(void (PreviewRenderer::*what)());
   /// Wall milliseconds of the last render().
   double lastMs() const { return lastMs_; }
 

@@ -75,8 +75,7 @@ bool EditorState::openScene(const std::string& path) {
   lightOffsets_.clear();
   lightScales_.clear();
   // An update of the old scene is abandoned: the next one starts from scratch.
-  if (preview_) preview_->invalidateScene();
-  coarse_.invalidateScene();
+  invalidatePreviews(&PreviewRenderer::invalidateScene);
   fullUpdateMsByKind_.clear();  // another scene's costs predict nothing here
   lastFullUpdateMs_ = 0.0;
   previewUpdating_ = false;
@@ -233,6 +232,11 @@ void EditorState::markStale(const Staleness& s) {
   displayDirty_ = true;
 }
 
+void EditorState::invalidatePreviews(void (PreviewRenderer::*what)()) {
+  if (preview_) (preview_.get()->*what)();
+  coarse_.invalidate(what);
+}
+
 void EditorState::regenerateVpls() {
   // Importance-driven generation (rejection, bidirectional, Metropolis) measures importance from the current view.
   scene_.camera = camera_.camera();
@@ -240,8 +244,7 @@ void EditorState::regenerateVpls() {
   changeTimer_.vplsGenerated(vpls_.stats.generationSeconds * 1e3);
   ++vplGenerations_;
   vslRadiiStale_ = false;
-  if (preview_) preview_->invalidateVpls();
-  coarse_.invalidateVpls();
+  invalidatePreviews(&PreviewRenderer::invalidateVpls);
 }
 
 void EditorState::measureClampEnergy() {
@@ -288,8 +291,7 @@ void EditorState::updateWork(double budgetMs) {
     if (vslRadiiStale_) {
       std::vector<float> radii = vslRadii(vpls_.vpls, settings_, scene_.bounds.diagonal());
       for (std::size_t i = 0; i < radii.size(); ++i) vpls_.vpls[i].radius = radii[i];
-      if (preview_) preview_->invalidateVpls();
-  coarse_.invalidateVpls();
+      invalidatePreviews(&PreviewRenderer::invalidateVpls);
       vslRadiiStale_ = false;
     }
     if (clampEnergyStale_) measureClampEnergy();
@@ -302,14 +304,8 @@ void EditorState::updateWork(double budgetMs) {
     pendingOffline_ = PresetOffline::None;
   }
   if (startUpdate) {
-    if (pendingPreviewInvalidation_ == LightEdit::Geometry) {
-      if (preview_) preview_->invalidateScene();
-      coarse_.invalidateScene();
-    }
-    if (pendingPreviewInvalidation_ == LightEdit::Punctual) {
-      if (preview_) preview_->invalidateLights();
-      coarse_.invalidateLights();
-    }
+    if (pendingPreviewInvalidation_ == LightEdit::Geometry) invalidatePreviews(&PreviewRenderer::invalidateScene);
+    if (pendingPreviewInvalidation_ == LightEdit::Punctual) invalidatePreviews(&PreviewRenderer::invalidateLights);
     pendingPreviewInvalidation_ = LightEdit::None;
     updateSettings_ = settings_;
     updateCamera_ = camera_.camera();

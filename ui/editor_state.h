@@ -194,6 +194,8 @@ class EditorState {
  private:
   void rebuildAcceleration();
   void markStale(const Staleness& s);
+  /// Tells the full-size and the coarse preview renderer alike (one of PreviewRenderer's invalidate functions).
+  void invalidatePreviews(void (PreviewRenderer::*what)());
   void regenerateVpls();
   void measureClampEnergy();
   void measureVplsSeen();
