@@ -16,6 +16,7 @@
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/offline_scene.h"
+#include "renderer/offline/representative_lights.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
 
@@ -62,10 +63,14 @@ int cmdPreview(const Args& args) {
   resolveClampBound(settings, scene.geometryBounds.diagonal());
   // Image size, shadow maps and tiles against what this context holds (texture sizes, layers, memory), before the
   // VPLs are traced.
-  if (std::string problem = previewFitProblem(scene, settings.vplCount, settings, queryGlLimits()); !problem.empty())
+  // Beyond previewRepresentatives VPLs the preview gathers that many representatives (representative_lights.h).
+  const int gathered = std::min(settings.vplCount, settings.previewRepresentatives);
+  if (std::string problem = previewFitProblem(scene, gathered, settings, queryGlLimits()); !problem.empty())
     throw cli::CliError(problem + " (" + context.description() + ")");
   OfflineScene offline(scene);
   VplSet vpls = generateVpls(offline, settings);
+  RepresentativeLights representatives(offline, vpls, settings);
+  const VplSet& lights = representatives.select(scene.camera, settings);
 
   // The renderer comes after the context (which loads the GL function table) and goes before it.
   PreviewRenderer renderer;
@@ -74,7 +79,7 @@ int cmdPreview(const Args& args) {
   for (int f = 0; f < frames; ++f) {
     // Later frames redo every screen-space pass, as a camera move would (shadow maps are kept).
     if (f > 0) renderer.invalidateFrame();
-    t = renderer.render(scene, vpls, settings, scene.camera);
+    t = renderer.render(scene, lights, settings, scene.camera);
     if (f == 0) first = t;
   }
   Image linear = readPreviewComponents(renderer, settings);
@@ -94,7 +99,7 @@ int cmdPreview(const Args& args) {
   std::string visibility = toString(renderer.visibilityInUse());
   if (settings.visibility == VisibilityMethod::Auto)
     visibility += " (auto: " + std::to_string(scene.triangles.size()) + " triangles x " +
-                  std::to_string(vpls.vpls.size()) + " VPLs " +
+                  std::to_string(lights.vpls.size()) + " VPLs " +
                   (renderer.visibilityInUse() == VisibilityMethod::Cube ? "<=" : ">") + " 2^20)";
   std::printf("visibility  %s\n", visibility.c_str());
   std::printf("vpls        %llu accepted of %llu candidates from %llu light paths (acceptance %.1f%%%s), "
@@ -114,6 +119,13 @@ int cmdPreview(const Args& args) {
     }
     std::printf("vpl flux    total (%.4g, %.4g, %.4g), bounces 1..%u, VSL radius %g..%g\n", flux.x, flux.y, flux.z,
                 maxBounce, rMin, rMax);
+  }
+  if (representatives.reduces()) {
+    const RepresentativeStats& rs = representatives.stats();
+    std::printf(
+        "gathered    %zu representatives of the %zu VPLs (a light-tree cut for the view at %zu points: tree "
+        "%.1f ms, cut %.1f ms)\n",
+        rs.representatives, rs.vpls, rs.points, rs.treeSeconds * 1e3, rs.selectSeconds * 1e3);
   }
   std::printf("frames      %d%s\n", frames,
               frames > 1 ? " (timings of the last; shadow maps from the first)" : " (cold: includes shader compilation)");

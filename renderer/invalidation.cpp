@@ -7,6 +7,7 @@ namespace vplab {
 
 Staleness& Staleness::operator|=(const Staleness& o) {
   vpls |= o.vpls;
+  representatives |= o.representatives;
   vplShadowMaps |= o.vplShadowMaps;
   lightShadowMaps |= o.lightShadowMaps;
   gbuffer |= o.gbuffer;
@@ -20,16 +21,17 @@ Staleness& Staleness::operator|=(const Staleness& o) {
 
 Staleness Staleness::all() {
   Staleness s;
-  s.vpls = s.vplShadowMaps = s.lightShadowMaps = s.gbuffer = s.direct = s.gather = s.ssbc = s.tonemap = s.offline =
-      true;
+  s.vpls = s.representatives = s.vplShadowMaps = s.lightShadowMaps = s.gbuffer = s.direct = s.gather = s.ssbc =
+      s.tonemap = s.offline = true;
   return s;
 }
 
 Staleness Staleness::propagated() const {
   Staleness s = *this;
   s.vplShadowMaps |= s.vpls;
+  s.representatives |= s.vpls;
   s.direct |= s.gbuffer || s.lightShadowMaps;
-  s.gather |= s.gbuffer || s.vpls || s.vplShadowMaps;
+  s.gather |= s.gbuffer || s.vpls || s.representatives || s.vplShadowMaps;
   s.ssbc |= s.direct || s.gather;
   s.tonemap |= s.ssbc;
   return s;
@@ -43,6 +45,7 @@ std::string toString(const Staleness& s) {
     out += name;
   };
   add(s.vpls, "vpls");
+  add(s.representatives, "representatives");
   add(s.vplShadowMaps, "vplShadowMaps");
   add(s.lightShadowMaps, "lightShadowMaps");
   add(s.gbuffer, "gbuffer");
@@ -60,7 +63,7 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
 
   // Image size: every per-pixel buffer, and the importance points are pixels of that image.
   if (a.width != b.width || a.height != b.height) {
-    s.gbuffer = s.offline = true;
+    s.gbuffer = s.representatives = s.offline = true;
     s.vpls |= usesImportancePoints(a) || usesImportancePoints(b);
   }
   // The seed drives the VPL sequence, the light sample points and the offline sample streams.
@@ -124,6 +127,7 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   if (a.shadowBias != b.shadowBias) s.gather = true;
   // The indirect light's own G-buffer is made with the G-buffer.
   if (a.indirectDownscale != b.indirectDownscale) s.gbuffer = true;
+  if (a.previewRepresentatives != b.previewRepresentatives) s.representatives = true;
   if (a.shadowMapSize != b.shadowMapSize || a.visibility != b.visibility || a.ismTileSize != b.ismTileSize ||
       a.ismPointBudget != b.ismPointBudget)
     s.vplShadowMaps = true;
@@ -132,7 +136,7 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
 
 Staleness staleAfterCameraMove() {
   Staleness s;
-  s.gbuffer = s.offline = true;
+  s.gbuffer = s.representatives = s.offline = true;
   return s.propagated();
 }
 

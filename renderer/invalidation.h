@@ -8,14 +8,18 @@
 //   VPL generation    <- scene, lights, seed, generation, vplCount, vplMaxBounces, rejection (+ the parameters of
 //                        the generation method and of rejection while in use; with an importance-driven method also
 //                        importancePoints and the image size, since the importance points are pixels)
-//   VPL shadow maps   <- the VPLs, the visibility technique and its sizes (shadowMapSize; ismTileSize,
-//                        ismPointBudget)
+//   representatives   <- the VPLs, the camera, the image size, previewRepresentatives: the reduced set the preview
+//                        gathers when the VPLs outnumber previewRepresentatives (representative_lights.h); else the
+//                        VPLs themselves, and the stage does nothing
+//   VPL shadow maps   <- the VPLs (the representatives), the visibility technique and its sizes (shadowMapSize;
+//                        ismTileSize, ismPointBudget); a new set of representatives redoes the maps of the casters
+//                        that moved only, which the technique compares (PreviewRenderer)
 //   light shadow maps <- scene, lights, directLightSamples, seed (the light sample points), lightShadowMapSize; not
 //                        shadowMapSize
 //   G-buffer          <- scene, the camera, image size, indirectDownscale (the indirect light's G-buffer)
 //   direct light      <- the G-buffer, the light shadow maps, interleave
-//   gather            <- the G-buffer, the VPLs and their shadow maps, clampBound, the VSL radius, interleave,
-//                        shadowBias, components
+//   gather            <- the G-buffer, the VPLs (the representatives) and their shadow maps, clampBound, the VSL
+//                        radius, interleave, shadowBias, components
 //   SSBC              <- the direct light, the gather, ssbcSteps, ssbcCoarseRings
 //   tonemap           <- SSBC, exposure
 //   (media)           <- a scene's media (coefficients, g, boxes) act on the light paths: VPL generation (where
@@ -37,6 +41,7 @@ namespace vplab {
 
 struct Staleness {
   bool vpls = false;             ///< VPL generation (and rejection) must run again
+  bool representatives = false;  ///< the preview's representative lights must be chosen again for the view
   bool vplShadowMaps = false;    ///< one shadow map per VPL must be re-rendered
   bool lightShadowMaps = false;  ///< the shadow maps of the direct-light samples must be re-rendered
   bool gbuffer = false;          ///< the preview's G-buffer (what the camera sees)
@@ -48,7 +53,8 @@ struct Staleness {
 
   bool any() const { return anyPreview() || offline; }
   bool anyPreview() const {
-    return vpls || vplShadowMaps || lightShadowMaps || gbuffer || direct || gather || ssbc || tonemap;
+    return vpls || representatives || vplShadowMaps || lightShadowMaps || gbuffer || direct || gather || ssbc ||
+           tonemap;
   }
   Staleness& operator|=(const Staleness& o);
   friend Staleness operator|(Staleness a, const Staleness& b) { return a |= b; }
@@ -56,8 +62,8 @@ struct Staleness {
 
   /// Everything (a new scene).
   static Staleness all();
-  /// Adds the stages downstream of every stage already set (VPLs -> VPL shadow maps -> gather; light shadow maps ->
-  /// direct light; G-buffer -> direct light and gather; both -> SSBC -> tonemap).
+  /// Adds the stages downstream of every stage already set (VPLs -> representatives -> gather; VPLs -> VPL shadow maps
+  /// -> gather; light shadow maps -> direct light; G-buffer -> direct light and gather; both -> SSBC -> tonemap).
   Staleness propagated() const;
 };
 
@@ -68,7 +74,8 @@ std::string toString(const Staleness& staleness);
 /// stages are included (the result is propagated()).
 Staleness staleAfterSettingsChange(const Settings& before, const Settings& after, Method offlineMethod);
 
-/// A camera move (orbit, pan, zoom, fly): the G-buffer and what follows it, never the VPLs nor any shadow map. With
+/// A camera move (orbit, pan, zoom, fly): the G-buffer and what follows it, and the representatives (a reduced set is
+/// chosen for the view: the maps of the casters it moved are redone, PreviewRenderer); never the VPLs. With
 /// rejection on, the VPLs keep the importance measured from the camera they were generated for; a new camera only
 /// changes which VPLs would be preferred, not the correctness of the estimate (rejection stays unbiased for epsilon >
 /// 0).

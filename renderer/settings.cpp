@@ -139,6 +139,8 @@ const std::vector<SettingInfo>& settingsTable() {
        SettingBound::PowerOfTwo},
       {"ismPointBudget", &Settings::ismPointBudget, 1024, 1 << 25, "P",
        "imperfect shadow maps: surface points shared among the VPLs", kUseGl},
+      {"previewRepresentatives", &Settings::previewRepresentatives, 16, 65536, "R",
+       "the preview gathers at most R lights: a larger VPL set is reduced per view to R light-tree clusters", kUseGl},
   };
   return table;
 }

@@ -264,6 +264,10 @@ struct Settings {
   /// (docs/benchmarks.md "Imperfect shadow maps": twice as many cost twice the splatting, 40 ms more per VPL change,
   /// for 10-20 % less error).
   int ismPointBudget = 1 << 20;
+  /// The preview gathers at most this many lights [16, 65536]: a larger VPL set is reduced, per view, to a light-tree
+  /// cut of this many clusters, each lit by one representative VPL carrying its cluster's power
+  /// (renderer/offline/representative_lights.h); a set of at most this many VPLs is gathered as it is. Default 1024.
+  int previewRepresentatives = 1024;
 };
 
 // --- the settings table: one row per member -------------------------------------------------------------------

@@ -125,7 +125,21 @@ TEST(Invalidation, CameraMoveKeepsVplsAndShadowMaps) {
   EXPECT_FALSE(s.vpls || s.vplShadowMaps || s.lightShadowMaps);
   EXPECT_TRUE(s.gbuffer && s.direct && s.gather && s.ssbc && s.tonemap && s.offline);
   // A new image size is a new G-buffer too.
-  EXPECT_EQ(toString(change([](Settings& x) { x.width = 96; })), "gbuffer direct gather ssbc tonemap offline");
+  EXPECT_EQ(toString(change([](Settings& x) { x.width = 96; })),
+            "representatives gbuffer direct gather ssbc tonemap offline");
+}
+
+TEST(Invalidation, CameraMoveChoosesTheRepresentativesAgainWithoutNewVpls) {
+  // The preview's reduced set is chosen per view: a camera move re-clusters, the VPLs stay; the maps are redone per
+  // caster that moved (the visibility technique compares them), not by the stage.
+  EXPECT_TRUE(staleAfterCameraMove().representatives);
+  EXPECT_EQ(toString(change([](Settings& x) { x.previewRepresentatives = 256; })),
+            "representatives gather ssbc tonemap");
+  // The cut's bounds use the importance bound, not b: b keeps the representatives.
+  EXPECT_FALSE(change([](Settings& x) { x.clampBound = 0.5f; }).representatives);
+  Staleness vpls;
+  vpls.vpls = true;
+  EXPECT_TRUE(vpls.propagated().representatives);
 }
 
 TEST(Invalidation, LightEditRegeneratesVplsAndShadowMaps) {

@@ -71,6 +71,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   s.lightcutMax = 77;
   s.mrcsRows = 33;
   s.mrcsClusters = 99;
+  s.previewRepresentatives = 300;
 
   Settings back;
   applySettingsJson(settingsToJson(s), back);
@@ -94,7 +95,7 @@ TEST(SettingsJson, RoundTripsEveryMember) {
   EXPECT_THROW(applySettingsJson("{\"generation\": \"bidirectional\", \"rejection\": true}", back),
                SettingsJsonError);
   // Every key the writer emits must be one the reader knows, and none may be missing.
-  EXPECT_EQ(settingsJsonKeys().size(), 52u);
+  EXPECT_EQ(settingsJsonKeys().size(), 53u);
 }
 
 TEST(SettingsJson, InfiniteClampIsWrittenAsStringAndReadBack) {

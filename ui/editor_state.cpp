@@ -87,6 +87,8 @@ bool EditorState::openScene(const std::string& path) {
 }
 
 void EditorState::rebuildAcceleration() {
+  representatives_.reset();  // it holds the old OfflineScene
+  stale_.representatives = true;
   offline_.reset();
   offline_ = std::make_unique<OfflineScene>(scene_);
 }
@@ -244,7 +246,19 @@ void EditorState::regenerateVpls() {
   changeTimer_.vplsGenerated(vpls_.stats.generationSeconds * 1e3);
   ++vplGenerations_;
   vslRadiiStale_ = false;
+  representatives_.reset();
+  stale_.representatives = true;
   invalidatePreviews(&PreviewRenderer::invalidateVpls);
+}
+
+void EditorState::chooseRepresentatives() {
+  // The tree is built once per VPL set (and scene); a new count of representatives that turns the reduction on or off
+  // needs it made again.
+  if (!representatives_ || representatives_->reduces() != previewReducesVpls(vpls_, updateSettings_))
+    representatives_ = std::make_unique<RepresentativeLights>(*offline_, vpls_, updateSettings_);
+  const VplSet& chosen = representatives_->select(updateCamera_, updateSettings_);
+  previewReduced_ = &chosen != &vpls_;
+  if (previewReduced_ && chosen.id != previewSet_.id) previewSet_ = chosen;
 }
 
 void EditorState::measureClampEnergy() {
@@ -291,6 +305,8 @@ void EditorState::updateWork(double budgetMs) {
     if (vslRadiiStale_) {
       std::vector<float> radii = vslRadii(vpls_.vpls, settings_, scene_.bounds.diagonal());
       for (std::size_t i = 0; i < radii.size(); ++i) vpls_.vpls[i].radius = radii[i];
+      representatives_.reset();  // its representatives copy the radii
+      stale_.representatives = true;
       invalidatePreviews(&PreviewRenderer::invalidateVpls);
       vslRadiiStale_ = false;
     }
@@ -310,6 +326,7 @@ void EditorState::updateWork(double budgetMs) {
     updateSettings_ = settings_;
     updateCamera_ = camera_.camera();
     updateStart_ = steadySeconds();
+    if (stale_.representatives || !representatives_) chooseRepresentatives();
   }
   if (!startUpdate && !previewUpdating_) return;
   try {
@@ -329,7 +346,7 @@ void EditorState::updateWork(double budgetMs) {
     }
     if (slow && view_.view != ViewMode::SsbcResidual) {
       try {
-        previewLinear_ = coarse_.render(scene_, vpls_, updateSettings_, updateCamera_);
+        previewLinear_ = coarse_.render(scene_, previewVpls(), updateSettings_, updateCamera_);
         updateCoarseMs_ = coarse_.lastMs();
         fullBudgetMs = std::max(1.0, budgetMs - updateCoarseMs_);
         changeTimer_.coarseShown(steadySeconds());
@@ -338,7 +355,7 @@ void EditorState::updateWork(double budgetMs) {
         // The full-size render meets the same problem and reports it below.
       }
     }
-    timings_ = preview_->render(scene_, vpls_, updateSettings_, updateCamera_, fullBudgetMs);
+    timings_ = preview_->render(scene_, previewVpls(), updateSettings_, updateCamera_, fullBudgetMs);
     changeTimer_.rendered(steadySeconds(), timings_);
     previewUpdating_ = !timings_.complete;
     previewProgress_ = timings_.progress;

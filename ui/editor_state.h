@@ -18,6 +18,7 @@
 #include "renderer/image/image.h"
 #include "renderer/invalidation.h"
 #include "renderer/offline/offline_scene.h"
+#include "renderer/offline/representative_lights.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 #include "renderer/vpl/vpl.h"
@@ -133,6 +134,13 @@ class EditorState {
   const Image& previewImage() const { return previewLinear_; }
   const Image& residualImage() const { return residual_; }
   const VplSet& vpls() const { return vpls_; }
+  /// The lights the preview gathers: the VPLs, or their representatives for the view when there are more than
+  /// Settings::previewRepresentatives (representative_lights.h), as of the last update that started.
+  const VplSet& previewVpls() const { return previewReduced_ ? previewSet_ : vpls_; }
+  /// The last choice of representatives (what it cost, how many moved); empty before the first update.
+  RepresentativeStats representativeStats() const {
+    return representatives_ ? representatives_->stats() : RepresentativeStats{};
+  }
   /// Share of the indirect energy the clamp removes at sample points; < 0 until measured.
   double clampEnergyRemoved() const { return clampEnergyRemoved_; }
   const std::vector<bool>& vplsSeen() const { return vplSeen_; }
@@ -197,6 +205,8 @@ class EditorState {
   /// Tells the full-size and the coarse preview renderer alike (one of PreviewRenderer's invalidate functions).
   void invalidatePreviews(void (PreviewRenderer::*what)());
   void regenerateVpls();
+  /// Chooses the preview's lights for the update that starts (the representatives stage).
+  void chooseRepresentatives();
   void measureClampEnergy();
   void measureVplsSeen();
   void addChartPoint();
@@ -220,6 +230,12 @@ class EditorState {
   Method chosenOfflineMethod_ = Method::Vrl;
   Staleness stale_ = Staleness::all();
   VplSet vpls_;
+  /// Over vpls_ and offline_; made again with either.
+  std::unique_ptr<RepresentativeLights> representatives_;
+  /// A copy of the representatives the preview gathers, when previewReduced_ (an update under way keeps its set
+  /// while the VPLs or the scene are made anew).
+  VplSet previewSet_;
+  bool previewReduced_ = false;
   int vplGenerations_ = 0;
   bool vslRadiiStale_ = false;
   double clampEnergyRemoved_ = -1.0;

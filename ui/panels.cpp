@@ -80,7 +80,8 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     if (s.generation != VplGeneration::Light) s.rejection = false;
     changed = true;
   }
-  changed |= settingSliderInt(s, "vplCount", 1, 4096, ImGuiSliderFlags_Logarithmic);
+  // Beyond previewRepresentatives VPLs the preview gathers a per-view cut of them (representative_lights.h).
+  changed |= settingSliderInt(s, "vplCount", 1, 1 << 20, ImGuiSliderFlags_Logarithmic);
   changed |= settingSliderInt(s, "vplMaxBounces", 1, 64);
   int seed = static_cast<int>(std::min<uint32_t>(s.seed, 1u << 30));
   if (ImGui::InputInt("seed", &seed) && seed >= 0) {
@@ -202,6 +203,7 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
     powerOfTwoSlider("shadowMapSize", 4, 11);
   }
   changed |= settingSliderFloat(s, "shadowBias", 0.0f, 0.1f, "%.4f", ImGuiSliderFlags_Logarithmic);
+  changed |= settingSliderInt(s, "previewRepresentatives", 16, 4096, ImGuiSliderFlags_Logarithmic);
   changed |= settingSliderInt(s, "directLightSamples", 1, 256, ImGuiSliderFlags_Logarithmic);
   powerOfTwoSlider("lightShadowMapSize", 4, 12);
   changed |= settingSliderFloat(s, "exposure", -10.0f, 10.0f, "%.1f");

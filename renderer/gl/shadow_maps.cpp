@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <glm/gtc/matrix_transform.hpp>
+#include <stdexcept>
 
 #include "renderer/gl/gl_scene.h"
 #include "renderer/gl/texture_units.h"
@@ -46,29 +47,7 @@ int CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& c
     faceSize_ = faceSize;
   }
   if (count_ == 0) return -1;
-
-  std::vector<glm::vec4> positions(casters.size());
-  for (std::size_t i = 0; i < casters.size(); ++i) positions[i] = glm::vec4(casters[i], 1.0f);
-  casterBuffer_.assign(positions.data(), positions.size() * sizeof(glm::vec4));
-  casterBuffer_.bindStorage(binding(BufferBinding::ShadowCasters));
-
-  // Cube face orientations of the GL specification (table 8.19), as rotations of the offset from the caster;
-  // shaders/common/shadow.glsl inverts exactly these.
-  static const glm::vec3 kTargets[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-  glm::mat3 rotations[6];
-  for (int f = 0; f < 6; ++f) rotations[f] = glm::mat3(glm::lookAt(glm::vec3(0.0f), kTargets[f], kUps[f]));
-  glProgramUniformMatrix3fv(program_.id(), program_.location("uFaceRotation"), 6, GL_FALSE, &rotations[0][0][0]);
-  program_.set("uProjection", glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far));
-  program_.set("uShadowFar", far);
-
-  scene.bind();
-  program_.use();
-  vao_.bind();
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
+  beginDraws(scene, casters, far);
   int next = -1;
   for (int c = 0; c < chunkCount() && next < 0; ++c) {
     if (chunkEnd(c) <= first) continue;
@@ -94,6 +73,60 @@ int CubeShadowMaps::render(const GlScene& scene, const std::vector<glm::vec3>& c
   }
   glDisable(GL_DEPTH_TEST);
   return next;
+}
+
+int CubeShadowMaps::renderMoved(const GlScene& scene, const std::vector<glm::vec3>& casters,
+                                const std::vector<int>& moved, int first, const std::function<bool()>& outOfTime) {
+  if (static_cast<int>(casters.size()) != count_ || !program_.valid())
+    throw std::logic_error("CubeShadowMaps::renderMoved: the casters of the last render are not those");
+  beginDraws(scene, casters, far_);
+  const float cleared = 1.0f;
+  int next = -1;
+  for (int k = std::max(0, first); k < static_cast<int>(moved.size()); ++k) {
+    const int caster = moved[static_cast<std::size_t>(k)];
+    const int c = caster / capacity_;
+    const GlTexture& chunk = chunks_[static_cast<std::size_t>(c)];
+    const int layer = 6 * (caster - chunkBegin(c));
+    // Only this caster's six faces are cleared and drawn.
+    glClearTexSubImage(chunk.id(), 0, 0, 0, layer, faceSize_, faceSize_, 6, GL_DEPTH_COMPONENT, GL_FLOAT, &cleared);
+    framebuffer_.attachDepth(chunk);
+    framebuffer_.finalize(0);
+    framebuffer_.bind(faceSize_, faceSize_);
+    program_.set("uFirstCaster", chunkBegin(c));
+    program_.set("uInstanceOffset", caster - chunkBegin(c));
+    drawProceduralTriangles(3 * scene.triangleCount(), 1);
+    if (outOfTime && k + 1 < static_cast<int>(moved.size()) && outOfTime()) {
+      next = k + 1;
+      break;
+    }
+  }
+  glDisable(GL_DEPTH_TEST);
+  return next;
+}
+
+void CubeShadowMaps::beginDraws(const GlScene& scene, const std::vector<glm::vec3>& casters, float far) {
+  std::vector<glm::vec4> positions(casters.size());
+  for (std::size_t i = 0; i < casters.size(); ++i) positions[i] = glm::vec4(casters[i], 1.0f);
+  casterBuffer_.assign(positions.data(), positions.size() * sizeof(glm::vec4));
+  casterBuffer_.bindStorage(binding(BufferBinding::ShadowCasters));
+
+  // Cube face orientations of the GL specification (table 8.19), as rotations of the offset from the caster;
+  // shaders/common/shadow.glsl inverts exactly these.
+  static const glm::vec3 kTargets[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
+  static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
+  glm::mat3 rotations[6];
+  for (int f = 0; f < 6; ++f) rotations[f] = glm::mat3(glm::lookAt(glm::vec3(0.0f), kTargets[f], kUps[f]));
+  glProgramUniformMatrix3fv(program_.id(), program_.location("uFaceRotation"), 6, GL_FALSE, &rotations[0][0][0]);
+  program_.set("uProjection", glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far));
+  program_.set("uShadowFar", far);
+
+  scene.bind();
+  program_.use();
+  vao_.bind();
+  glEnable(GL_DEPTH_TEST);
+  glDepthFunc(GL_LESS);
+  glDisable(GL_CULL_FACE);
+  glDisable(GL_BLEND);
 }
 
 }  // namespace vplab

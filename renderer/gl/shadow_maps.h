@@ -34,6 +34,11 @@ class CubeShadowMaps {
   /// do not depend on where it stopped.
   int render(const GlScene& scene, const std::vector<glm::vec3>& casters, int faceSize, float far, int first = 0,
              const std::function<bool()>& outOfTime = {});
+  /// Renders again only the cubes of the casters `moved` names (indices into `casters`, which holds as many casters as
+  /// the last render, with the same face size and far): the others keep their maps. A caster per draw; with outOfTime
+  /// it stops after one once it says so and returns the first entry of `moved` not rendered, else -1.
+  int renderMoved(const GlScene& scene, const std::vector<glm::vec3>& casters, const std::vector<int>& moved,
+                  int first = 0, const std::function<bool()>& outOfTime = {});
 
   /// Casters are split into chunks of at most casterCapacity() cubes (GL_MAX_ARRAY_TEXTURE_LAYERS / 6).
   int chunkCount() const { return static_cast<int>(chunks_.size()); }
@@ -44,6 +49,9 @@ class CubeShadowMaps {
   float far() const { return far_; }
 
  private:
+  /// Uploads the casters' positions and sets the program's uniforms and the GL state every draw of a cube needs.
+  void beginDraws(const GlScene& scene, const std::vector<glm::vec3>& casters, float far);
+
   std::vector<GlTexture> chunks_;
   GlBuffer casterBuffer_;
   GlFramebuffer framebuffer_;

@@ -86,17 +86,30 @@ bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vec
   std::vector<glm::vec3> positions(casters.size());
   for (std::size_t i = 0; i < casters.size(); ++i) positions[i] = casters[i].position;
   // A caster per draw under a budget: on a large scene one cube can take tens of milliseconds.
-  const bool resume = nextCaster_ >= 0 && updatePositions_ == positions && updateMapSize_ == settings.shadowMapSize &&
-                      updateFar_ == far;
-  if (!resume) {
+  const bool same = updatePositions_ == positions && updateMapSize_ == settings.shadowMapSize && updateFar_ == far;
+  if (!(same && (nextCaster_ >= 0 || nextMoved_ >= 0))) {
+    // A set as large as the last whose casters mostly stayed (the preview's representatives after a camera move,
+    // representative_lights.h): only the maps of the casters that moved are drawn again.
+    moved_.clear();
+    const bool comparable =
+        valid_ && mapSize_ == settings.shadowMapSize && maps_.far() == far && positions.size() == positions_.size();
+    for (std::size_t i = 0; comparable && i < positions.size(); ++i)
+      if (positions[i] != positions_[i]) moved_.push_back(static_cast<int>(i));
+    const bool partial = comparable && 2 * moved_.size() <= positions.size();
     updatePositions_ = std::move(positions);
     updateMapSize_ = settings.shadowMapSize;
     updateFar_ = far;
-    nextCaster_ = 0;
+    nextCaster_ = partial ? -1 : 0;
+    nextMoved_ = partial ? 0 : -1;
     valid_ = false;
   }
-  nextCaster_ = maps_.render(glScene, updatePositions_, std::max(8, updateMapSize_ / 2), far, nextCaster_, outOfTime);
-  if (nextCaster_ >= 0) return false;
+  if (nextMoved_ >= 0) {
+    nextMoved_ = maps_.renderMoved(glScene, updatePositions_, moved_, nextMoved_, outOfTime);
+    if (nextMoved_ >= 0) return false;
+  } else {
+    nextCaster_ = maps_.render(glScene, updatePositions_, std::max(8, updateMapSize_ / 2), far, nextCaster_, outOfTime);
+    if (nextCaster_ >= 0) return false;
+  }
   positions_ = updatePositions_;
   mapSize_ = updateMapSize_;
   valid_ = true;

@@ -74,7 +74,7 @@ class CubeVisibility final : public VplVisibility {
               const Settings& settings, float far, const std::function<bool()>& outOfTime) override;
   void resetScene() override {
     valid_ = false;
-    nextCaster_ = -1;
+    nextCaster_ = nextMoved_ = -1;
   }
   int chunkCount() const override { return maps_.chunkCount(); }
   int chunkBegin(int chunk) const override { return maps_.chunkBegin(chunk); }
@@ -86,11 +86,14 @@ class CubeVisibility final : public VplVisibility {
   std::vector<glm::vec3> positions_;
   int mapSize_ = 0;
   bool valid_ = false;
-  // The update under way (its casters, map size and far distance) and the first caster not yet rendered.
+  // The update under way (its casters, map size and far distance) and the first caster not yet rendered; or, for an
+  // update of the casters that moved only, those casters and the first of them not yet rendered.
   std::vector<glm::vec3> updatePositions_;
   int updateMapSize_ = 0;
   float updateFar_ = 0.0f;
   int nextCaster_ = -1;
+  std::vector<int> moved_;
+  int nextMoved_ = -1;
 };
 
 class IsmVisibility final : public VplVisibility {

@@ -17,21 +17,26 @@ constexpr std::size_t kImportanceBatch = 64;
 }  // namespace
 
 std::vector<ShadingPoint> importancePoints(const OfflineScene& offline, const Settings& settings) {
+  return importancePoints(offline, offline.scene().camera, settings.importancePoints, settings.width, settings.height);
+}
+
+std::vector<ShadingPoint> importancePoints(const OfflineScene& offline, const Camera& camera, int count, int width,
+                                           int height) {
   const Scene& scene = offline.scene();
   const EmbreeScene& embree = offline.embree();
   std::vector<ShadingPoint> points;
-  const int m = std::max(1, settings.importancePoints);
-  const float aspect = static_cast<float>(settings.width) / static_cast<float>(std::max(1, settings.height));
+  const int m = std::max(1, count);
+  const float aspect = static_cast<float>(width) / static_cast<float>(std::max(1, height));
   // A grid of about m cells with the image's aspect ratio; one primary ray through each cell centre.
   int gx = std::max(1, static_cast<int>(std::lround(std::sqrt(static_cast<double>(m) * aspect))));
   int gy = std::max(1, static_cast<int>(std::lround(static_cast<double>(m) / gx)));
   points.reserve(static_cast<std::size_t>(gx) * gy);
   for (int j = 0; j < gy; ++j)
     for (int i = 0; i < gx; ++i) {
-      float px = (static_cast<float>(i) + 0.5f) / gx * static_cast<float>(settings.width);
-      float py = (static_cast<float>(j) + 0.5f) / gy * static_cast<float>(settings.height);
-      glm::vec3 dir = cameraRayDirection(scene.camera, px, py, settings.width, settings.height);
-      std::optional<SurfaceHit> hit = embree.intersect(scene.camera.position, dir);
+      float px = (static_cast<float>(i) + 0.5f) / gx * static_cast<float>(width);
+      float py = (static_cast<float>(j) + 0.5f) / gy * static_cast<float>(height);
+      glm::vec3 dir = cameraRayDirection(camera, px, py, width, height);
+      std::optional<SurfaceHit> hit = embree.intersect(camera.position, dir);
       if (!hit || glm::dot(hit->geometricNormal, -dir) <= 0.0f) continue;
       ShadingPoint sp;
       sp.hit = *hit;

@@ -28,6 +28,9 @@ inline constexpr float kImportanceDistanceFraction = 0.1f;
 /// Camera-visible points: primary hits through the centres of a coarse grid of about settings.importancePoints
 /// cells over the image (deterministic; misses and back faces are dropped).
 std::vector<ShadingPoint> importancePoints(const OfflineScene& offline, const Settings& settings);
+/// The same for `count` points of a width x height image seen by `camera`.
+std::vector<ShadingPoint> importancePoints(const OfflineScene& offline, const Camera& camera, int count, int width,
+                                           int height);
 
 class ImportanceEstimator {
  public:
