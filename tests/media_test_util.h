@@ -12,6 +12,7 @@
 #include "renderer/image/image.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/camera_sample.h"
+#include "renderer/offline/medium_direct.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/offline/vrl_renderer.h"
@@ -27,12 +28,10 @@ inline const Image& cachedCpu(const std::string& key, const std::function<Image(
   return it->second;
 }
 
-/// The light of one forced free flight per pixel sample in the media before the surface (ratio tracking through a
-/// grid), as the VPL render draws its camera rays' direct light and compensation (renderer/offline/vpl_renderer.cpp,
-/// mediumAlongRay, step 1): per pixel `spp` jittered camera rays, each adding the flight's weight times `at(x, rng)`,
-/// the radiance leaving the medium point x toward the camera. Nothing else: no surfaces, no VPLs' in-scattering.
-template <class AtMediumPoint>
-Image cpuForcedFlights(const OfflineScene& l, const Settings& s, int spp, uint64_t salt, AtMediumPoint&& at) {
+/// Per pixel `spp` jittered camera rays, each adding alongRay(o, d, intervals, end, rng) for the media intervals
+/// before its first surface (nothing for a ray that crosses no medium): the media part of a camera sample alone.
+template <class AlongRay>
+Image cpuAlongCameraRays(const OfflineScene& l, const Settings& s, int spp, uint64_t salt, AlongRay&& alongRay) {
   const Scene& scene = l.scene();
   Image image(s.width, s.height);
   // A row per work item on the settings' threads; each pixel's random numbers are its own.
@@ -49,13 +48,7 @@ Image cpuForcedFlights(const OfflineScene& l, const Settings& s, int spp, uint64
         const auto hit = l.embree().intersect(scene.camera.position, dir);
         const float end = hit ? hit->distance : kInfinity;
         mediumIntervals(scene.media, scene.camera.position, dir, end, intervals);
-        float t = 0.0f;
-        uint32_t medium = 0;
-        glm::vec3 weight(0.0f);
-        if (intervals.empty() || !sampleForcedFlight(scene.media, intervals, scene.camera.position, dir, end,
-                                                     rng.next2D(), t, medium, weight))
-          continue;
-        sum += weight * at(Interaction::inMediumAt(scene, scene.camera.position + dir * t, medium, -dir), rng);
+        if (!intervals.empty()) sum += alongRay(scene.camera.position, dir, intervals, end, rng);
       }
       image.at(x, y) = sum / static_cast<float>(spp);
     }
@@ -63,12 +56,35 @@ Image cpuForcedFlights(const OfflineScene& l, const Settings& s, int spp, uint64
   return image;
 }
 
-/// The CPU's single scattering of the lights along camera rays: the reference's direct-light estimator at each forced
-/// flight (renderer/offline/camera_sample.h, as the VPL render draws it), nothing else.
+/// The light of one forced free flight per pixel sample in the media before the surface (ratio tracking through a
+/// grid), as the VPL render draws its camera rays' compensation (renderer/offline/vpl_renderer.cpp, mediumAlongRay,
+/// step 1): the flight's weight times `at(x, rng)`, the radiance leaving the medium point x toward the camera.
+/// Nothing else: no surfaces, no VPLs' in-scattering.
+template <class AtMediumPoint>
+Image cpuForcedFlights(const OfflineScene& l, const Settings& s, int spp, uint64_t salt, AtMediumPoint&& at) {
+  const Scene& scene = l.scene();
+  return cpuAlongCameraRays(
+      l, s, spp, salt,
+      [&](const glm::vec3& o, const glm::vec3& dir, const std::vector<MediumInterval>& intervals, float end, Rng& rng) {
+        float t = 0.0f;
+        uint32_t medium = 0;
+        glm::vec3 weight(0.0f);
+        if (!sampleForcedFlight(scene.media, intervals, o, dir, end, rng.next2D(), t, medium, weight))
+          return glm::vec3(0.0f);
+        return weight * at(Interaction::inMediumAt(scene, o + dir * t, medium, -dir), rng);
+      });
+}
+
+/// The CPU's single scattering of the lights along camera rays, as the VPL and VRL renders draw it
+/// (renderer/offline/medium_direct.h, forcedFlightAlongRay: a forced flight and an equiangular distance, MIS), nothing
+/// else.
 inline Image cpuSingleScattering(const OfflineScene& l, const Settings& s, int spp) {
-  return cpuForcedFlights(l, s, spp, 0x73696e676c65ull, [&](const Interaction& at, Rng& rng) {
-    return estimateDirectLight(l.embree(), l.lights(), at, rng);
-  });
+  return cpuAlongCameraRays(
+      l, s, spp, 0x73696e676c65ull,
+      [&](const glm::vec3& o, const glm::vec3& dir, const std::vector<MediumInterval>& intervals, float end, Rng& rng) {
+        return forcedFlightAlongRay(l.embree(), l.lights(), o, dir, intervals, end, true, rng,
+                                    [](const Interaction&) { return glm::vec3(0.0f); });
+      });
 }
 
 /// The medium's part of the residual's compensation in a CPU VPL render of `method` (VplAbc: Engelhardt et al.'s

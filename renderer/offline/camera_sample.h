@@ -59,6 +59,18 @@ inline const MediumInterval* sampleEquiangular(const std::vector<MediumInterval>
   return in;
 }
 
+/// The density with which sampleEquiangular() draws t (0 outside [a, b)): the same expression, so the sampled t gets
+/// exactly the pdf sampleEquiangular() returned.
+inline float equiangularPdf(const glm::vec3& o, const glm::vec3& d, float a, float b, const glm::vec3& p, float minH,
+                            float t) {
+  if (!(t >= a) || !(t < b)) return 0.0f;
+  const float delta = glm::dot(p - o, d);
+  const float h = std::max(minH, glm::length(o + d * delta - p));
+  const float thetaA = std::atan2(a - delta, h), thetaB = std::atan2(b - delta, h);
+  const float pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
+  return pdf > 0.0f && std::isfinite(pdf) ? pdf : 0.0f;
+}
+
 template <class AlongRay, class AtSurface>
 glm::vec3 manyLightCameraSample(const EmbreeScene& embree, const LightSampler& lights, const Settings& settings, int x,
                                 int y, Rng& rng, AlongRay&& alongRay, AtSurface&& atSurface) {

@@ -2,11 +2,13 @@
 
 #include <cmath>
 
+#include "renderer/offline/medium_direct.h"
+
 namespace vplab {
 
 glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& lights, const SurfaceHit& hit,
                             const glm::vec3& wo, const BrdfParams& brdf, Rng& rng, uint64_t* shadowRays,
-                            IncidentSample* incident) {
+                            IncidentSample* incident, bool mixed) {
   // Draw the random numbers first so the stream advances by the same amount whatever happens below.
   float uLight = rng.next1D();
   glm::vec2 uPoint = rng.next2D();
@@ -36,21 +38,36 @@ glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& light
 
   // Veach's power heuristic against the BRDF pdf of the same direction; a delta light cannot be hit by BRDF
   // sampling, so its weight is 1.
-  float weight = ls.isDelta ? 1.0f : powerHeuristic(ls.pdf, brdfPdf(brdf, n, wo, ls.wi));
+  float weight = 1.0f;
+  if (!ls.isDelta) {
+    const float scatterPdf = brdfPdf(brdf, n, wo, ls.wi);
+    weight = powerHeuristic(ls.pdf, mixed ? lights.mixedScatterPdf(hit.position, ls.wi, scatterPdf) : scatterPdf);
+  }
   glm::vec3 result = f * ls.radiance * (cosI * weight / ls.pdf);
   if (incident) *incident = {ls.wi, ls.radiance * (cosI * weight / ls.pdf) * tr};
   return embree.hasMedia() ? result * tr : result;
 }
 
 glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng,
-                            uint64_t* shadowRays) {
-  if (!it.inMedium) return sampleLightDirect(embree, lights, it.hit, it.wo, it.brdf, rng, shadowRays);
+                            uint64_t* shadowRays, const MediumLightSegment* along, bool mixed) {
+  if (!it.inMedium) return sampleLightDirect(embree, lights, it.hit, it.wo, it.brdf, rng, shadowRays, nullptr, mixed);
   float uLight = rng.next1D();
   glm::vec2 uPoint = rng.next2D();
+  return sampleLightMedium(embree, lights, it, uLight, uPoint, shadowRays, along, mixed);
+}
+
+glm::vec3 sampleLightMedium(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, float uLight,
+                            glm::vec2 uPoint, uint64_t* shadowRays, const MediumLightSegment* along, bool mixed) {
   if (lights.empty()) return glm::vec3(0.0f);
   // The same light sample as on a surface; the phase function instead of f cos, no side to face.
   LightSampleLi ls = lights.sampleLi(it.position, uLight, uPoint);
   if (!ls.valid()) return glm::vec3(0.0f);
+  // The distance MIS weight of the free flight that found this point, against equiangular sampling toward the light
+  // point (docs/theory.md §24); a directional light has no point and keeps weight 1.
+  const bool hasPoint = !std::isinf(ls.distance);
+  const float distanceWeight =
+      along ? along->flightWeight(it.position, hasPoint ? &ls.position : nullptr, ls.isDelta) : 1.0f;
+  if (!(distanceWeight > 0.0f)) return glm::vec3(0.0f);
   const float phase = phaseHG(it.wo, ls.wi, it.g);
   ShadowRay ray = std::isinf(ls.distance) ? ShadowRay{it.position, ls.wi, ls.distance}
                                           : embree.shadowRayBetween(it.position, glm::vec3(0.0f), ls.position,
@@ -59,8 +76,9 @@ glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& light
   const glm::vec3 tr = embree.shadowTransmittance(ray, ls.mediumDistance);
   if (tr.r <= 0.0f && tr.g <= 0.0f && tr.b <= 0.0f) return glm::vec3(0.0f);
   // MIS against phase-function sampling of the same direction (power heuristic), delta lights unweighted.
-  float weight = ls.isDelta ? 1.0f : powerHeuristic(ls.pdf, phase);
-  return tr * ls.radiance * (phase * weight / ls.pdf);
+  float weight =
+      ls.isDelta ? 1.0f : powerHeuristic(ls.pdf, mixed ? lights.mixedScatterPdf(it.position, ls.wi, phase) : phase);
+  return tr * ls.radiance * (phase * weight * distanceWeight / ls.pdf);
 }
 
 glm::vec3 misWeightedEmission(const LightSampler& lights, const glm::vec3& from, const SurfaceHit& emitterHit,
@@ -97,9 +115,10 @@ glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lig
   return result + bs.f * le * (cosI / bs.pdf);
 }
 
-glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng) {
+glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng,
+                              const MediumLightSegment* along) {
   if (!it.inMedium) return estimateDirectLight(embree, lights, it.hit, it.wo, it.brdf, rng);
-  glm::vec3 result = sampleLightDirect(embree, lights, it, rng);
+  glm::vec3 result = sampleLightDirect(embree, lights, it, rng, nullptr, along);
   glm::vec2 u = rng.next2D();
   if (lights.empty()) return result;
   PhaseSample ps = samplePhaseHG(it.wo, it.g, u);

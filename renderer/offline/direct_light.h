@@ -27,9 +27,10 @@ inline bool facesDirection(const SurfaceHit& hit, const glm::vec3& w) { return g
 /// shadowRays, when given, is incremented by the number of shadow rays traced (0 or 1). Always draws exactly three
 /// random numbers (one for the light, two for the point), whatever the outcome.
 /// incident, when given, receives the sample as an IncidentSample (zero weight when it carries nothing).
+/// mixed: the other strategy samples directions by LightSampler::mixedScatterPdf() (the reference in media).
 glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& lights, const SurfaceHit& hit,
                             const glm::vec3& wo, const BrdfParams& brdf, Rng& rng, uint64_t* shadowRays = nullptr,
-                            IncidentSample* incident = nullptr);
+                            IncidentSample* incident = nullptr, bool mixed = false);
 
 /// BRDF-sampling half: the emitted radiance Le seen at `emitterHit` along wi (unit, from `from` toward the hit),
 /// times its MIS weight against sampleLightDirect()'s light pdf. The caller multiplies by f cos / brdfPdf (its path
@@ -45,14 +46,27 @@ glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lig
                               const glm::vec3& wo, const BrdfParams& brdf, Rng& rng,
                               std::array<IncidentSample, 2>* incident = nullptr);
 
+class MediumLightSegment;
+
 /// sampleLightDirect() at any path vertex: on a surface exactly the function above; in a medium the phase function
 /// replaces f cos (MIS against phase sampling), and the shadow ray starts at the point itself. With media, every
-/// shadow ray carries their transmittance.
+/// shadow ray carries their transmittance. along, for a medium point that a free flight along that segment found:
+/// the estimate is weighted by the flight's MIS weight against equiangular sampling toward the drawn light point
+/// (medium_direct.h, docs/theory.md §24); the caller adds the segment's equiangular estimate.
 glm::vec3 sampleLightDirect(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng,
-                            uint64_t* shadowRays = nullptr);
+                            uint64_t* shadowRays = nullptr, const MediumLightSegment* along = nullptr,
+                            bool mixed = false);
+
+/// The medium half of sampleLightDirect() with its three numbers given (the light uLight, the point uPoint): the
+/// equiangular technique evaluates it at its own point with the numbers it drew the light point with.
+glm::vec3 sampleLightMedium(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, float uLight,
+                            glm::vec2 uPoint, uint64_t* shadowRays, const MediumLightSegment* along,
+                            bool mixed = false);
 
 /// estimateDirectLight() at any path vertex (a medium point samples the phase function for the second strategy).
-/// Draws 3 + 3 numbers on a surface, 3 + 2 in a medium.
-glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng);
+/// Draws 3 + 3 numbers on a surface, 3 + 2 in a medium. along as for sampleLightDirect() (it weights the light-sampling
+/// half only: the phase-sampled half stays with the free flight).
+glm::vec3 estimateDirectLight(const EmbreeScene& embree, const LightSampler& lights, const Interaction& it, Rng& rng,
+                              const MediumLightSegment* along = nullptr);
 
 }  // namespace vplab

@@ -78,6 +78,69 @@ LightSampler::LightSampler(const Scene& scene) : scene_(scene), triangleToLight_
     cdf_.push_back(static_cast<float>(running / sum));
   }
   cdf_.back() = 1.0f;
+  // The point and spot lights by power, for direction sampling toward them; only paths through media use it.
+  if (!scene.hasMedia()) return;
+  float pointPower = 0.0f;
+  for (const LightRef& l : lights_)
+    if (l.punctual && !scene.punctualLights[l.index].isDirectional()) pointPower += l.power;
+  if (!(pointPower > 0.0f)) return;
+  float running2 = 0.0f;
+  for (const LightRef& l : lights_) {
+    if (!l.punctual || scene.punctualLights[l.index].isDirectional()) continue;
+    running2 += l.power / pointPower;
+    pointLights_.push_back({scene.punctualLights[l.index].position, running2, l.power / pointPower});
+  }
+  pointLights_.back().cdf = 1.0f;
+  guideRadius_ = 0.1f * std::max(scene.bounds.diagonal(), 1e-6f);
+}
+
+namespace {
+
+/// The angles between which direction sampling toward a point light at distance d draws: atan(r / d) outside, and
+/// inside atan(r / 1000 / d), so that no line passes closer than r / 1000 to the light (below that, float precision no
+/// longer keeps the equiangular density and the light's 1/d^2 in step, and a handful of paths would carry most of
+/// the image; the BRDF or phase function still reaches those directions).
+struct GuideCone {
+  float alphaMin, alphaMax;
+  GuideCone(float radius, float d) : alphaMin(std::atan2(1e-3f * radius, d)), alphaMax(std::atan2(radius, d)) {}
+  bool valid() const { return alphaMax > alphaMin; }
+};
+
+}  // namespace
+
+bool LightSampler::sampleTowardPointLights(const glm::vec3& x, const glm::vec3& u, glm::vec3& wi) const {
+  if (pointLights_.empty()) return false;
+  const auto it = std::upper_bound(pointLights_.begin(), pointLights_.end(), u.x,
+                                   [](float v, const PointLightRef& l) { return v < l.cdf; });
+  const PointLightRef& light = it == pointLights_.end() ? pointLights_.back() : *it;
+  const glm::vec3 d = light.position - x;
+  const float dist = glm::length(d);
+  if (!(dist > 0.0f)) return false;
+  // alpha linear in [alpha_min, alpha_max]: the density 1 / (2 pi (alpha_max - alpha_min) sin alpha) cancels the 1/h
+  // of the segment.
+  const GuideCone cone(guideRadius_, dist);
+  if (!cone.valid()) return false;
+  const float alpha = cone.alphaMin + u.y * (cone.alphaMax - cone.alphaMin), phi = 2.0f * kPi * u.z;
+  const float sinA = std::sin(alpha);
+  wi = glm::normalize(Frame(d / dist).toWorld({sinA * std::cos(phi), sinA * std::sin(phi), std::cos(alpha)}));
+  return true;
+}
+
+float LightSampler::pdfTowardPointLights(const glm::vec3& x, const glm::vec3& wi) const {
+  float pdf = 0.0f;
+  for (const PointLightRef& light : pointLights_) {
+    const glm::vec3 d = light.position - x;
+    const float dist = glm::length(d);
+    if (!(dist > 0.0f)) continue;
+    const GuideCone cone(guideRadius_, dist);
+    if (!cone.valid()) continue;
+    // The angle from the cross product's length: acos loses small angles, where the density is largest.
+    const float sinA = glm::length(glm::cross(d / dist, wi));
+    const float alpha = std::atan2(sinA, glm::dot(d / dist, wi));
+    if (!(alpha >= cone.alphaMin && alpha < cone.alphaMax) || !(sinA > 0.0f)) continue;
+    pdf += light.probability / (2.0f * kPi * (cone.alphaMax - cone.alphaMin) * sinA);
+  }
+  return pdf;
 }
 
 std::size_t LightSampler::pick(float u) const {
@@ -142,6 +205,20 @@ LightSampleLi LightSampler::sampleLi(const glm::vec3& x, float uLight, glm::vec2
   s.pdf = pLight * dist2 / (cosLight * scene_.triangleArea(light.index));
   s.emissionPdfDirection = cosLight * kInvPi;
   return s;
+}
+
+bool LightSampler::samplePosition(float uLight, glm::vec2 uPoint, glm::vec3& position, bool* punctual) const {
+  if (empty()) return false;
+  const LightRef& light = lights_[pick(uLight)];
+  if (punctual) *punctual = light.punctual;
+  if (light.punctual) {
+    const PunctualLight& pl = scene_.punctualLights[light.index];
+    if (pl.isDirectional()) return false;
+    position = pl.position;
+    return true;
+  }
+  position = pointOnTriangle(scene_, light.index, uPoint).position;
+  return true;
 }
 
 float LightSampler::pdfLi(const glm::vec3& x, uint32_t triangle, const glm::vec3& y, const glm::vec3& ny) const {

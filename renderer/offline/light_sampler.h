@@ -58,6 +58,31 @@ class LightSampler {
   /// Next-event estimation: a light chosen by power (uLight; an emissive triangle by its mean textured radiance), a
   /// point uniform on its area (uPoint) carrying the radiance emitted there.
   LightSampleLi sampleLi(const glm::vec3& x, float uLight, glm::vec2 uPoint) const;
+  /// The point on the light that sampleLi() picks with the same numbers, whatever the receiving point (the choice and
+  /// the point do not depend on it): false for a directional light, which has none. Equiangular distance sampling
+  /// toward the chosen light draws the light first (docs/theory.md §24).
+  /// punctual, when given, says whether it is a point or spot light (else a point on an emitting triangle).
+  bool samplePosition(float uLight, glm::vec2 uPoint, glm::vec3& position, bool* punctual = nullptr) const;
+  /// Direction sampling toward the point and spot lights, for paths through media (docs/theory.md §24): the
+  /// equiangular estimate of a segment passing at distance h from a point light is about pi sigma_s f_p I / h, so the
+  /// direction that leads to that segment needs a density that grows as 1/h near the light. A light chosen by power
+  /// among them, the angle alpha to its direction uniform in [alpha_min, alpha_max] (alpha_max = atan(r / D), D its
+  /// distance, r a tenth of the scene's diagonal, alpha_min = atan(r / 1000 / D)), the azimuth uniform: solid-angle
+  /// density 1 / (2 pi (alpha_max - alpha_min) sin alpha).
+  bool hasPointLights() const { return !pointLights_.empty(); }
+  /// A direction from x with u.x picking the light and u.y, u.z the cone (false when x lies within r / 1000 of it).
+  bool sampleTowardPointLights(const glm::vec3& x, const glm::vec3& u, glm::vec3& wi) const;
+  /// Solid-angle density of sampleTowardPointLights() at x for the unit direction wi.
+  float pdfTowardPointLights(const glm::vec3& x, const glm::vec3& wi) const;
+  /// The density of a path vertex's direction sampling when it mixes the BRDF or phase function (scatterPdf) with
+  /// sampling toward the point lights (probability kTowardPointLights), as the reference does in media; scatterPdf
+  /// alone without point lights.
+  float mixedScatterPdf(const glm::vec3& x, const glm::vec3& wi, float scatterPdf) const {
+    if (pointLights_.empty()) return scatterPdf;
+    return (1.0f - kTowardPointLights) * scatterPdf + kTowardPointLights * pdfTowardPointLights(x, wi);
+  }
+  /// Probability of sampling a direction toward the point lights at a vertex of a path through media.
+  static constexpr float kTowardPointLights = 0.25f;
   /// Solid-angle pdf with which sampleLi() returns point y with normal ny on emissive `triangle` as seen from x.
   float pdfLi(const glm::vec3& x, uint32_t triangle, const glm::vec3& y, const glm::vec3& ny) const;
   /// Radiance leaving an emissive triangle at texture coordinates uv toward w (zero on its back side).
@@ -88,8 +113,15 @@ class LightSampler {
   /// Probability that pick() chooses light li.
   float choiceProbability(std::size_t li) const { return cdf_[li] - (li > 0 ? cdf_[li - 1] : 0.0f); }
 
+  struct PointLightRef {
+    glm::vec3 position{0.0f};
+    float cdf = 0.0f;  ///< normalised over the point and spot lights
+    float probability = 0.0f;
+  };
   const Scene& scene_;
   std::vector<LightRef> lights_;
+  std::vector<PointLightRef> pointLights_;  ///< the point and spot lights, for paths through media
+  float guideRadius_ = 0.0f;
   std::vector<float> cdf_;                     ///< normalised, cdf_.back() == 1
   std::vector<int32_t> triangleToLight_;       ///< scene triangle -> index in lights_ (-1 if not emissive)
   glm::vec3 totalPower_{0.0f};

@@ -206,4 +206,55 @@ bool sampleForcedFlight(const std::vector<Medium>& media, const std::vector<Medi
   return false;
 }
 
+float flightDensity(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals,
+                    const glm::vec3& origin, const glm::vec3& direction, float end, float t, bool forced,
+                    const glm::vec3& channelWeights) {
+  if (!(t >= 0.0f) || !(t < end)) return 0.0f;
+  if (forced) {
+    // sampleForcedFlight's density: (1 / usable) sum over the channels that can scatter of mu_c T_maj,c(t) / mass_c.
+    const std::vector<MediumPiece>& pieces = collectPieces(media, intervals, origin, direction, end);
+    glm::vec3 total(0.0f), depth(0.0f), mu(0.0f);
+    bool inside = false;
+    for (const MediumPiece& p : pieces) {
+      total += opticalDepth(p.sigmaMax, p.t1 - p.t0);
+      if (t >= p.t1) {
+        depth += opticalDepth(p.sigmaMax, p.t1 - p.t0);
+      } else if (t >= p.t0 && !inside) {
+        depth += opticalDepth(p.sigmaMax, t - p.t0);
+        mu = p.sigmaMax;
+        inside = true;
+      }
+    }
+    if (!inside) return 0.0f;
+    float pdf = 0.0f;
+    int usable = 0;
+    for (int c = 0; c < 3; ++c) {
+      const float mass = std::isinf(total[c]) ? 1.0f : -std::expm1(-total[c]);
+      if (!(mass > 0.0f)) continue;
+      ++usable;
+      pdf += mu[c] * std::exp(-depth[c]) / mass;
+    }
+    return usable > 0 ? pdf / static_cast<float>(usable) : 0.0f;
+  }
+  // The path's flight: sigma_t(x(t)) T(t) per channel, mixed by the path's channel probabilities.
+  const float sum = channelWeights.x + channelWeights.y + channelWeights.z;
+  if (!(sum > 0.0f)) return 0.0f;
+  glm::vec3 depth(0.0f);
+  float pdf = 0.0f;
+  walkMediumPieces(media, intervals, origin, direction, end, [&](const MediumPiece& p) {
+    const glm::vec3 sigma = p.exact ? p.sigmaMax : 0.5f * (p.sigmaMax + p.sigmaMin);
+    if (t >= p.t1) {
+      depth += opticalDepth(sigma, p.t1 - p.t0);
+      return true;
+    }
+    if (t < p.t0) return false;
+    depth += opticalDepth(sigma, t - p.t0);
+    const Medium& m = media[p.medium];
+    const glm::vec3 sigmaT = p.exact ? p.sigmaMax : m.sigmaTAt(origin + direction * t);
+    pdf = glm::dot(channelWeights / sum, sigmaT * glm::exp(-depth));
+    return false;
+  });
+  return pdf;
+}
+
 }  // namespace vplab

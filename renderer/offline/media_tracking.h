@@ -89,4 +89,15 @@ bool sampleForcedFlight(const std::vector<Medium>& media, const std::vector<Medi
                         const glm::vec3& origin, const glm::vec3& direction, float end, glm::vec2 u, float& tOut,
                         uint32_t& mediumOut, glm::vec3& weightOut);
 
+/// The density with which a free flight along origin + t * direction scatters at t, for the MIS weights of distance
+/// sampling toward the lights (docs/theory.md §24); 0 outside the media intervals before `end`.
+/// forced = true: sampleForcedFlight()'s density, exact (it draws from the majorants).
+/// forced = false: sampleFlight()'s, the path's flight: sum_c w_c sigma_t,c(t) T_c(t) with w = channelWeights / their
+/// sum (the path's spectral MIS channel probabilities). Exact in homogeneous media; through a grid T_c is taken as
+/// exp(-(sigma_max + sigma_min) / 2 length) per majorant piece, a deterministic approximation (an MIS weight may use
+/// any density that is a fixed function of the path: the weights still sum to one).
+float flightDensity(const std::vector<Medium>& media, const std::vector<MediumInterval>& intervals,
+                    const glm::vec3& origin, const glm::vec3& direction, float end, float t, bool forced,
+                    const glm::vec3& channelWeights = glm::vec3(1.0f));
+
 }  // namespace vplab

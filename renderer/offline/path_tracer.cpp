@@ -2,6 +2,7 @@
 
 #include "renderer/offline/direct_light.h"
 #include "renderer/offline/interaction.h"
+#include "renderer/offline/medium_direct.h"
 #include "renderer/offline/spectral_mis.h"
 #include "renderer/scene/brdf_params.h"
 
@@ -17,11 +18,33 @@ namespace {
 
 bool finite3(const glm::vec3& v) { return std::isfinite(v.x) && std::isfinite(v.y) && std::isfinite(v.z); }
 
+/// A vertex's next direction in media with point lights: with probability LightSampler::kTowardPointLights toward
+/// them, else from the BRDF or phase function; the weight and pdf are those of the mixture (one-sample MIS, the balance
+/// heuristic over the two samplers). Draws one number, then the chosen sampler's.
+Interaction::Sample sampleMixedDirection(const Interaction& vertex, const LightSampler& lights, Rng& rng) {
+  const float q = LightSampler::kTowardPointLights;
+  const float u = rng.next1D();
+  Interaction::Sample s;
+  if (u < q) {
+    const glm::vec2 uCone = rng.next2D();
+    if (!lights.sampleTowardPointLights(vertex.position, glm::vec3(u / q, uCone), s.wi)) return {};
+  } else {
+    s = vertex.sample(rng);
+    if (!s.valid()) return {};
+  }
+  const glm::vec3 f = vertex.scatter(s.wi);
+  const float pdf = lights.mixedScatterPdf(vertex.position, s.wi, vertex.pdf(s.wi));
+  if (!(pdf > 0.0f) || !(f.r > 0.0f || f.g > 0.0f || f.b > 0.0f)) return {};
+  s.pdf = pdf;
+  s.weight = f / pdf;
+  return s;
+}
+
 }  // namespace
 
 glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& lights, const glm::vec3& origin,
                             const glm::vec3& direction, int maxDepth, Components components, Rng& rng,
-                            ReferenceStats* stats) {
+                            ReferenceStats* stats, DistanceSampling distanceSampling) {
   const Scene& scene = embree.scene();
   const bool wantDirect = components != Components::Indirect;
   const bool wantIndirect = components != Components::Direct;
@@ -38,9 +61,28 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
   glm::vec3 throughput(1.0f);
   glm::vec3 dir = direction;
 
+  // Distance sampling toward the lights on a segment that crossed a medium (docs/theory.md §24): the segment's
+  // equiangular estimate of the lights' single scattering, added with the throughput before the segment, and the
+  // context the free flight's vertex weights its next-event estimate with. `vertexBounce` is the bounce its
+  // scattering vertex would be: only segments whose vertex is counted draw and estimate anything.
+  MediumLightSegment along(embree, origin, direction, 0.0f, false, glm::vec3(1.0f), distanceSampling,
+                           lights.hasPointLights());
+  // In media with point or spot lights, directions are also sampled toward those lights (mixedScatterPdf): a segment
+  // passing at h from a point light carries an equiangular estimate of about 1/h, which phase and BRDF sampling
+  // alone leave as fireflies of multiple scattering (docs/theory.md §24).
+  const bool mixed = lights.hasPointLights();
+  auto lightsAlong = [&](const glm::vec3& from, const glm::vec3& w, const Segment& s, int vertexBounce) {
+    along.clear();
+    if (!s.crossedMedium || vertexBounce > lastBounce) return;
+    along.reset(from, w, s.surfaceDistance, spectral.pdf);
+    const glm::vec3 l = along.equiangular(lights, rng, &shadowRays);
+    if (vertexBounce == 1 ? wantDirect : wantIndirect) radiance += throughput * l;
+  };
+
   // Primary ray; emission seen directly belongs to the Direct component (zero reflections). Through media the
   // segment ends at the surface or at a scattering event, with the free flight's weight.
   Segment segment = embree.traceSegment(origin, dir, kUnbounded, draw);
+  lightsAlong(origin, dir, segment, 1);
   if (segment.crossedMedium) spectral.apply(segment, throughput);
   if (segment.end == Segment::End::Surface && wantDirect)
     radiance += throughput * lights.emittedRadiance(segment.hit->triangle, segment.hit->geometricNormal,
@@ -57,8 +99,10 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
     // Next-event estimation with MIS (Veach 1997, eq. 9.13, power heuristic): the light-sampling strategy, through
     // the media's transmittance. When this bounce is not wanted its three random numbers are still drawn, so the
     // stream (and every later vertex) does not depend on the components asked for.
+    // A medium vertex weights its estimate against the equiangular one of the segment that found it.
     if (count) {
-      radiance += throughput * sampleLightDirect(embree, lights, vertex, rng, &shadowRays);
+      const MediumLightSegment* distanceMis = vertex.inMedium && along.overlapsMedia() ? &along : nullptr;
+      radiance += throughput * sampleLightDirect(embree, lights, vertex, rng, &shadowRays, distanceMis, mixed);
     } else {
       rng.next1D();
       rng.next2D();
@@ -66,10 +110,11 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
 
     // BRDF or phase-function sampling: the next direction of the walk, and the second MIS strategy for the next
     // vertex's emission.
-    const Interaction::Sample bs = vertex.sample(rng);
+    const Interaction::Sample bs = mixed ? sampleMixedDirection(vertex, lights, rng) : vertex.sample(rng);
     if (!bs.valid()) break;
-    // Path throughput update: beta *= f cos / pdf (f_p / pdf = 1 in a medium).
-    if (!vertex.inMedium) throughput *= bs.weight;
+    // Path throughput update: beta *= f cos / pdf (f_p / pdf, exactly 1 in a medium unless the direction was drawn
+    // from the mixture with the point lights).
+    throughput *= bs.weight;
     // A non-finite throughput is a defect of a BRDF or pdf: the sample becomes NaN, which renderProgressive leaves
     // out of the mean and counts, instead of a silently shortened path.
     if (!finite3(throughput)) {
@@ -80,6 +125,8 @@ glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& light
     const glm::vec3 next = vertex.rayOrigin(embree, bs.wi);
     Segment nextSegment = embree.traceSegment(next, bs.wi, kUnbounded, draw);
     ++bounceRays;
+    // The lights' single scattering along the new segment, escaping or not, by equiangular sampling (MIS).
+    lightsAlong(next, bs.wi, nextSegment, bounce + 1);
     if (nextSegment.end == Segment::End::Escape) break;
     // Free-flight sampling: T sigma_s / pdf for a scattering event, T / P(no event) for the surface.
     if (nextSegment.crossedMedium) spectral.apply(nextSegment, throughput);

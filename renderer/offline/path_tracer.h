@@ -9,6 +9,7 @@
 #include "renderer/core/parallel.h"
 #include "renderer/offline/embree_scene.h"
 #include "renderer/offline/light_sampler.h"
+#include "renderer/offline/medium_direct.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/progressive.h"
 #include "renderer/scene/scene.h"
@@ -34,10 +35,13 @@ struct ReferenceStats {
 /// directly plus light after exactly one reflection or scattering event (single scattering in media); Indirect is
 /// every path with two or more.
 /// The random numbers drawn do not depend on `components`, so Direct + Indirect equals All sample by sample.
+/// Every segment through media adds the lights' single scattering by equiangular sampling toward the light that
+/// next-event estimation picks, combined with the free flight by MIS (distanceSampling: both, or one alone for tests;
+/// docs/theory.md §24).
 /// NaN when the path's throughput became non-finite (renderProgressive counts such samples).
 glm::vec3 referenceRadiance(const EmbreeScene& embree, const LightSampler& lights, const glm::vec3& origin,
                             const glm::vec3& direction, int maxDepth, Components components, Rng& rng,
-                            ReferenceStats* stats = nullptr);
+                            ReferenceStats* stats = nullptr, DistanceSampling distanceSampling = DistanceSampling::Mis);
 
 /// Renders settings.width x settings.height at settings.samplesPerPixel (seed, threads, maxDepth, components from
 /// settings). onPass (may be empty) sees the running mean after each progressive pass. With no lights the image is

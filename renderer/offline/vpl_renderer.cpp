@@ -8,6 +8,7 @@
 #include "renderer/core/sampling.h"
 #include "renderer/offline/camera_sample.h"
 #include "renderer/offline/direct_light.h"
+#include "renderer/offline/medium_direct.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/vpl/vpl_contribution.h"
 #include "renderer/vpl/vpl_generation.h"
@@ -259,25 +260,18 @@ glm::vec3 compensationFor(const Context& ctx, const Interaction& x, Rng& rng, Ga
 }
 
 /// The medium part of one camera sample (docs/theory.md §16-§18): integral over the media intervals of
-/// T(0, t) sigma_s L_s(x(t)). Direct light (single scattering) and the compensation at one forced-flight distance;
+/// T(0, t) sigma_s L_s(x(t)). Direct light (single scattering) and the compensation at one forced-flight distance, the
+/// direct light also at an equiangular distance toward the light (MIS, medium_direct.h);
 /// each VPL's in-scattering at a distance of its own, drawn equiangularly around it (Kulla & Fajardo 2012), which
 /// cancels its 1/d^2 along the ray.
 glm::vec3 mediumAlongRay(const Context& ctx, const glm::vec3& origin, const glm::vec3& dir,
                          const std::vector<MediumInterval>& intervals, float end, bool wantDirect, bool wantIndirect,
                          Rng& rng, GatherTally& tally) {
-  glm::vec3 radiance(0.0f);
-  // Step 1: one distance by forced free flight for the direct light and the residual compensation.
-  glm::vec2 u = rng.next2D();
-  float t = 0.0f;
-  uint32_t medium = 0;
-  glm::vec3 weight(0.0f);
-  if (sampleForcedFlight(ctx.scene.media, intervals, origin, dir, end, u, t, medium, weight)) {
-    const Interaction x = Interaction::inMediumAt(ctx.scene, origin + dir * t, medium, -dir);
-    glm::vec3 l(0.0f);
-    if (wantDirect) l += estimateDirectLight(ctx.embree, ctx.lights, x, rng);
-    if (wantIndirect) l += compensationFor(ctx, x, rng, tally);
-    radiance += weight * l;
-  }
+  // Step 1: one distance by forced free flight for the direct light and the residual compensation; the direct light
+  // also by equiangular sampling toward the lights, MIS-weighted (docs/theory.md §24).
+  glm::vec3 radiance = forcedFlightAlongRay(
+      ctx.embree, ctx.lights, origin, dir, intervals, end, wantDirect, rng,
+      [&](const Interaction& x) { return wantIndirect ? compensationFor(ctx, x, rng, tally) : glm::vec3(0.0f); });
   if (!wantIndirect || ctx.vpls.empty()) return radiance;
 
   // Step 2: every VPL's in-scattering along the ray, equiangular over the span of the media intervals. A span that

@@ -9,6 +9,7 @@
 #include "renderer/offline/camera_sample.h"
 #include "renderer/offline/direct_light.h"
 #include "renderer/offline/interaction.h"
+#include "renderer/offline/medium_direct.h"
 #include "renderer/scene/brdf_params.h"
 #include "renderer/scene/medium.h"
 #include "renderer/vpl/vpl_contribution.h"
@@ -270,17 +271,13 @@ glm::vec3 indirectAlongRay(const Context& ctx, const glm::vec3& o, const glm::ve
   return batch.sum;
 }
 
-/// Single scattering along the camera ray by one forced free flight (the conditioned free flight of the VPL render:
-/// density proportional to mean_c sigma_t,c T_c(t) over the media intervals before `end`), estimateDirectLight there.
+/// Single scattering along the camera ray: one forced free flight (the conditioned free flight of the VPL render:
+/// density proportional to mean_c sigma_t,c T_c(t) over the media intervals before `end`) and one equiangular distance
+/// toward the light, MIS-weighted (medium_direct.h, docs/theory.md §24).
 glm::vec3 singleScattering(const Context& ctx, const glm::vec3& o, const glm::vec3& d,
                            const std::vector<MediumInterval>& intervals, float end, Rng& rng) {
-  const glm::vec2 u = rng.next2D();
-  float t = 0.0f;
-  uint32_t medium = 0;
-  glm::vec3 weight(0.0f);
-  if (!sampleForcedFlight(ctx.scene.media, intervals, o, d, end, u, t, medium, weight)) return glm::vec3(0.0f);
-  const Interaction x = Interaction::inMediumAt(ctx.scene, o + d * t, medium, -d);
-  return weight * estimateDirectLight(ctx.embree, ctx.lights, x, rng);
+  return forcedFlightAlongRay(ctx.embree, ctx.lights, o, d, intervals, end, true, rng,
+                              [](const Interaction&) { return glm::vec3(0.0f); });
 }
 
 /// One VRL (or beam) render of `set` with beam radius `radius` (0 = VRLs).
