@@ -20,7 +20,11 @@
 #include "tests/gl_test_util.h"
 #include "tests/test_scenes.h"
 #ifdef VPLAB_HAVE_EDITOR
+#include <chrono>
+#include <thread>
+
 #include "ui/editor_state.h"
+#include "ui/view_image.h"
 #endif
 
 namespace vplab {
@@ -181,16 +185,26 @@ TEST(GlRepresentatives, CameraMoveRedrawsTheMovedMapsOnlyAndGivesAFreshRenderers
 }
 
 #ifdef VPLAB_HAVE_EDITOR
-// The editor past previewRepresentatives VPLs: the preview gathers the representatives; a camera move chooses them
-// again without new VPLs, and redraws the maps of those that moved.
-TEST(EditorRepresentativesGl, CameraMoveReclustersWithoutNewVpls) {
-  HeadlessGlContext context;
-  Settings s = reductionSettings(4096, 64);
-  s.width = s.height = 32;
+/// The editor on the Cornell box at size x size with `vpls` VPLs and `representatives`, small maps, its first image
+/// made.
+std::unique_ptr<ui::EditorState> cornellEditor(int size, int vpls, int representatives) {
+  Settings s = reductionSettings(vpls, representatives);
+  s.width = s.height = size;
   s.shadowMapSize = 64;
   s.directLightSamples = 4;
-  ui::EditorState state(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf", s, false, 0.4f);
-  state.finishWork();
+  s.exactSamplesPerPixel = 1;
+  auto state =
+      std::make_unique<ui::EditorState>(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf", s, false, 0.4f);
+  state->finishWork();
+  return state;
+}
+
+// The editor past previewRepresentatives VPLs: the preview gathers the representatives; a camera move chooses them
+// again without new VPLs, and redraws the maps of those that moved.
+TEST(EditorManyLightsGl, CameraMoveReclustersWithoutNewVpls) {
+  HeadlessGlContext context;
+  auto editor = cornellEditor(32, 4096, 64);
+  ui::EditorState& state = *editor;
   ASSERT_TRUE(state.previewError().empty()) << state.previewError();
   EXPECT_GT(state.vpls().vpls.size(), 4000u);
   EXPECT_EQ(state.previewVpls().vpls.size(), 64u);
@@ -203,6 +217,31 @@ TEST(EditorRepresentativesGl, CameraMoveReclustersWithoutNewVpls) {
   EXPECT_GE(n.gathers, 1);
   EXPECT_NE(state.previewVpls().id, before);
   EXPECT_LT(state.representativeStats().moved, 64u);
+}
+
+// A lightcuts render in the editor: the cut-size view maps its cut per pixel, and its statistics are kept.
+TEST(EditorManyLightsGl, CutSizeViewMapsTheLastLightcutsRender) {
+  HeadlessGlContext context;
+  auto editor = cornellEditor(16, 2000, 1024);
+  ui::EditorState& state = *editor;
+  state.setView(ui::ViewMode::CutSize);
+  EXPECT_FALSE(ui::composeView(state).emptyState.empty()) << "no lightcuts render yet";
+  state.setOfflineMethod(Method::Lightcuts);
+  state.startOffline(ui::OfflineRequest::Chosen);
+  while (state.job().running()) {
+    state.pollOffline();
+    std::this_thread::sleep_for(std::chrono::milliseconds(5));
+  }
+  state.pollOffline();
+  ASSERT_TRUE(state.job().error().empty()) << state.job().error();
+  ASSERT_EQ(state.cutSize().width, 16);
+  const CutSizeSummary& cuts = state.cutSummary();
+  EXPECT_GT(cuts.pixels, 100u);
+  EXPECT_GT(cuts.mean, 10.0);
+  EXPECT_LE(cuts.max, static_cast<double>(state.settings().lightcutMax));
+  const ui::ViewImage view = ui::composeView(state);
+  EXPECT_TRUE(view.emptyState.empty()) << view.emptyState;
+  EXPECT_FALSE(view.rgb.empty());
 }
 #endif
 

@@ -253,7 +253,7 @@ void Editor::handleInput() {
       cameraMoved = true;
     }
     if (ImGui::IsKeyPressed(GLFW_KEY_F)) state.resetCamera();
-    for (int i = 0; i < 6; ++i)
+    for (int i = 0; i < 7; ++i)
       if (ImGui::IsKeyPressed(GLFW_KEY_1 + i)) state.setView(kAllViewModes[i]);
     if (ImGui::IsKeyPressed(GLFW_KEY_O) && !state.job().running()) state.startOffline(OfflineRequest::Reference);
     if (ImGui::IsKeyPressed(GLFW_KEY_ESCAPE)) state.job().cancel();

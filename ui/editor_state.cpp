@@ -447,6 +447,11 @@ void EditorState::pollOffline() {
   offlineSeconds_ = job_.seconds();
   offlineClampEnergy_ = job_.clampEnergyRemoved();
   const bool completed = !job_.cancelled() && job_.error().empty();
+  // A lightcuts render keeps its cut sizes until the next one (the cut-size view and the cut statistics).
+  if (completed && (job_.method() == Method::Lightcuts || job_.method() == Method::LightcutsKK)) {
+    cutSize_ = job_.cutSize();
+    cutSummary_ = summarizeCutSizes(cutSize_, offlineJobSettings_.lightcutMax);
+  }
   if (completed)
     offlineEstimates_[scene_.sourcePath].record(
         job_.method(), offlineRenderSettings(offlineJobSettings_, job_.method()), offlineJobVpls_, job_.seconds());

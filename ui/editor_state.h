@@ -17,6 +17,7 @@
 #include "renderer/gl/preview_renderer.h"
 #include "renderer/image/image.h"
 #include "renderer/invalidation.h"
+#include "renderer/offline/lightcuts_renderer.h"
 #include "renderer/offline/offline_scene.h"
 #include "renderer/offline/representative_lights.h"
 #include "renderer/scene/scene.h"
@@ -167,6 +168,9 @@ class EditorState {
   bool offlineStale() const { return offlineStale_; }
   double offlineSeconds() const { return offlineSeconds_; }
   double offlineClampEnergy() const { return offlineClampEnergy_; }
+  /// The last lightcuts render's per-pixel cut size (light-tree nodes) and what it says; empty before one.
+  const Image& cutSize() const { return cutSize_; }
+  const CutSizeSummary& cutSummary() const { return cutSummary_; }
   /// Seconds an offline render of `method` with the current settings would take (< 0: unknown).
   double offlineEstimate(Method method) const;
 
@@ -270,6 +274,8 @@ class EditorState {
   Method offlineImageMethod_ = Method::Reference;
   bool offlineStale_ = false;
   double offlineSeconds_ = 0.0, offlineClampEnergy_ = 0.0;
+  Image cutSize_;
+  CutSizeSummary cutSummary_;
   std::map<std::string, OfflineTimeEstimate> offlineEstimates_;  ///< per scene file: throughput of its last renders
   Settings offlineJobSettings_;                                  ///< what the running (or last) offline job renders
   std::size_t offlineJobVpls_ = 0;

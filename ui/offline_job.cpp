@@ -83,6 +83,7 @@ void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& v
   {
     std::lock_guard lock(mutex_);
     error_.clear();
+    cutSize_ = Image();
   }
   // Copies: the worker must not see the editor's later edits (a moved light, a new scene) half-way through.
   Scene sceneCopy = scene;
@@ -104,6 +105,7 @@ void OfflineJob::start(const Scene& scene, const Camera& camera, const VplSet& v
       nonFiniteSamples_ = result.nonFiniteSamples;
       std::lock_guard lock(mutex_);
       image_ = std::move(result.image);
+      cutSize_ = std::move(result.cutSize);
       imageChanged_ = true;
     } catch (const std::exception& e) {
       std::lock_guard lock(mutex_);
@@ -123,5 +125,10 @@ std::optional<Image> OfflineJob::takeImage() {
 }
 
 bool OfflineJob::takeFinished() { return finished_.exchange(false); }
+
+Image OfflineJob::cutSize() const {
+  std::lock_guard lock(mutex_);
+  return cutSize_;
+}
 
 }  // namespace vplab::ui

@@ -77,6 +77,8 @@ class OfflineJob {
   double clampEnergyRemoved() const { return clampEnergyRemoved_; }
   /// The message of an exception thrown by the render, empty when none.
   std::string error() const;
+  /// Lightcuts: the finished render's per-pixel cut size (VplRenderResult::cutSize); empty otherwise.
+  Image cutSize() const;
 
  private:
   void join();
@@ -88,7 +90,7 @@ class OfflineJob {
   std::atomic<bool> imageChanged_{false};
   std::atomic<bool> finished_{false};
   mutable std::mutex mutex_;
-  Image image_;
+  Image image_, cutSize_;
   std::string error_;
   Method method_ = Method::Reference;
   double startTime_ = 0.0;

@@ -202,6 +202,19 @@ const std::vector<TeachingPreset>& teachingPresets() {
         "leaks through the wall between the rooms, where too few points covered the wall near a VPL, blue where "
         "splats and the depth bias shadow surfaces that meet. Raise the ISM points and the tile size, or switch the "
         "VPL visibility to cube shadow maps, and the map fades."));
+    // --- really many lights (docs/methods.md "Lightcuts", "The preview at many VPLs") -----------------------------
+    list.push_back(make(
+        {"Many VPLs at the cost of a few (lightcuts)", "cornell-box.gltf", ViewMode::Reference, PresetOffline::Chosen,
+         false, false, false, false, Method::Lightcuts},
+        [](Settings& s) {
+          s.vplCount = 1000;
+          s.clampBound = kInfinity;
+        },
+        "The offline pass renders lightcuts (Walter et al. 2005) over 1000 unbounded VPLs: splotches in the corners, "
+        "as with plain VPLs. Raise the VPL count to 10000, then 100000, and render again: the splotches fade, since "
+        "each VPL carries less power, while the time hardly grows: each pixel sums a cut of the light tree, a few "
+        "hundred clusters whatever N (the cut-size view, key 7, maps it; the cut statistics are under the timings). "
+        "The preview gathers 1024 representatives of a per-view cut once N exceeds that, so it keeps its cost too."));
     // --- participating media (cornell-fog: the Cornell box filled with bluish haze, docs/scenes.md) --------------
     list.push_back(make(
         {"Splotches in fog", "cornell-fog.gltf", ViewMode::Split, PresetOffline::ExactVpl},

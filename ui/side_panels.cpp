@@ -135,6 +135,16 @@ void drawChartSection(EditorState& state, PanelState& panels) {
       ImGui::TextDisabled("last change, %d frame%s; GPU ms per pass:", timer.lastFrames(),
                           timer.lastFrames() == 1 ? "" : "s");
     drawPassTimings(passes);
+    // Beside the timings: the preview's representatives (past previewRepresentatives VPLs) and the last lightcuts
+    // render's cuts (the cut-size view maps them).
+    const RepresentativeStats reps = state.representativeStats();
+    if (reps.representatives < reps.vpls)
+      ImGui::TextDisabled("preview: %zu representatives of %zu VPLs (cut %.1f ms, %zu moved)", reps.representatives,
+                          reps.vpls, reps.selectSeconds * 1e3, reps.moved);
+    const CutSizeSummary& cuts = state.cutSummary();
+    if (cuts.pixels > 0)
+      ImGui::TextDisabled("lightcuts: cut %.0f nodes mean, p95 %.0f, max %.0f; %.1f %% at lightcutMax", cuts.mean,
+                          cuts.p95, cuts.max, 100.0 * cuts.atMax);
   }
   if (clicked >= 0 && clicked < static_cast<int>(state.chart().size()))
     state.changeSettings(state.chart()[static_cast<std::size_t>(clicked)].settings);
@@ -269,8 +279,8 @@ void drawRightPanel(EditorState& state, PanelState& panels) {
   if (ImGui::CollapsingHeader("View", ImGuiTreeNodeFlags_DefaultOpen)) {
     ViewOptions& view = state.viewForEditing();
     int mode = static_cast<int>(view.view);
-    const char* names[] = {"preview", "reference", "split", "difference", "SSBC residual", "VPLs"};
-    if (ImGui::Combo("view (1-6)", &mode, names, 6)) state.setView(static_cast<ViewMode>(mode));
+    const char* names[] = {"preview", "reference", "split", "difference", "SSBC residual", "VPLs", "cut size"};
+    if (ImGui::Combo("view (1-7)", &mode, names, 7)) state.setView(static_cast<ViewMode>(mode));
     bool fit = state.fitPreview();
     if (ImGui::Checkbox("fit preview to the view", &fit)) state.setFitPreview(fit);
     if (ImGui::IsItemHovered())
@@ -313,7 +323,7 @@ void drawRightPanel(EditorState& state, PanelState& panels) {
   if (ImGui::CollapsingHeader("Help (H)") || panels.showHelp) {
     ImGui::TextWrapped(
         "Mouse: left drag orbit, right/middle drag pan, wheel zoom; in split view drag the divider.\n"
-        "Keys: WASD fly, Q/E down/up, F reset camera, 1-6 views, O render reference, Esc cancel offline, "
+        "Keys: WASD fly, Q/E down/up, F reset camera, 1-7 views, O render reference, Esc cancel offline, "
         "H help.\nChanging b re-gathers only; moving the camera never regenerates VPLs; moving a light or editing a "
         "medium does.");
   }

@@ -28,6 +28,14 @@ ViewImage tonemapped(const Image& image, float exposure) {
   return v;
 }
 
+ViewImage heatmapView(Heatmap h) {
+  ViewImage v;
+  v.width = h.width;
+  v.height = h.height;
+  v.rgb = std::move(h.rgb);
+  return v;
+}
+
 }  // namespace
 
 ViewImage composeView(const EditorState& state) {
@@ -88,10 +96,19 @@ ViewImage composeView(const EditorState& state) {
         heat.title = "preview - offline";
         h = renderHeatmap(signedDifferenceImage(previewLinear, offline), heat);
       }
-      v.width = h.width;
-      v.height = h.height;
-      v.rgb = std::move(h.rgb);
-      return v;
+      return heatmapView(std::move(h));
+    }
+    case ViewMode::CutSize: {
+      if (state.cutSize().empty()) {
+        v.emptyState =
+            "No lightcuts render yet.\nThe cut-size view maps how many light-tree nodes each pixel's cut of the last "
+            "lightcuts render held (choose lightcuts in the offline panel and render).";
+        return v;
+      }
+      HeatmapOptions heat;
+      heat.title = "lightcut size (nodes)";
+      heat.minValue = 0.0f;
+      return heatmapView(renderHeatmap(state.cutSize(), heat));
     }
   }
   return v;

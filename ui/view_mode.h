@@ -10,10 +10,12 @@ enum class ViewMode {
   Difference,    ///< signed or relative-error heatmap of preview against the offline result, with legend
   SsbcResidual,  ///< only the light added by screen-space bias compensation
   VplOverlay,    ///< the preview with the VPLs drawn as points sized and coloured by flux
+  CutSize,       ///< heatmap of the last lightcuts render's cut size per pixel, with legend
 };
 
 inline constexpr ViewMode kAllViewModes[] = {ViewMode::Preview,    ViewMode::Reference,    ViewMode::Split,
-                                             ViewMode::Difference, ViewMode::SsbcResidual, ViewMode::VplOverlay};
+                                             ViewMode::Difference, ViewMode::SsbcResidual, ViewMode::VplOverlay,
+                                             ViewMode::CutSize};
 
 inline const char* toString(ViewMode mode) {
   switch (mode) {
@@ -23,6 +25,7 @@ inline const char* toString(ViewMode mode) {
     case ViewMode::Difference: return "difference";
     case ViewMode::SsbcResidual: return "ssbc-residual";
     case ViewMode::VplOverlay: return "vpls";
+    case ViewMode::CutSize: return "cut-size";
   }
   return "?";
 }

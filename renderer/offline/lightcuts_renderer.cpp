@@ -131,6 +131,26 @@ Lightcut LightcutGather::gather(const ShadingPoint& sp) const {
   return cut;
 }
 
+CutSizeSummary summarizeCutSizes(const Image& cutSize, int maxCut) {
+  CutSizeSummary summary;
+  std::vector<float> sizes;
+  for (const glm::vec3& p : cutSize.pixels)
+    if (p.r > 0.0f) sizes.push_back(p.r);
+  summary.pixels = sizes.size();
+  if (sizes.empty()) return summary;
+  std::sort(sizes.begin(), sizes.end());
+  double sum = 0.0, atMax = 0.0;
+  for (float v : sizes) {
+    sum += v;
+    atMax += v >= static_cast<float>(maxCut) ? 1.0 : 0.0;
+  }
+  summary.mean = sum / static_cast<double>(sizes.size());
+  summary.p95 = sizes[std::min(sizes.size() - 1, static_cast<std::size_t>(0.95 * static_cast<double>(sizes.size())))];
+  summary.max = sizes.back();
+  summary.atMax = atMax / static_cast<double>(sizes.size());
+  return summary;
+}
+
 void requireLightcutsApply(const Scene& scene, const Settings& settings, Method method) {
   const std::string name = toString(method);
   if (scene.hasMedia())
@@ -199,8 +219,11 @@ LightcutsRenderResult renderLightcuts(const OfflineScene& offline, const VplSet&
   static_cast<ProgressiveResult&>(result) = renderProgressive(options, estimator, control);
   addTallies(tallies, result);
   CutTally total;
-  for (const CutTally& t : cutTallies) {
+  result.cutSize = Image(settings.width, settings.height);
+  for (std::size_t i = 0; i < cutTallies.size(); ++i) {
+    const CutTally& t = cutTallies[i];
     total.cuts += t.cuts, total.nodes += t.nodes, total.rays += t.rays, total.atMax += t.atMax;
+    result.cutSize.pixels[i] = glm::vec3(t.cuts ? static_cast<float>(t.nodes) / static_cast<float>(t.cuts) : 0.0f);
   }
   result.treeSeconds = tree.buildSeconds();
   result.treeNodes = tree.nodes().size();

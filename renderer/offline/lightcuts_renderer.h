@@ -67,6 +67,14 @@ struct LightcutsRenderResult : VplRenderResult {
   uint64_t cutsAtMax = 0;  ///< cuts stopped by lightcutMax
 };
 
+/// What a cut-size image (VplRenderResult::cutSize) says over the pixels whose cuts hold a node (lit surfaces).
+struct CutSizeSummary {
+  std::size_t pixels = 0;  ///< pixels with a cut
+  double mean = 0.0, p95 = 0.0, max = 0.0;
+  double atMax = 0.0;  ///< share of those pixels whose mean cut reached maxCut
+};
+CutSizeSummary summarizeCutSizes(const Image& cutSize, int maxCut);
+
 /// Throws SceneError for a scene with media and std::invalid_argument for VSLs (see above), each saying what to use;
 /// `method` names the method refusing (lightcuts, or mrcs, which refuses the same).
 void requireLightcutsApply(const Scene& scene, const Settings& settings, Method method);

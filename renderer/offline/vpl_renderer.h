@@ -99,6 +99,9 @@ struct VplRenderResult : ProgressiveResult {
   double clampEnergyRemoved = 0.0;
   uint64_t shadowRays = 0;  ///< VPL shadow rays traced (compensation vertices included)
   uint64_t vplEvaluations = 0;  ///< VPL-to-point evaluations (with or without a shadow ray)
+  /// Lightcuts: each pixel's mean cut size in light-tree nodes (every channel), for the editor's cut-size view; empty
+  /// for the other methods.
+  Image cutSize;
 };
 
 /// The per-pixel tallies of a render summed into its shadow-ray and evaluation counts and clampEnergyRemoved.
