@@ -14,19 +14,26 @@
 // the cluster count and its time includes the rows and the clustering. A model without lights is staged in the studio
 // (renderer/scene/staging.h); --clamp-bound-relative B sets b = B / diagonal^2 of the scene instead of --clamp-bound.
 //
+// --svg PREFIX writes two charts against N (log-log, evaluation/svg_chart.h): PREFIX-time.svg, the time of the exact
+// sum (scaled as above from --exact-limit VPLs on) and of each lightcuts and mrcs row, and PREFIX-error.svg, their
+// mean per-pixel error.
+//
 // usage: vplab_bench_lightcuts_bench [--scene file.gltf] [--size N] [--vpls 100000,1000000]
 //                                    [--thresholds 0.01,0.005] [--mrcs R/K,...] [--mrcs-limit N] [--clamp-bound B]
 //                                    [--clamp-bound-relative B]
 //                                    [--exact-limit N] [--exact-size N] [--threads T] [--csv out.csv]
+//                                    [--svg prefix]
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <map>
 #include <sstream>
 #include <string>
 #include <vector>
 
 #include "bench/bench_args.h"
+#include "evaluation/svg_chart.h"
 #include "renderer/core/parallel.h"
 #include "renderer/core/sampling.h"
 #include "renderer/image/metrics.h"
@@ -53,7 +60,14 @@ std::vector<double> parseList(const std::string& text) {
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string scenePath = "assets/scenes/cornell-box.gltf", csvPath = "lightcuts_bench.csv";
+  std::string scenePath = "assets/scenes/cornell-box.gltf", csvPath = "lightcuts_bench.csv", svgPrefix;
+  // The charts' series by name: (N, time in s) and (N, mean error in %).
+  std::map<std::string, ChartSeries> timeSeries, errorSeries;
+  auto chartPoint = [&](const std::string& name, double n, double seconds, double meanError) {
+    timeSeries[name].name = errorSeries[name].name = name;
+    timeSeries[name].points.push_back({n, seconds});
+    if (meanError >= 0.0) errorSeries[name].points.push_back({n, 100.0 * meanError});
+  };
   int size = 256, exactSize = 64, threads = 0;
   double exactLimit = 300000;
   float clampBound = 10.0f, clampBoundRelative = 0.0f;
@@ -90,6 +104,8 @@ int main(int argc, char** argv) {
       threads = std::stoi(benchOptionValue(argc, argv, i));
     else if (a == "--csv")
       csvPath = benchOptionValue(argc, argv, i);
+    else if (a == "--svg")
+      svgPrefix = benchOptionValue(argc, argv, i);
     else {
       std::fprintf(stderr, "%s: unknown option %s\n", argv[0], a.c_str());
       return 2;
@@ -137,6 +153,7 @@ int main(int argc, char** argv) {
     const double exactScale =
         static_cast<double>(size) * size / (static_cast<double>(exactSettings.width) * exactSettings.height);
     const double exactMs = 1e3 * exact.seconds * exactScale;
+    chartPoint("exact sum", static_cast<double>(vpls.vpls.size()), exactMs / 1e3, -1.0);
     // One row: `render` renders at the given settings; its errors are taken at the exact sum's size.
     auto row = [&](const char* method, const std::string& parameters, const Settings& rs, auto render) {
       const auto full = render(rs);
@@ -160,6 +177,7 @@ int main(int argc, char** argv) {
                    cut, rays, static_cast<unsigned long long>(full.cutsAtMax), err.mean, err.p95, err.energyRatio);
       std::fflush(stdout);
       std::fflush(csv);
+      chartPoint(std::string(method) + " " + parameters, static_cast<double>(vpls.vpls.size()), ms / 1e3, err.mean);
     };
     for (double threshold : thresholds) {
       Settings rs = s;
@@ -185,5 +203,17 @@ int main(int argc, char** argv) {
   }
   std::fclose(csv);
   std::printf("wrote %s\n", csvPath.c_str());
+  if (!svgPrefix.empty()) {
+    const std::string title = scenePath.substr(scenePath.find_last_of('/') + 1) + ", " + std::to_string(size) + "^2";
+    ChartSpec time{title + ": time against N", "VPLs N", "seconds", true, true, {}, {}};
+    ChartSpec error{
+        title + ": mean per-pixel error against the exact sum", "VPLs N", "mean error (%)", true, true, {}, {}};
+    for (auto& [name, series] : timeSeries) time.series.push_back(series);
+    for (auto& [name, series] : errorSeries)
+      if (!series.points.empty()) error.series.push_back(series);
+    writeSvgChart(svgPrefix + "-time.svg", time);
+    writeSvgChart(svgPrefix + "-error.svg", error);
+    std::printf("wrote %s-time.svg, %s-error.svg\n", svgPrefix.c_str(), svgPrefix.c_str());
+  }
   return 0;
 }
