@@ -209,12 +209,14 @@ const std::vector<TeachingPreset>& teachingPresets() {
         [](Settings& s) {
           s.vplCount = 1000;
           s.clampBound = kInfinity;
+          // The preview's cost stays that of 256 lights whatever N (a per-view cut, representative_lights.h).
+          s.previewRepresentatives = 256;
         },
         "The offline pass renders lightcuts (Walter et al. 2005) over 1000 unbounded VPLs: splotches in the corners, "
         "as with plain VPLs. Raise the VPL count to 10000, then 100000, and render again: the splotches fade, since "
         "each VPL carries less power, while the time hardly grows: each pixel sums a cut of the light tree, a few "
         "hundred clusters whatever N (the cut-size view, key 7, maps it; the cut statistics are under the timings). "
-        "The preview gathers 1024 representatives of a per-view cut once N exceeds that, so it keeps its cost too."));
+        "The preview gathers 256 representatives of a per-view cut of the same tree, so it keeps its cost too."));
     // --- participating media (cornell-fog: the Cornell box filled with bluish haze, docs/scenes.md) --------------
     list.push_back(make(
         {"Splotches in fog", "cornell-fog.gltf", ViewMode::Split, PresetOffline::ExactVpl},
