@@ -42,14 +42,25 @@ inline float mediaSpanEnd(const std::vector<Medium>& media, const std::vector<Me
 /// t = delta + h tan(theta), theta uniform between the span's angles, pdf h / ((thetaB - thetaA)(h^2 + (t - delta)^2)),
 /// which cancels a 1/d^2 toward p. h is at least minH. Returns the interval holding t (null between boxes or when the
 /// sample is degenerate), with tOut and pdfOut.
+/// The equiangular parametrisation of [a, b) on o + t d around p: delta, the foot of p on the line, h, p's distance
+/// from it (at least minH), and the span's angles seen from p.
+struct EquiangularSpan {
+  float delta, h, thetaA, thetaB;
+  EquiangularSpan(const glm::vec3& o, const glm::vec3& d, float a, float b, const glm::vec3& p, float minH)
+      : delta(glm::dot(p - o, d)),
+        h(std::max(minH, glm::length(o + d * delta - p))),
+        thetaA(std::atan2(a - delta, h)),
+        thetaB(std::atan2(b - delta, h)) {}
+  float at(float u) const { return delta + h * std::tan(thetaA + u * (thetaB - thetaA)); }
+  float pdf(float t) const { return h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta))); }
+};
+
 inline const MediumInterval* sampleEquiangular(const std::vector<MediumInterval>& intervals, const glm::vec3& o,
                                                const glm::vec3& d, float a, float b, const glm::vec3& p, float u,
                                                float minH, float& tOut, float& pdfOut) {
-  const float delta = glm::dot(p - o, d);
-  const float h = std::max(minH, glm::length(o + d * delta - p));
-  const float thetaA = std::atan2(a - delta, h), thetaB = std::atan2(b - delta, h);
-  const float t = delta + h * std::tan(thetaA + u * (thetaB - thetaA));
-  const float pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
+  const EquiangularSpan span(o, d, a, b, p, minH);
+  const float t = span.at(u);
+  const float pdf = span.pdf(t);
   if (!(pdf > 0.0f) || !std::isfinite(t) || !std::isfinite(pdf)) return nullptr;
   const MediumInterval* in = nullptr;
   for (const MediumInterval& iv : intervals)
@@ -59,15 +70,12 @@ inline const MediumInterval* sampleEquiangular(const std::vector<MediumInterval>
   return in;
 }
 
-/// The density with which sampleEquiangular() draws t (0 outside [a, b)): the same expression, so the sampled t gets
+/// The density with which sampleEquiangular() draws t (0 outside [a, b)): the same span, so the sampled t gets
 /// exactly the pdf sampleEquiangular() returned.
 inline float equiangularPdf(const glm::vec3& o, const glm::vec3& d, float a, float b, const glm::vec3& p, float minH,
                             float t) {
   if (!(t >= a) || !(t < b)) return 0.0f;
-  const float delta = glm::dot(p - o, d);
-  const float h = std::max(minH, glm::length(o + d * delta - p));
-  const float thetaA = std::atan2(a - delta, h), thetaB = std::atan2(b - delta, h);
-  const float pdf = h / ((thetaB - thetaA) * (h * h + (t - delta) * (t - delta)));
+  const float pdf = EquiangularSpan(o, d, a, b, p, minH).pdf(t);
   return pdf > 0.0f && std::isfinite(pdf) ? pdf : 0.0f;
 }
 

@@ -17,6 +17,12 @@ MediumLightSegment::MediumLightSegment(const EmbreeScene& embree, const glm::vec
   reset(origin, direction, end, channelWeights);
 }
 
+MediumLightSegment::MediumLightSegment(const EmbreeScene& embree, const glm::vec3& origin, const glm::vec3& direction,
+                                       float end, const std::vector<MediumInterval>& intervals)
+    : embree_(embree), origin_(origin), direction_(direction), end_(end), forced_(true), intervals_(intervals) {
+  setSpan();
+}
+
 void MediumLightSegment::reset(const glm::vec3& origin, const glm::vec3& direction, float end,
                                const glm::vec3& channelWeights) {
   origin_ = origin;
@@ -24,15 +30,19 @@ void MediumLightSegment::reset(const glm::vec3& origin, const glm::vec3& directi
   end_ = end;
   channelWeights_ = channelWeights;
   intervals_.clear();
-  const Scene& scene = embree_.scene();
   if (!embree_.hasMedia()) return;
-  mediumIntervals(scene.media, origin, direction, end, intervals_);
+  mediumIntervals(embree_.scene().media, origin, direction, end, intervals_);
+  setSpan();
+}
+
+void MediumLightSegment::setSpan() {
   if (intervals_.empty()) return;
+  const Scene& scene = embree_.scene();
   // The span equiangular sampling covers: from the first medium interval to the last one's end (a medium filling all
   // space is cut where its light has faded, mediaSpanEnd; beyond, p_eq = 0 and the free flight alone counts).
   const float diagonal = std::max(scene.bounds.diagonal(), 1e-6f);
   a_ = intervals_.front().t0;
-  b_ = mediaSpanEnd(scene.media, intervals_, end, diagonal);
+  b_ = mediaSpanEnd(scene.media, intervals_, end_, diagonal);
   minH_ = 1e-6f * diagonal;
 }
 

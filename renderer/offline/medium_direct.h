@@ -45,6 +45,10 @@ class MediumLightSegment {
                      bool forced, const glm::vec3& channelWeights = glm::vec3(1.0f),
                      DistanceSampling techniques = DistanceSampling::Mis, bool mixedDirections = false);
 
+  /// The same for a forced flight's segment whose media intervals the caller has (mediumIntervals() of that segment).
+  MediumLightSegment(const EmbreeScene& embree, const glm::vec3& origin, const glm::vec3& direction, float end,
+                     const std::vector<MediumInterval>& intervals);
+
   /// Moves to another segment of the same scene, flight kind and techniques, keeping the storage.
   void reset(const glm::vec3& origin, const glm::vec3& direction, float end, const glm::vec3& channelWeights);
   /// No segment at all: overlapsMedia() is false until the next reset().
@@ -66,6 +70,8 @@ class MediumLightSegment {
   static constexpr float kAreaEquiangularProbability = 0.5f;
 
  private:
+  /// The span equiangular sampling covers, from intervals_.
+  void setSpan();
   float flightPdf(float t) const;
 
   const EmbreeScene& embree_;
@@ -100,7 +106,7 @@ glm::vec3 forcedFlightAlongRay(const EmbreeScene& embree, const LightSampler& li
   const Interaction x = Interaction::inMediumAt(scene, o + d * t, medium, -d);
   if (!direct) return weight * atFlight(x);
   // Step 2: the equiangular technique's sample toward the light it draws (it tosses the segment's coin first).
-  const MediumLightSegment along(embree, o, d, end, true);
+  const MediumLightSegment along(embree, o, d, end, intervals);
   const glm::vec3 equiangular = along.equiangular(lights, rng, shadowRays);
   // Step 3: the lights' single scattering at the flight, its light half MIS-weighted against equiangular sampling,
   // then the method's own light there.
