@@ -25,6 +25,7 @@
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/scene/gltf_loader.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "tests/cpu_image_cache.h"
 #include "tests/gl_test_util.h"
 #include "tests/test_scenes.h"
 
@@ -54,7 +55,7 @@ Image preview(const Scene& scene, const VplSet& vpls, const Settings& s, Preview
 Image cpuIndirect(const Loaded& l, const VplSet& vpls, Method method, Settings s, int spp) {
   s.components = Components::Indirect;
   s.samplesPerPixel = spp;
-  return renderVpl(l, vpls, method, s).image;
+  return test::cachedVplRender(l, vpls, method, s);
 }
 
 class GlAccuracy : public test::GlBackendTest {};
@@ -274,7 +275,7 @@ SsbcMeasurement measureSsbc(const std::string& sceneName, float b, int size, int
   if (truthKind == Truth::Reference) {
     Settings r = test::indirectSettings(size, vplCount);
     r.samplesPerPixel = 64;
-    truth = renderReference(*l, r).image;
+    truth = test::cachedReference(*l, r);
   }
   for (int seed = 1; seed <= kSsbcSeeds; ++seed) {
     Settings s = test::indirectSettings(size, vplCount);

@@ -19,6 +19,7 @@
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/progressive.h"
 #include "renderer/scene/gltf_loader.h"
+#include "tests/cpu_image_cache.h"
 #include "tests/gl_test_util.h"
 #include "tests/test_scenes.h"
 
@@ -44,7 +45,7 @@ ImageMetrics directAgainstReference(const OfflineScene& l, int size, int referen
   r.width = r.height = size;
   r.samplesPerPixel = referenceSpp;
   r.components = Components::Direct;
-  Image reference = renderReference(l, r).image;
+  const Image& reference = test::cachedReference(l, r);
   ImageMetrics m = excluded ? compareImagesExcluding(preview, reference, *excluded) : compareImages(preview, reference);
   std::printf(
       "[ measured ] %s direct light, preview at %d^2 box-filtered to %d^2 vs reference %d spp%s: relMSE %.5f, "

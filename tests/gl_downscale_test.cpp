@@ -21,6 +21,7 @@
 #include "renderer/offline/emitter_mask.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "tests/cpu_image_cache.h"
 #include "tests/gl_test_util.h"
 #include "tests/test_scenes.h"
 
@@ -58,7 +59,7 @@ Against againstExact(const OfflineScene& l, int size, int downscale, const char*
   VplSet vpls = generateVpls(l, s);
   Settings c = s;
   c.samplesPerPixel = 16;
-  const Image exact = renderVpl(l, vpls, Method::Vpl, c).image;
+  const Image& exact = test::cachedVplRender(l, vpls, Method::Vpl, c);
   const PixelMask emitters = emitterMask(l.embree(), size, size);
   Against a;
   a.perPixel = compareAtUnitMean(previewIndirect(l.scene(), vpls, s), exact, emitters);

@@ -16,6 +16,7 @@
 #include "renderer/offline/emitter_mask.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "tests/cpu_image_cache.h"
 #include "tests/gl_test_util.h"
 #include "tests/test_scenes.h"
 
@@ -45,7 +46,7 @@ AgainstExact ismAgainstExact(const OfflineScene& l, const Settings& s, const cha
   Image ism = renderer.readLinear(PreviewOutput::Indirect);
   Settings c = s;
   c.samplesPerPixel = 16;
-  Image exact = renderVpl(l, vpls, Method::Vpl, c).image;
+  const Image& exact = test::cachedVplRender(l, vpls, Method::Vpl, c);
   Settings cube = s;
   cube.visibility = VisibilityMethod::Cube;
   renderer.render(l.scene(), vpls, cube, l.scene().camera);

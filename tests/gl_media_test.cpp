@@ -19,6 +19,7 @@
 #include "renderer/offline/emitter_mask.h"
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "tests/cpu_image_cache.h"
 #include "tests/gl_test_util.h"
 #include "tests/media_test_util.h"
 #include "tests/test_scenes.h"
@@ -70,8 +71,7 @@ void expectIndirectMatchesCpu(const std::string& name, float bound, int size, in
   const Image gl = previewDownscaled(l->scene(), vpls, s, PreviewOutput::Indirect);
   Settings c = s;
   c.samplesPerPixel = 64;
-  const Image& cpu =
-      test::cachedCpu(name + std::to_string(vplCount), [&] { return renderVpl(*l, vpls, Method::Vpl, c).image; });
+  const Image& cpu = test::cachedVplRender(*l, vpls, Method::Vpl, c);
   const std::string what = name + " indirect, " + std::to_string(vpls.vpls.size()) + " VPLs (" +
                            std::to_string(inMedium) + " in the medium), b = " + std::to_string(bound);
   const Comparison m = compare(*l, gl, cpu, what.c_str());
@@ -102,7 +102,8 @@ void expectSingleScatteringMatchesCpu(const std::string& name, int size) {
   auto l = test::loadAssetScene(name);
   Settings s = test::indirectSettings(size, 0);
   const Image gl = previewDownscaled(l->scene(), VplSet{}, s, PreviewOutput::Scattered);
-  const Image& cpu = test::cachedCpu(name + " single", [&] { return test::cpuSingleScattering(*l, s, 256); });
+  const Image& cpu = test::cachedCpu("cpuSingleScattering 256", test::renderInputs(l->scene(), s),
+                                     [&] { return test::cpuSingleScattering(*l, s, 256); });
   const Comparison m = compare(*l, gl, cpu, (name + " single scattering").c_str());
   EXPECT_LE(m.relMse, 0.02);
   EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
@@ -148,9 +149,8 @@ TEST_P(GlMedia, CompensationReturnsTheEnergyTheBoundRemoves) {
   const double unbounded = meanLuminance(scattered(kInfinity, 0));
   const double removed = unbounded - meanLuminance(bounded), returned = meanLuminance(gl);
   EXPECT_GT(removed, 0.02 * unbounded);
-  const Image& cpu = test::cachedCpu("cornell-fog vpl-abc medium compensation", [&] {
-    return test::cpuMediumCompensation(*l, vpls, Method::VplAbc, s, 256);
-  });
+  const Image& cpu = test::cachedCpu("cpuMediumCompensation vpl-abc 256", test::renderInputs(l->scene(), s, &vpls),
+                                     [&] { return test::cpuMediumCompensation(*l, vpls, Method::VplAbc, s, 256); });
   const double ratio = returned / meanLuminance(cpu);
   const ImageMetrics blocks =
       compareAtUnitMean(blockAverage(gl, 4), blockAverage(cpu, 4), PixelMask(s.width / 4, s.height / 4));
@@ -169,7 +169,7 @@ TEST_P(GlMedia, CompensationReturnsTheEnergyTheBoundRemoves) {
   Settings c = t;
   c.samplesPerPixel = 64;
   const PixelMask emitters = emitterMask(l->embree(), s.width, s.height, 1);
-  const Image& kk = test::cachedCpu("cornell-fog vpl-kk", [&] { return renderVpl(*l, vpls, Method::VplKK, c).image; });
+  const Image& kk = test::cachedVplRender(*l, vpls, Method::VplKK, c);
   const double before = meanRatioExcludingEmitters(withoutCompensation, kk, emitters);
   const double after = meanRatioExcludingEmitters(withCompensation, kk, emitters);
   std::printf("[ measured ] cornell-fog b = %g, whole image / CPU vpl-kk: %.4f without compensation, %.4f with (SSBC "

@@ -93,9 +93,11 @@ float expectedVpl(glm::vec3 x1, glm::vec3 x2, float flux, float b) {
 // The closed-form tests run on both backends (tests/gl_test_util.h).
 class GlPreviewClosedForm : public test::GlBackendTest {};
 
-// Measured: largest relative error over the 32x32 pixels 1.0e-6 (b = inf and b = 0.5, OSMesa and EGL): float rounding.
-// 1e-4 leaves room for other GPUs' arithmetic and fails any error of 0.01 % or more.
-constexpr double kSingleVplTolerance = 1e-4;
+// Measured: largest relative error over the 32x32 pixels 1.0e-6 on llvmpipe (b = inf and b = 0.5, OSMesa and EGL):
+// float rounding. A hardware rasterizer interpolates the G-buffer's world position with fewer exact bits: an NVIDIA
+// H200 (driver 580, EGL) gave 1.4e-4 here and 3.2e-4 in OccluderCastsVplShadow's grazing view. 1e-3 leaves room for
+// such interpolation and still fails any error of 0.1 % or more.
+constexpr double kSingleVplTolerance = 1e-3;
 
 TEST_P(GlPreviewClosedForm, SingleVplMatchesClosedForm) {
   Scene scene = floorScene();

@@ -28,6 +28,7 @@
 #include "renderer/offline/vpl_renderer.h"
 #include "renderer/scene/density_grid.h"
 #include "renderer/vpl/vpl_generation.h"
+#include "tests/cpu_image_cache.h"
 #include "tests/gl_test_util.h"
 #include "tests/media_test_util.h"
 #include "tests/test_scenes.h"
@@ -157,7 +158,8 @@ TEST_P(GlSmoke, SingleScatteringMatchesCpu) {
   auto l = test::loadAssetScene("cornell-smoke");
   const Settings s = test::indirectSettings(kSize, 0);
   const Image gl = previewOutputsDownscaled(l->scene(), VplSet{}, s, {PreviewOutput::Scattered})[0];
-  const Image& cpu = test::cachedCpu("cornell-smoke single", [&] { return test::cpuSingleScattering(*l, s, 256); });
+  const Image& cpu = test::cachedCpu("cpuSingleScattering 256", test::renderInputs(l->scene(), s),
+                                     [&] { return test::cpuSingleScattering(*l, s, 256); });
   const Comparison m = compare(*l, gl, cpu, "cornell-smoke single scattering");
   EXPECT_LE(m.relMse, 0.02);
   EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
@@ -175,7 +177,7 @@ TEST_P(GlSmoke, DirectLightMatchesCpu) {
   // 256 samples per pixel: ratio tracking makes the CPU's shadow rays noisier than through fog.
   Settings c = s;
   c.samplesPerPixel = 256;
-  const Image& cpu = test::cachedCpu("cornell-smoke direct", [&] { return renderVpl(*l, VplSet{}, Method::Vpl, c).image; });
+  const Image& cpu = test::cachedVplRender(*l, VplSet{}, Method::Vpl, c);
   const Comparison m = compare(*l, gl, cpu, "cornell-smoke direct light");
   EXPECT_LE(m.relMse, 0.02);
   EXPECT_NEAR(m.meanRatio, 1.0, 0.02);
@@ -197,7 +199,7 @@ TEST_P(GlSmoke, IndirectMatchesCpu) {
       previewOutputsDownscaled(l->scene(), vpls, s, {PreviewOutput::Indirect, PreviewOutput::Scattered});
   Settings c = s;
   c.samplesPerPixel = 32;
-  const Image& cpu = test::cachedCpu("cornell-smoke indirect", [&] { return renderVpl(*l, vpls, Method::Vpl, c).image; });
+  const Image& cpu = test::cachedVplRender(*l, vpls, Method::Vpl, c);
   const Comparison m = compare(*l, gl[0], cpu,
                                "cornell-smoke indirect, " + std::to_string(vpls.vpls.size()) + " VPLs (" +
                                    std::to_string(inMedium) + " in the smoke), b = 20");

@@ -2,8 +2,6 @@
 // What the media tests compare with: the CPU images the GL tests render once for both backends, the lights' single
 // scattering along camera rays as the VPL render draws it, and the media methods' mean light over many VPL sets.
 
-#include <functional>
-#include <map>
 #include <string>
 #include <vector>
 
@@ -19,14 +17,6 @@
 #include "renderer/vpl/vpl_generation.h"
 
 namespace vplab::test {
-
-/// The CPU image of `key`, rendered by `render` the first time it is asked for (the backends' tests share it).
-inline const Image& cachedCpu(const std::string& key, const std::function<Image()>& render) {
-  static std::map<std::string, Image> images;
-  auto it = images.find(key);
-  if (it == images.end()) it = images.emplace(key, render()).first;
-  return it->second;
-}
 
 /// Per pixel `spp` jittered camera rays, each adding alongRay(o, d, intervals, end, rng) for the media intervals
 /// before its first surface (nothing for a ray that crosses no medium): the media part of a camera sample alone.
