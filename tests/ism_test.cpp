@@ -138,6 +138,7 @@ TEST(TextureUnits, GlslIncludeMatchesTheEnum) {
       {"UNIT_LIGHT_SHADOWS", unit(TextureUnit::LightShadows)},
       {"UNIT_DIRECTIONAL_SHADOWS", unit(TextureUnit::DirectionalShadows)},
       {"UNIT_MEDIA_DENSITY", unit(TextureUnit::MediaDensity)},
+      {"UNIT_BLOCKER_SEARCH", unit(TextureUnit::BlockerSearch)},
       {"BINDING_SCENE_POSITIONS", binding(BufferBinding::ScenePositions)},
       {"BINDING_SCENE_NORMALS", binding(BufferBinding::SceneNormals)},
       {"BINDING_SCENE_UVS", binding(BufferBinding::SceneUvs)},

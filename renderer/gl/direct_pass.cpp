@@ -61,6 +61,29 @@ void splitIntoCells(std::vector<DirectLightGpu>& samples, std::size_t begin, std
   }
 }
 
+// The blocker-search taps of the area run [begin, end) of `lights`: tap j takes sample begin + j (end - begin) / taps,
+// so the taps cover every cell in proportion to its samples.
+BlockerSearchTaps searchTapsOf(const std::vector<DirectLightGpu>& lights, int begin, int end) {
+  BlockerSearchTaps taps;
+  for (int j = 0; j < kBlockerSearchTaps; ++j) {
+    const DirectLightGpu& l = lights[static_cast<std::size_t>(begin + j * (end - begin) / kBlockerSearchTaps)];
+    taps.sample[static_cast<std::size_t>(j)] = glm::vec4(glm::vec3(l.position), l.shadow.x);
+    taps.normal[static_cast<std::size_t>(j)] = glm::vec3(l.axis);
+    taps.centre[static_cast<std::size_t>(j)] = glm::vec3(l.centre);
+  }
+  return taps;
+}
+
+// The pixel of a k x k block each blocker-search tap searches from: tap j from pixel j mod k^2 (row by row).
+std::array<glm::vec2, kBlockerSearchTaps> searchTapPixels(int k) {
+  std::array<glm::vec2, kBlockerSearchTaps> pixels;
+  for (int j = 0; j < kBlockerSearchTaps; ++j) {
+    const int q = j % (k * k);
+    pixels[static_cast<std::size_t>(j)] = glm::vec2(q % k, q / k);
+  }
+  return pixels;
+}
+
 BrdfVariants directProgram(const UniformTableLayout& layout, int mapKind, const MediaShaderLayout& media = {}) {
   std::vector<std::string> defines = {uniformTableDefine("DIRECT_UBO_LIGHTS", layout),
                                       "DIRECT_MAP_KIND " + std::to_string(mapKind)};
@@ -126,20 +149,54 @@ bool DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sce
     direct.set("uDirectionalShadowTexel", 2.0f * sceneRadius / static_cast<float>(sizes_.directional));
   }
   // Every map is a layer of one cube-map array or of one 2D array, all bound at once; a chunk per run of lights behind
-  // one map, drawn by the program of the map's kind.
+  // one map, drawn by the program of the map's kind. An area run's chunk reads its emitter's blocker search, the
+  // layer of searches_ named by the chunk's `maps`.
   shadows_.bind();
   LightTable area{&table_, BufferBinding::DirectLights, tableLayout_, {}, {}};
   LightTable exact = area;
-  for (const MapRun& run : runs_)
-    (run.kind == AreaMap ? area : exact)
-        .chunks.push_back({run.begin, run.end, 0, 0, &programs_[run.kind][lambertOnly]});
+  area.bindChunk = [](int emitter, ShaderProgram& program) { program.set("uSearchLayer", emitter); };
+  for (const MapRun& run : runs_) {
+    LightTable& table = run.kind == AreaMap ? area : exact;
+    const int emitter = run.kind == AreaMap ? static_cast<int>(area.chunks.size()) : 0;
+    table.chunks.push_back({run.begin, run.end, emitter, 0, &programs_[run.kind][lambertOnly]});
+  }
   // Every chunk names its program, so the tables' own is never drawn with: one the scene uses stands in for it.
   ShaderProgram& standIn = programs_[runs_.empty() ? AreaMap : runs_.front().kind][lambertOnly];
   drawSlices_.begin(outOfTime);
+  drawBlockerSearches(layout, vao);
   drawInterleavedLightTable(standIn, raw, layout, area, vao, drawSlices_);
   const InterleavedLayout everyPixel{layout.width, layout.height, 1, layout.width, layout.height};
   drawInterleavedLightTable(standIn, punctual, everyPixel, exact, vao, drawSlices_);
   return drawSlices_.end();
+}
+
+void DirectLightPass::drawBlockerSearches(const InterleavedLayout& layout, const GlVertexArray& vao) {
+  const int emitters = static_cast<int>(searchTaps_.size());
+  if (emitters == 0) return;
+  if (!searches_ || searches_.width() != layout.blockWidth || searches_.height() != layout.blockHeight ||
+      searches_.layers() != emitters)
+    searches_ = GlTexture(layout.blockWidth, layout.blockHeight, TextureFormat::Rgba32F, 1, emitters);
+  if (!searchProgram_)
+    searchProgram_.emplace(std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/blocker_search.frag.glsl"},
+                           std::vector<std::string>{"BLOCKER_SEARCH_TAPS " + std::to_string(kBlockerSearchTaps)});
+  ShaderProgram& search = *searchProgram_;
+  search.set("uInterleave", layout.k);
+  search.set("uImageSize", glm::ivec2(layout.width, layout.height));
+  search.set("uAreaShadowTexel", 2.0f / static_cast<float>(sizes_.areaFace));
+  const std::array<glm::vec2, kBlockerSearchTaps> pixels = searchTapPixels(layout.k);
+  search.setArray("uTapPixel", pixels.data(), kBlockerSearchTaps);
+  for (int e = 0; e < emitters; ++e)
+    drawSlices_.step([&, e] {
+      const BlockerSearchTaps& taps = searchTaps_[static_cast<std::size_t>(e)];
+      searchTarget_.attachColor(0, searches_, 0, e);
+      searchTarget_.finalize(1);
+      searchTarget_.bind(layout.blockWidth, layout.blockHeight);
+      search.setArray("uTapSample", taps.sample.data(), kBlockerSearchTaps);
+      search.setArray("uTapNormal", taps.normal.data(), kBlockerSearchTaps);
+      search.setArray("uTapCentre", taps.centre.data(), kBlockerSearchTaps);
+      drawFullscreen(search, vao);
+    });
+  searches_.bind(unit(TextureUnit::BlockerSearch));
 }
 
 void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings) {
@@ -238,6 +295,9 @@ void DirectLightPass::uploadLights(const Scene& scene, const Settings& settings)
          glm::vec4(map, 0.0f, 0.0f, 0.0f), glm::vec4(0.0f)},
         DirectionalMap);
   }
+  searchTaps_.clear();
+  for (const MapRun& run : runs_)
+    if (run.kind == AreaMap) searchTaps_.push_back(searchTapsOf(lights, run.begin, run.end));
   table_.assign(lights.data(), lights.size() * sizeof(DirectLightGpu));
 }
 

@@ -5,6 +5,7 @@
 
 #include <array>
 #include <functional>
+#include <optional>
 #include <vector>
 
 #include "renderer/gl/light_shadows.h"
@@ -32,6 +33,13 @@ struct LightMapSizes {
   static LightMapSizes of(const Settings& settings) {
     return {settings.lightShadowMapSize, settings.lightShadowMapSize / 2, 2 * settings.lightShadowMapSize};
   }
+};
+
+/// An area emitter's blocker-search taps (shaders/preview/blocker_search.frag.glsl): sample y (xyz) and its cell's
+/// map (w), the emitter's normal there, the cell's centre.
+struct BlockerSearchTaps {
+  std::array<glm::vec4, kBlockerSearchTaps> sample;
+  std::array<glm::vec3, kBlockerSearchTaps> normal, centre;
 };
 
 class DirectLightPass {
@@ -82,11 +90,19 @@ class DirectLightPass {
   };
 
   void uploadLights(const Scene& scene, const Settings& settings);
+  // Each area emitter's blocker search per k x k block of `layout`, into its layer of searches_, one step of
+  // drawSlices_ each; binds searches_ for the direct pass.
+  void drawBlockerSearches(const InterleavedLayout& layout, const GlVertexArray& vao);
 
   UniformTableLayout tableLayout_;
   std::array<BrdfVariants, MapKinds> programs_;
   GlBuffer table_;
   std::vector<MapRun> runs_;
+  // Per area run, in the order of runs_.
+  std::vector<BlockerSearchTaps> searchTaps_;
+  std::optional<ShaderProgram> searchProgram_;  // compiled when a scene with area lights first needs it
+  GlTexture searches_;  // RGBA32F, a layer per area emitter: the blockers' point sum (xyz) and count (w)
+  GlFramebuffer searchTarget_;
   LightShadowMaps shadows_;
   std::vector<LightShadowCaster> casters_;
   std::vector<glm::vec3> directionalDirections_;

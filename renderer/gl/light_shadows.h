@@ -46,6 +46,10 @@ inline constexpr int kMaxAreaGroups = 8;
 /// map per emitter left the Debian 2CylinderEngine's fins under its studio light 5 % too dark, four 1 % (docs/methods.md
 /// "Direct light in the preview").
 inline constexpr int kAreaShadowCells = 4;
+/// Taps of an area emitter's blocker search (shaders/preview/blocker_search.frag.glsl): with 8 instead of 16 the
+/// studio case of vplab_bench_direct_bench moved from relMSE 0.013 to 0.021 (docs/benchmarks.md "Direct light in the
+/// preview").
+inline constexpr int kBlockerSearchTaps = 16;
 std::vector<AreaLightGroup> groupAreaLights(const Scene& scene);
 
 class LightShadowMaps {

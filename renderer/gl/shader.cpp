@@ -264,5 +264,8 @@ void ShaderProgram::setArray(const char* name, const glm::vec2* values, int coun
 void ShaderProgram::setArray(const char* name, const glm::vec3* values, int count) {
   glProgramUniform3fv(id_, location(name), count, glm::value_ptr(values[0]));
 }
+void ShaderProgram::setArray(const char* name, const glm::vec4* values, int count) {
+  glProgramUniform4fv(id_, location(name), count, glm::value_ptr(values[0]));
+}
 
 }  // namespace vplab

@@ -67,6 +67,7 @@ class ShaderProgram {
   void set(const char* name, const glm::mat3& value);
   void setArray(const char* name, const glm::vec2* values, int count);
   void setArray(const char* name, const glm::vec3* values, int count);
+  void setArray(const char* name, const glm::vec4* values, int count);
   int location(const char* name);
 
  private:

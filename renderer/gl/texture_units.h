@@ -32,6 +32,8 @@ enum class TextureUnit : int {
   /// The density grid of the scene's grid medium (renderer/gl/media_pass.h, common/medium.glsl), in every pass that
   /// reads the media table.
   MediaDensity = 18,
+  /// The direct pass's blocker searches of the area emitters, one per k x k block (renderer/gl/direct_pass.h).
+  BlockerSearch = 19,
 };
 
 constexpr int unit(TextureUnit u) {

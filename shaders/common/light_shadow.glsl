@@ -14,8 +14,6 @@ uniform float uDirectionalShadowTexel;  // 2 uSceneRadius / map size, metres
 uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / faceSize: a point or spot light's map
 uniform float uAreaShadowTexel;   // the same for an area-light cell's map, drawn with fewer texels
 
-// Taps of the soft shadows' blocker search (area emitters).
-const int kLightShadowTaps = 16;
 // Taps of the filter over about one texel (punctual and directional lights): with 8 instead of 16 a point light's
 // direct light is 3 % further from the reference (relMSE 0.0180 against 0.0175 on the 10k-triangle dense scene at
 // 256^2), at half the cost, which is most of the direct pass (a point light: 13 of its 21 ms at 640x480).
@@ -116,15 +114,17 @@ struct BlockerSearch {
 
 BlockerSearch blockerSearchBegin() { return BlockerSearch(vec3(0.0), 0); }
 
-// One tap of the blocker search: the point a fraction t of the way from emitter sample y to the receiver, read from
-// the map of y's cell a. Occluders up to half as far again count (a blocker's surface seen from the centre lies before
-// the segment's crossing).
-void blockerSearchTap(inout BlockerSearch search, AreaShadow a, vec3 y, vec3 emitterNormal, float t) {
+// One tap of the blocker search (preview/blocker_search.frag.glsl): the point a fraction t of the way from emitter
+// sample y to the receiver, read from the map of y's cell a. Occluders up to half as far again count (a blocker's
+// surface seen from the centre lies before the segment's crossing). A tap from a pixel that sees no surface
+// (receiverSeen false) counts nothing.
+void blockerSearchTap(inout BlockerSearch search, AreaShadow a, vec3 y, vec3 emitterNormal, float t,
+                      bool receiverSeen) {
   vec3 p = mix(y, a.receiver, t) - a.centre;
   float reach = length(p);
   vec3 u = p / reach;
   float stored;
-  bool blocked = areaShadowOccluded(a, u, 1.5 * reach, emitterNormal, stored);
+  bool blocked = receiverSeen && areaShadowOccluded(a, u, 1.5 * reach, emitterNormal, stored);
   search.pointSum += blocked ? a.centre + stored * u : vec3(0.0);
   search.blockers += blocked ? 1 : 0;
 }

@@ -11,8 +11,8 @@
 // merge would turn its sharp shadow edges into k-pixel stair-steps.
 // The renderer draws the table in runs of one kind of shadow map each (DIRECT_MAP_KIND; renderer/gl/direct_pass.cpp):
 // the samples of one area emitter, whose cells' maps share one blocker search, or all punctual or all directional
-// lights, a map each. The emitter's blocker search runs once per pixel, before the loop; a punctual light's filter
-// inside it. llvmpipe runs the body of a branch for the whole SIMD group whatever its condition, so filtering inside the
+// lights, a map each. The emitter's blocker search ran before, once per k x k block (preview/blocker_search.frag.glsl,
+// layer uSearchLayer of uBlockerSearch); a punctual light's filter runs inside the loop. llvmpipe runs the body of a branch for the whole SIMD group whatever its condition, so filtering inside the
 // loop only when the map changes would cost one filter per sample; for the same reason the loop body has no branches.
 #define DIRECT_MAP_AREA 0         // an area emitter's cube map: soft shadows
 #define DIRECT_MAP_PUNCTUAL 1     // a point or spot light's cube map
@@ -37,6 +37,12 @@ struct DirectLight {
 // reads a UBO faster than a storage buffer; a longer list is drawn in ranges.
 layout(std140, binding = BINDING_DIRECT_LIGHTS) uniform DirectLights { DirectLight lights[DIRECT_UBO_LIGHTS]; };
 
+#if DIRECT_MAP_KIND == DIRECT_MAP_AREA
+// Per k x k block and emitter, the blocker search's sum of blocker points (xyz) and their count (w).
+layout(binding = UNIT_BLOCKER_SEARCH) uniform sampler2DArray uBlockerSearch;
+uniform int uSearchLayer;  // this run's emitter
+#endif
+
 layout(location = 0) out vec4 outColor;
 
 void main() {
@@ -49,22 +55,14 @@ void main() {
   BrdfParams p = s.brdf;
   vec3 sum = vec3(0.0);
   int k2 = uInterleave * uInterleave;
-  // Filter rotation per pixel (interleaved gradient noise, Jimenez 2014): deterministic, and the de-interleave blurs it.
+#if DIRECT_MAP_KIND != DIRECT_MAP_AREA
+  // Filter rotation per pixel (interleaved gradient noise, Jimenez 2014): deterministic.
   float rotation = 6.2831853 * fract(52.9829189 * fract(dot(vec2(s.px), vec2(0.06711056, 0.00583715))));
+#endif
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA
-  // The samples in [uLightBegin, uLightEnd) are one emitter's, each behind its cell's map. The blocker search reads
-  // the maps toward points on the segments from kLightShadowTaps of the samples (spread over the range, so over every
-  // cell in proportion to its samples) to x1, at fractions t in [0.15, 0.85] of the way, rotated per pixel. A cell's
-  // view of x1 is set up again for each tap: a loop per cell, with the cell's state set up once, cost 20-30 % more on
-  // llvmpipe than this loop of a fixed count.
-  BlockerSearch search = blockerSearchBegin();
-  int runLength = uLightEnd - uLightBegin;
-  for (int j = 0; j < kLightShadowTaps; ++j) {
-    DirectLight tap = lights[uLightBegin + (j * runLength) / kLightShadowTaps - uUboBase];
-    float t = 0.15 + 0.7 * fract(0.618034 * (float(j) + 0.5) + rotation / 6.2831853);
-    blockerSearchTap(search, areaShadowCell(int(tap.shadow.x), tap.centre.xyz, x1, ng), tap.position.xyz,
-                     tap.axis.xyz, t);
-  }
+  // The search of this pixel's block: the pixel's texel in its subset's block is the block's index.
+  vec4 found = texelFetch(uBlockerSearch, ivec3(ivec2(gl_FragCoord.xy) - uBlockOrigin, uSearchLayer), 0);
+  BlockerSearch search = BlockerSearch(found.xyz, int(found.w));
 #endif
   for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
     DirectLight l = lights[i - uUboBase];
