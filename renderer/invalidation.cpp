@@ -128,6 +128,8 @@ Staleness staleAfterSettingsChange(const Settings& a, const Settings& b, Method 
   // The indirect light's own G-buffer is made with the G-buffer.
   if (a.indirectDownscale != b.indirectDownscale) s.gbuffer = true;
   if (a.previewRepresentatives != b.previewRepresentatives) s.representatives = true;
+  // Where the preview keeps a density grid: every pass that reads the media.
+  if (a.previewGridInBuffer != b.previewGridInBuffer) s.direct = s.gather = true;
   if (a.shadowMapSize != b.shadowMapSize || a.visibility != b.visibility || a.ismTileSize != b.ismTileSize ||
       a.ismPointBudget != b.ismPointBudget)
     s.vplShadowMaps = true;

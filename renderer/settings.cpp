@@ -141,6 +141,8 @@ const std::vector<SettingInfo>& settingsTable() {
        "imperfect shadow maps: surface points shared among the VPLs", kUseGl},
       {"previewRepresentatives", &Settings::previewRepresentatives, 16, 65536, "R",
        "the preview gathers at most R lights: a larger VPL set is reduced per view to R light-tree clusters", kUseGl},
+      {"previewGridInBuffer", &Settings::previewGridInBuffer, 0, 0, "",
+       "density grids as NanoVDB storage buffers even where a 3D texture holds them", kUseGl},
   };
   return table;
 }

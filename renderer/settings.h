@@ -268,6 +268,10 @@ struct Settings {
   /// cut of this many clusters, each lit by one representative VPL carrying its cluster's power
   /// (renderer/offline/representative_lights.h); a set of at most this many VPLs is gathered as it is. Default 1024.
   int previewRepresentatives = 1024;
+  /// The preview reads a density grid from a NanoVDB storage buffer even where a 3D texture would hold it (by
+  /// default only a grid no 3D texture of the context holds goes there: renderer/gl/density_grid_storage.h). For
+  /// comparing the two; the texture is faster (docs/methods.md "Smoke in the preview"). Default false.
+  bool previewGridInBuffer = false;
 };
 
 // --- the settings table: one row per member -------------------------------------------------------------------

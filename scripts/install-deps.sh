@@ -9,6 +9,7 @@ packages=(
   libimgui-dev libtinygltf-dev libglm-dev libembree-dev libtbb-dev libstb-dev nlohmann-json3-dev
   libtinyexr-dev libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth python3-glad
   libopenvdb-dev libboost-iostreams-dev  # density grids (smoke); OpenVDB's CMake module needs Boost iostreams
+  libnanovdb-dev                         # the preview's grids too big for a 3D texture (PNanoVDB.h in GLSL)
   python3-openvdb python3-numpy          # scripts/make_smoke.py writes the bundled smoke's grid
   assimp-testmodels  # third-party glTF 2.0 files the tests load (tests/third_party_scenes_test.cpp)
   parallel           # GNU parallel: bench shards in the tests and the documented multi-machine recipe

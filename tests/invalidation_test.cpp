@@ -142,6 +142,11 @@ TEST(Invalidation, CameraMoveChoosesTheRepresentativesAgainWithoutNewVpls) {
   EXPECT_TRUE(vpls.propagated().representatives);
 }
 
+// Moving a density grid between its 3D texture and its NanoVDB buffer redraws what reads the media, nothing else.
+TEST(Invalidation, GridStorageRedrawsThePassesThatReadTheMedia) {
+  EXPECT_EQ(toString(change([](Settings& x) { x.previewGridInBuffer = true; })), "direct gather ssbc tonemap");
+}
+
 TEST(Invalidation, LightEditRegeneratesVplsAndShadowMaps) {
   Staleness s = staleAfterLightEdit();
   Staleness allButTheGbuffer = Staleness::all();

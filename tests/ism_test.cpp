@@ -148,6 +148,7 @@ TEST(TextureUnits, GlslIncludeMatchesTheEnum) {
       {"BINDING_DIRECT_LIGHTS", binding(BufferBinding::DirectLights)},
       {"BINDING_VPLS", binding(BufferBinding::Vpls)},
       {"BINDING_MEDIA", binding(BufferBinding::Media)},
+      {"BINDING_MEDIA_DENSITY_GRID", binding(BufferBinding::MediaDensityGrid)},
   };
   EXPECT_EQ(glsl.size(), std::size(expected));
   for (const auto& [name, number] : expected) {

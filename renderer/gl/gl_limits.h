@@ -9,8 +9,6 @@ namespace vplab {
 struct GlLimits {
   int maxTextureSize = 0;
   int maxArrayLayers = 0;
-  /// Largest side of a 3D texture (a density grid, renderer/gl/media_pass.h); 0: not queried, not checked.
-  int max3dTextureSize = 0;
   /// Largest framebuffer the context renders (min of GL_MAX_VIEWPORT_DIMS and GL_MAX_RENDERBUFFER_SIZE).
   int maxFramebufferSize = 0;
   /// Bytes of texture memory the preview lets itself allocate: half of what the driver reports free

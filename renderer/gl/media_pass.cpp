@@ -5,7 +5,9 @@
 #include <algorithm>
 #include <cmath>
 #include <glm/gtc/matrix_transform.hpp>
+#include <stdexcept>
 
+#include "renderer/gl/gl_limits.h"
 #include "renderer/gl/light_table.h"
 #include "renderer/gl/texture_units.h"
 #include "renderer/scene/density_grid.h"
@@ -19,10 +21,10 @@ struct MediumGpu {
   glm::mat4 boxFromWorld;
   glm::vec4 compensation;
 };
-// The grid medium's density texture (GlMediumGrid of common/medium.glsl).
+// The grid medium's density texture or buffer (GlMediumGrid of common/medium.glsl).
 struct MediumGridGpu {
-  glm::mat4 textureFromWorld;
-  glm::vec4 size;  // xyz: texels along x, y, z; w: densityScale
+  glm::mat4 textureFromWorld;  // the buffer's: index from world
+  glm::vec4 size;              // xyz: texels along x, y, z (the buffer's: 1); w: densityScale
 };
 struct MediaTableGpu {
   MediumGpu media[kPreviewMaxMedia];
@@ -34,6 +36,18 @@ struct MediaTableGpu {
 glm::mat4 textureFromIndex(const DensityGrid& grid) {
   const glm::vec3 size(grid.size);
   return glm::scale(glm::mat4(1.0f), 1.0f / size) * glm::translate(glm::mat4(1.0f), 0.5f - glm::vec3(grid.origin));
+}
+int max3dTextureSize() {
+  int size = 0;
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &size);
+  return size;
+}
+
+// The grid medium's row of the table for the grid's storage: texture coordinates (above), or index coordinates with
+// one "texel" per voxel, so that the march's step count is the voxels crossed either way.
+MediumGridGpu gridRow(const Medium& m, DensityGridStorage storage) {
+  if (storage == DensityGridStorage::Buffer) return {m.indexFromWorld, glm::vec4(1.0f, 1.0f, 1.0f, m.densityScale)};
+  return {textureFromIndex(*m.density) * m.indexFromWorld, glm::vec4(glm::vec3(m.density->size), m.densityScale)};
 }
 }  // namespace
 
@@ -84,7 +98,35 @@ glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound, 
   return c;
 }
 
-void MediaPass::upload(const Scene& scene, float clampBound) {
+void MediaPass::uploadGrid(const DensityGrid& grid, DensityGridStorage storage) {
+  if (storage == DensityGridStorage::Texture) {
+    density_ = GlTexture::volume(grid.size, grid.values);
+    densityBuffer_ = GlBuffer();
+    return;
+  }
+  const std::vector<uint32_t> words = nanoVdbFloatGrid(grid);
+  const std::size_t bytes = words.size() * sizeof(uint32_t);
+  GLint64 maxBlock = 0;
+  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
+  if (static_cast<double>(bytes) > static_cast<double>(maxBlock))
+    throw std::runtime_error("density grid '" + grid.gridName + "': its NanoVDB grid takes " +
+                             formatBytes(static_cast<double>(bytes)) +
+                             ", over this GL context's largest storage block (" +
+                             formatBytes(static_cast<double>(maxBlock)) + "): use a coarser grid, or vplab render");
+  densityBuffer_.assign(words.data(), bytes);
+  density_ = GlTexture();
+}
+
+std::string MediaPass::gridSummary() const {
+  if (layout_.gridMedium < 0) return {};
+  const glm::ivec3 n = uploadedGrid_->size;
+  const double bytes =
+      gridStorage_ == DensityGridStorage::Texture ? 4.0 * n.x * n.y * static_cast<double>(n.z) : densityBuffer_.size();
+  return std::string(toString(gridStorage_)) + ", " + std::to_string(n.x) + "x" + std::to_string(n.y) + "x" +
+         std::to_string(n.z) + " voxels, " + formatBytes(bytes);
+}
+
+void MediaPass::upload(const Scene& scene, float clampBound, bool gridInBuffer) {
   MediaTableGpu gpu{};
   layout_ = {};
   for (const Medium& m : scene.media) {
@@ -93,14 +135,16 @@ void MediaPass::upload(const Scene& scene, float clampBound) {
     float density = 1.0f;
     // Beyond kPreviewMaxDensityGrids (mediaFitProblem refuses such a scene) a grid would be drawn as a uniform box.
     if (m.heterogeneous() && layout_.gridMedium < 0) {
-      if (m.density != uploadedGrid_) {
-        density_ = GlTexture::volume(m.density->size, m.density->values);
+      const DensityGridStorage storage = densityGridStorage(*m.density, max3dTextureSize(), gridInBuffer);
+      if (m.density != uploadedGrid_ || storage != gridStorage_) {
+        uploadGrid(*m.density, storage);
         uploadedGrid_ = m.density;
+        gridStorage_ = storage;
         uploadedGridWeightedDensity_ = scatteringWeightedDensity(*m.density);
       }
       layout_.gridMedium = layout_.count;
-      gpu.grid = {textureFromIndex(*m.density) * m.indexFromWorld,
-                  glm::vec4(glm::vec3(m.density->size), m.densityScale)};
+      layout_.gridInBuffer = storage == DensityGridStorage::Buffer;
+      gpu.grid = gridRow(m, storage);
       density = m.densityScale * uploadedGridWeightedDensity_;
     }
     gpu.media[layout_.count++] = {glm::vec4(m.sigmaT(), m.fillsSpace ? 1.0f : 0.0f), glm::vec4(m.sigmaS, m.g),
@@ -109,6 +153,7 @@ void MediaPass::upload(const Scene& scene, float clampBound) {
   }
   if (layout_.gridMedium < 0) {
     density_ = GlTexture();
+    densityBuffer_ = GlBuffer();
     uploadedGrid_.reset();
   }
   table_.assign(&gpu, sizeof(gpu));
@@ -123,6 +168,7 @@ void MediaPass::upload(const Scene& scene, float clampBound) {
 void MediaPass::bind() const {
   table_.bindUniform(binding(BufferBinding::Media));
   if (density_) density_.bind(unit(TextureUnit::MediaDensity));
+  if (densityBuffer_.size() > 0) densityBuffer_.bindStorage(binding(BufferBinding::MediaDensityGrid));
 }
 
 void MediaPass::useGatherDefines(const std::vector<std::string>& gatherDefines) {

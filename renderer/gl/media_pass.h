@@ -9,14 +9,16 @@
 // both interleaved like the surface passes, on the indirect light's grid, and merged (media_merge.frag.glsl); then
 // the composition through the media (media_compose.frag.glsl): T(camera, surface) times the surfaces' image plus the
 // scattered light.
-// A medium with a density grid (smoke, docs/theory.md §22) is uploaded as a 3D texture; the shaders compiled with
-// PREVIEW_MEDIA_GRID (media_shader_layout.h) integrate its optical depth by ray marching and scale sigma_s by the
-// density where they scatter (common/medium.glsl).
+// A medium with a density grid (smoke, docs/theory.md §22) is uploaded as a 3D texture, or as a NanoVDB grid in a
+// storage buffer where no 3D texture holds it (density_grid_storage.h); the shaders compiled with PREVIEW_MEDIA_GRID
+// (media_shader_layout.h) integrate its optical depth by ray marching and scale sigma_s by the density where they
+// scatter (common/medium.glsl).
 
 #include <memory>
 #include <string>
 #include <vector>
 
+#include "renderer/gl/density_grid_storage.h"
 #include "renderer/gl/direct_pass.h"
 #include "renderer/gl/gather_pass.h"
 #include "renderer/gl/media_shader_layout.h"
@@ -31,8 +33,9 @@ namespace vplab {
 
 /// The most media one scene may hold in the preview (MEDIA_MAX of common/medium.glsl).
 inline constexpr int kPreviewMaxMedia = 8;
-/// The most media with a density grid one scene may hold in the preview: the grid's texture has one unit
-/// (TextureUnit::MediaDensity) and its medium is a shader define (PREVIEW_MEDIA_GRID).
+/// The most media with a density grid one scene may hold in the preview: its medium is a shader define
+/// (PREVIEW_MEDIA_GRID), and the lights' scattering marches the one grid once per light along a camera ray
+/// (preview/media_lights.frag.glsl).
 inline constexpr int kPreviewMaxDensityGrids = 1;
 /// Distances per light and pixel along a camera ray for the lights' single scattering: with equiangular sampling and
 /// the k x k merge, 4 keep the shafts of the bundled fog scenes within 2 % of the CPU's (tests/gl_media_test.cpp).
@@ -65,14 +68,19 @@ class MediaPass {
 
   /// Uploads the scene's media (at most kPreviewMaxMedia, mediaFitProblem()) with their compensation factors for the
   /// bound b; active() tells whether it has any that absorb or scatter.
-  /// A grid medium's density is uploaded as a 3D texture when its grid is not the one already uploaded.
-  void upload(const Scene& scene, float clampBound);
+  /// A grid medium's density is uploaded, as densityGridStorage() picks for this context (`gridInBuffer`:
+  /// Settings::previewGridInBuffer), when its grid or its storage is not the one already uploaded. Throws
+  /// std::runtime_error when the NanoVDB grid exceeds the context's largest storage block.
+  void upload(const Scene& scene, float clampBound, bool gridInBuffer);
   /// The bound the last upload() computed the compensation factors for.
   float uploadedBound() const { return uploadedBound_; }
   bool active() const { return layout_.count > 0; }
   /// What the passes that read the media are compiled for (the direct pass and the gather too).
   const MediaShaderLayout& layout() const { return layout_; }
-  /// Binds the media's table, and the grid's texture, for every pass compiled with PREVIEW_MEDIA.
+  /// Where the grid medium's density is and what it takes, e.g. "3D texture, 34x50x34 voxels, 0.22 MiB"; empty
+  /// without a grid.
+  std::string gridSummary() const;
+  /// Binds the media's table, and the grid's texture or buffer, for every pass compiled with PREVIEW_MEDIA.
   void bind() const;
   /// Compiles the VPLs' in-scattering for the gather's table, visibility technique and media
   /// (VplGatherPass::defines()).
@@ -103,15 +111,18 @@ class MediaPass {
 
  private:
   void ensureTargets(const InterleavedLayout& layout);
+  void uploadGrid(const DensityGrid& grid, DensityGridStorage storage);
 
   GlBuffer table_;
   MediaShaderLayout layout_;
   float uploadedBound_ = 0.0f;
-  // The grid whose density `density_` holds (kept, so that a new grid is never taken for it at the same address), and
-  // its scatteringWeightedDensity().
+  // The grid whose density `density_` or `densityBuffer_` holds (kept, so that a new grid is never taken for it at the
+  // same address), where, and its scatteringWeightedDensity().
   std::shared_ptr<const DensityGrid> uploadedGrid_;
+  DensityGridStorage gridStorage_ = DensityGridStorage::Texture;
   float uploadedGridWeightedDensity_ = 0.0f;
   GlTexture density_;
+  GlBuffer densityBuffer_;
   std::unique_ptr<ShaderProgram> lights_;
   int lightsLayoutCapacity_ = 0;
   std::unique_ptr<BrdfVariants> vpls_;

@@ -263,22 +263,17 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   const double lightBytes =
       4.0 * (6.0 * cubes * lightMaps.punctualFace * lightMaps.punctualFace +
              static_cast<double>(squares) * lightMaps.directional * lightMaps.directional);
-  // A density grid is an R32F 3D texture of its stored voxels (MediaPass::upload).
+  // A density grid is an R32F 3D texture of its stored voxels, or where none holds it a NanoVDB grid of the 8^3 leaves
+  // with smoke, about as many bytes per voxel of them (MediaPass::upload): 4 bytes per stored voxel bounds both.
   double gridBytes = 0.0;
   for (const Medium& m : scene.media) {
     if (!m.heterogeneous() || m.isVacuum()) continue;
     const glm::ivec3 size = m.density->size;
-    if (limits.max3dTextureSize > 0 && std::max({size.x, size.y, size.z}) > limits.max3dTextureSize) {
-      why << "medium '" << m.name << "': its density grid of " << size.x << "x" << size.y << "x" << size.z
-          << " voxels exceeds this GL context's largest 3D texture, " << limits.max3dTextureSize
-          << " per side: use vplab render";
-      return why.str();
-    }
     gridBytes += 4.0 * size.x * size.y * static_cast<double>(size.z);
   }
   const double total = vplMaps.bytes + targetBytes + lightBytes + gridBytes;
   if (total > limits.memoryBytes && gridBytes > 0.5 * total) {
-    why << "the scene's density grid needs " << formatBytes(gridBytes) << " of 3D texture: the preview needs "
+    why << "the scene's density grid needs up to " << formatBytes(gridBytes) << " of GPU memory: the preview needs "
         << formatBytes(total) << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
         << limits.memorySource << "); the grid is the cause: use a coarser grid, or vplab render";
     return why.str();
@@ -342,8 +337,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // The media are compared with those uploaded, so that an edit in place (the editor's) needs no call: what they
   // change is what renderer/invalidation.h says (the direct light's transmittance and all the VPLs do).
   if (const Staleness mediaEdit = staleAfterMediumEdit(uploadedMedia_, scene.media);
-      mediaEdit.anyPreview() || !haveFrame_) {
-    media_.upload(scene, settings.clampBound);
+      mediaEdit.anyPreview() || !haveFrame_ || settings.previewGridInBuffer != lastSettings_.previewGridInBuffer) {
+    media_.upload(scene, settings.clampBound, settings.previewGridInBuffer);
     direct_.useMedia(media_.layout());
     uploadedMedia_ = scene.media;
     stale |= mediaEdit;
@@ -355,7 +350,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     vplsDirty_ = true;
   }
   // The compensation factors depend on the bound (a change of which the gather's staleness covers).
-  if (media_.active() && settings.clampBound != media_.uploadedBound()) media_.upload(scene, settings.clampBound);
+  if (media_.active() && settings.clampBound != media_.uploadedBound())
+    media_.upload(scene, settings.clampBound, settings.previewGridInBuffer);
   if (media_.active()) media_.bind();
   if (!shadowsValid_) vplVisibility_->resetScene();
   // The renderer does not generate VPLs: a new or edited set is uploaded and gathered again. Its maps depend on the

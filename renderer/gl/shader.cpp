@@ -4,6 +4,7 @@
 
 #include <glm/gtc/type_ptr.hpp>
 
+#include <algorithm>
 #include <cstdlib>
 #include <fstream>
 #include <regex>
@@ -49,17 +50,22 @@ bool readFile(const std::string& path, std::string& out) {
   return true;
 }
 
+// `#include <path>` in a shader names a header of a system include directory (VPLAB_SHADER_SYSTEM_INCLUDE_DIR):
+// NanoVDB's PNanoVDB.h, read where the distribution installed it rather than copied (docs/methods.md "Smoke in the
+// preview"). Such a header's own `#include <...>` lines are C-only (inside its #if blocks) and stay as they are.
 void expand(const std::string& dir, const std::string& file, std::vector<std::string>& names,
             std::set<std::string>& included, std::ostringstream& out, const std::string& from, int fromLine) {
   std::string text;
+  const bool systemHeader = dir == VPLAB_SHADER_SYSTEM_INCLUDE_DIR;
   if (!readFile(dir + "/" + file, text)) {
     std::string where = from.empty() ? file : from + ":" + std::to_string(fromLine);
     throw ShaderError(where + ": cannot read shader file '" + dir + "/" + file + "'", from.empty() ? file : from,
                       fromLine);
   }
   int index = static_cast<int>(names.size());
-  names.push_back(file);
+  names.push_back(systemHeader ? "<" + file + ">" : file);
   static const std::regex includeRe(R"(^\s*#\s*include\s+\"([^\"]+)\"\s*$)");
+  static const std::regex systemIncludeRe(R"(^\s*#\s*include\s+<([^>]+)>\s*$)");
   static const std::regex versionRe(R"(^\s*#\s*version\b.*$)");
   std::istringstream in(text);
   std::string line;
@@ -73,6 +79,13 @@ void expand(const std::string& dir, const std::string& file, std::vector<std::st
     if (std::regex_match(line, m, includeRe)) {
       std::string child = m[1].str();
       if (included.insert(child).second) expand(dir, child, names, included, out, file, lineNo);
+      out << lineDirective(index, lineNo + 1);
+      continue;
+    }
+    if (!systemHeader && std::regex_match(line, m, systemIncludeRe)) {
+      std::string child = m[1].str();
+      if (included.insert("<" + child + ">").second)
+        expand(VPLAB_SHADER_SYSTEM_INCLUDE_DIR, child, names, included, out, file, lineNo);
       out << lineDirective(index, lineNo + 1);
       continue;
     }
@@ -182,7 +195,12 @@ uint32_t ShaderProgram::build() const {
     shaders.push_back(shader);
     const char* text = source.c_str();
     glShaderSource(shader, 1, &text, nullptr);
+    // A system header's warnings (PNanoVDB.h's implicit int -> uint conversions on Mesa) are not ours to fix: the
+    // compiler's debug messages stay off while a shader that includes one compiles. Errors still fail it below.
+    const bool quiet = std::any_of(names.begin(), names.end(), [](const std::string& n) { return n[0] == '<'; });
+    if (quiet) glDebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_FALSE);
     glCompileShader(shader);
+    if (quiet) glDebugMessageControl(GL_DEBUG_SOURCE_SHADER_COMPILER, GL_DONT_CARE, GL_DONT_CARE, 0, nullptr, GL_TRUE);
     GLint ok = 0;
     glGetShaderiv(shader, GL_COMPILE_STATUS, &ok);
     if (!ok) {

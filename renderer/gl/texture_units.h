@@ -57,6 +57,9 @@ enum class BufferBinding : int {
   Vpls = 8,
   /// The scene's participating media (uniform block of common/medium.glsl).
   Media = 9,
+  /// The density grid of the scene's grid medium as a NanoVDB grid, where no 3D texture holds it (storage block of
+  /// common/medium.glsl, renderer/gl/density_grid_storage.h).
+  MediaDensityGrid = 10,
 };
 
 constexpr int binding(BufferBinding b) {

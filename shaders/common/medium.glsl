@@ -7,8 +7,10 @@
 // file unconditionally.
 // PREVIEW_MEDIA_GRID, when defined, is the index of the one medium with a density grid (smoke): its coefficients are
 // per unit density, sigma(x) = densityScale d(x) sigma, d the grid's trilinear interpolation, read from a 3D texture
-// whose linear filtering is that interpolation. Its optical depth is ray-marched (gridDensityIntegral); the other
-// media take the closed form as without a grid, so a scene without one compiles the code it always had.
+// whose linear filtering is that interpolation, or with PREVIEW_MEDIA_GRID_NANOVDB from a NanoVDB grid in a storage
+// buffer (renderer/gl/density_grid_storage.h), interpolated here. Its optical depth is ray-marched
+// (gridDensityIntegral); the other media take the closed form as without a grid, so a scene without one compiles the
+// code it always had.
 #ifndef PREVIEW_MEDIA
 #define PREVIEW_MEDIA 0
 #endif
@@ -36,17 +38,61 @@ layout(std140, binding = BINDING_MEDIA) uniform Media {
 };
 
 #ifdef PREVIEW_MEDIA_GRID
+#ifdef PREVIEW_MEDIA_GRID_NANOVDB
+// The grid as a NanoVDB float grid at byte 0 of a storage buffer (renderer/gl/density_grid_storage.h), read through
+// NanoVDB's own GLSL reader; mediaGrid.textureFromWorld then maps world to index coordinates and mediaGrid.size.xyz
+// is 1, so that the march below counts voxels alike for both storages.
+layout(std430, binding = BINDING_MEDIA_DENSITY_GRID) readonly buffer MediaDensityGrid { uint pnanovdb_buf_data[]; };
+#define PNANOVDB_GLSL
+#include <nanovdb/PNanoVDB.h>
+
+// The trilinear interpolation of the voxel values at integer index points, as DensityGrid::lookup (a voxel the grid
+// leaves out reads its background, 0). Corner c is voxel i + (c & 1, c >> 1 & 1, c >> 2).
+float gridDensityAt(vec3 index) {
+  pnanovdb_buf_t buf;  // GLSL's reader names the storage block itself; the handle is a placeholder
+  buf.unused = 0u;
+  pnanovdb_grid_handle_t grid;
+  grid.address.byte_offset = 0u;
+  pnanovdb_readaccessor_t acc;
+  pnanovdb_readaccessor_init(acc, pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, grid)));
+  vec3 f0 = floor(index), f = index - f0;
+  ivec3 i = ivec3(f0);
+  uint level;
+  pnanovdb_address_t first =
+      pnanovdb_readaccessor_get_value_address_and_level(PNANOVDB_GRID_TYPE_FLOAT, buf, acc, i, level);
+  // Where all eight corners lie in the 8^3 leaf of the first (7 in 8 cells along each axis), their values follow its
+  // in the leaf's table at (x << 6) + (y << 3) + z: one walk down the tree instead of eight (llvmpipe runs the
+  // accessor's branches for every lane).
+  float v[8];
+  if (level == 0u && all(lessThan(i & 7, ivec3(7)))) {
+    for (int c = 0; c < 8; ++c) {
+      uint entry = uint((c & 1) * 64 + (c >> 1 & 1) * 8 + (c >> 2));
+      v[c] = pnanovdb_read_float(buf, pnanovdb_address_offset(first, entry * 4u));
+    }
+  } else {
+    for (int c = 0; c < 8; ++c) {
+      ivec3 corner = i + ivec3(c & 1, c >> 1 & 1, c >> 2);
+      v[c] = pnanovdb_read_float(
+          buf, pnanovdb_readaccessor_get_value_address(PNANOVDB_GRID_TYPE_FLOAT, buf, acc, corner));
+    }
+  }
+  float y0 = mix(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), f.y);
+  float y1 = mix(mix(v[4], v[5], f.x), mix(v[6], v[7], f.x), f.y);
+  return mediaGrid.size.w * mix(y0, y1, f.z);
+}
+#else
 // R32F, linear filtering, clamped to the edge: outside the stored box it reads the zero margin, as the CPU's lookup.
 layout(binding = UNIT_MEDIA_DENSITY) uniform sampler3D uMediaDensity;
+
+// densityScale d at texture coordinates uvw (explicit level: the callers sample in non-uniform control flow).
+float gridDensityAt(vec3 uvw) { return mediaGrid.size.w * textureLod(uMediaDensity, uvw, 0.0).r; }
+#endif
 
 // The most steps of one ray march through the grid. A march takes one step per voxel the segment crosses (its length
 // in index coordinates), so a segment longer than this many voxels is marched with longer steps. One step per voxel
 // keeps the optical depth within 1.3 % of a fine quadrature on cornell-smoke (tests/gl_smoke_test.cpp); four steps
 // per voxel give 0.1 % at four times the cost, and no visible change in its images.
 #define MEDIA_GRID_MAX_STEPS 256
-
-// densityScale d at texture coordinates uvw (explicit level: the callers sample in non-uniform control flow).
-float gridDensityAt(vec3 uvw) { return mediaGrid.size.w * textureLod(uMediaDensity, uvw, 0.0).r; }
 
 // densityScale d(x) at the world point x.
 float gridDensity(vec3 x) { return gridDensityAt((mediaGrid.textureFromWorld * vec4(x, 1.0)).xyz); }
