@@ -11,6 +11,8 @@
 # - the OSMesa instances of the suites run on both backends (label gl-osmesa-twin): the same renders and CPU
 #   references as their EGL twins through the same code but the context's, which the context tests take on OSMesa;
 #   VPLAB_SANITIZE_TWINS=1 runs them as well.
+# Run from scripts/test.sh, the GL tests take the CPU images they compare with from the Release run's
+# (VPLAB_TEST_IMAGE_CACHE, tests/cpu_image_cache.h): the CPU renderers run under the sanitizers in their own tests.
 set -euo pipefail
 root="$(cd "$(dirname "${BASH_SOURCE[0]}")/.." && pwd)"
 build="${VPLAB_SANITIZE_BUILD_DIR:-$root/build-sanitized}"
