@@ -355,8 +355,9 @@ TEST(CliFlags, HelpListsOnlyWhatActsOnTheCommandWithItsOwnDefaults) {
   const std::string renderLine = top.out.substr(line + 1, top.out.find('\n', line + 1) - line - 1);
   for (const RenderMethod& m : renderMethods()) {
     const std::string name = toString(m.id);
-    if (m.id != Method::Reference)
+    if (m.id != Method::Reference) {
       EXPECT_TRUE(contains(renderLine, name + ",") || contains(renderLine, name + ")")) << name << ": " << renderLine;
+    }
   }
 }
 

@@ -136,11 +136,10 @@ struct GltfBuilder {
     while (json.size() % 4) json += ' ';
     std::vector<unsigned char> payload = bin;
     while (payload.size() % 4) payload.push_back(0);
-    std::vector<unsigned char> out;
+    std::vector<unsigned char> out = {'g', 'l', 'T', 'F'};
     auto u32 = [&out](uint32_t v) {
       for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
     };
-    out.insert(out.end(), {'g', 'l', 'T', 'F'});
     u32(2);
     u32(static_cast<uint32_t>(12 + 8 + json.size() + 8 + payload.size()));
     u32(static_cast<uint32_t>(json.size()));
@@ -157,14 +156,13 @@ struct GltfBuilder {
 inline std::vector<unsigned char> bmp(int width, int height, const std::vector<glm::u8vec3>& rgbTopDown) {
   int rowBytes = (3 * width + 3) & ~3;
   uint32_t dataSize = static_cast<uint32_t>(rowBytes * height);
-  std::vector<unsigned char> out;
+  std::vector<unsigned char> out = {'B', 'M'};
   auto u16 = [&out](uint32_t v) {
     for (int i = 0; i < 2; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
   };
   auto u32 = [&out](uint32_t v) {
     for (int i = 0; i < 4; ++i) out.push_back(static_cast<unsigned char>(v >> (8 * i)));
   };
-  out.insert(out.end(), {'B', 'M'});
   u32(54 + dataSize);
   u32(0);
   u32(54);
