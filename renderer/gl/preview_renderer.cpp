@@ -263,15 +263,23 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   const double lightBytes =
       4.0 * (6.0 * cubes * lightMaps.punctualFace * lightMaps.punctualFace +
              static_cast<double>(squares) * lightMaps.directional * lightMaps.directional);
-  // A density grid is an R32F 3D texture of its stored voxels, or where none holds it a NanoVDB grid of the 8^3 leaves
-  // with smoke, about as many bytes per voxel of them (MediaPass::upload): 4 bytes per stored voxel bounds both.
+  // A density grid is an R32F 3D texture of its stored voxels: 4 bytes each. Where no texture holds it, a NanoVDB grid
+  // of the 8^3 leaves with smoke and the tree's nodes (MediaPass::upload) takes that for a plume whose box is mostly
+  // empty, and up to about twice that for a dense one (0.45 MiB for cornell-smoke's 0.22 MiB of voxels); counted here
+  // at the texture's size.
   double gridBytes = 0.0;
   for (const Medium& m : scene.media) {
     if (!m.heterogeneous() || m.isVacuum()) continue;
     const glm::ivec3 size = m.density->size;
     gridBytes += 4.0 * size.x * size.y * static_cast<double>(size.z);
   }
-  const double total = vplMaps.bytes + targetBytes + lightBytes + gridBytes;
+  // The direct light's blocker searches (DirectLightPass): an RGBA32F texel per k x k pixel block and area-light group.
+  const double searchBytes =
+      scene.emissiveTriangles.empty()
+          ? 0.0
+          : 16.0 * kMaxAreaGroups * std::ceil(static_cast<double>(settings.width) / settings.interleave) *
+                std::ceil(static_cast<double>(settings.height) / settings.interleave);
+  const double total = vplMaps.bytes + targetBytes + searchBytes + lightBytes + gridBytes;
   if (total > limits.memoryBytes && gridBytes > 0.5 * total) {
     why << "the scene's density grid needs up to " << formatBytes(gridBytes) << " of GPU memory: the preview needs "
         << formatBytes(total) << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
