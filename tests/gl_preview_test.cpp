@@ -330,6 +330,40 @@ TEST(PassSlices, RunsEachStepOnceAcrossCallsThatStopAfterEveryStep) {
   EXPECT_TRUE(slices.starting());
 }
 
+// A banded draw's slices (BandCost): a draw whose time is all per row gets bands of about the slice's time; a draw
+// whose time is mostly fixed (a dense scene's geometry, paid in every band) is drawn whole once two bands showed it,
+// instead of in bands that each pay it.
+TEST(PassSlices, BandsFollowTheRowsOrDrawWholeWhenTheTimeIsFixed) {
+  const int rows = 272;
+  const double slice = PassSlices::kSliceMs;
+  auto bandsToDraw = [&](double fixedMs, double msPerRow, std::vector<double>* bandMs) {
+    BandCost cost;
+    int left = rows, bands = 0;
+    while (left > 0) {
+      const int band = cost.nextBand(left, rows, slice);
+      EXPECT_GE(band, 1);
+      const double ms = fixedMs + msPerRow * band;
+      if (bandMs) bandMs->push_back(ms);
+      cost.measured(band, ms);
+      left -= band;
+      ++bands;
+    }
+    return bands;
+  };
+  std::vector<double> perRowBands;
+  EXPECT_EQ(bandsToDraw(0.0, 0.5, &perRowBands), 7) << "136 ms of rows in bands of 40 rows after the first 34";
+  for (std::size_t i = 1; i + 1 < perRowBands.size(); ++i) EXPECT_NEAR(perRowBands[i], slice, 0.5) << i;
+  EXPECT_EQ(bandsToDraw(40.0, 0.01, nullptr), 3) << "an eighth, one band sized by rows alone, then the rest at once";
+  std::vector<double> mixedBands;
+  EXPECT_EQ(bandsToDraw(5.0, 0.2, &mixedBands), 5) << "5 ms fixed is under half the slice: still banded";
+  for (std::size_t i = 2; i + 1 < mixedBands.size(); ++i) EXPECT_NEAR(mixedBands[i], slice, 0.5) << i;
+  BandCost learnt;
+  learnt.measured(34, 40.3);
+  learnt.measured(17, 40.2);
+  EXPECT_NEAR(learnt.fixedMs(), 40.1, 1e-9);
+  EXPECT_EQ(learnt.nextBand(rows, rows, slice), rows) << "the next run of the draw starts whole";
+}
+
 // The lights' shadow maps are split a cube face (or directional map) at a time under a budget; the stepped maps shade
 // exactly as the unbudgeted ones.
 TEST(GlPreview, LightMapsSplitAcrossCallsGiveTheSameImage) {

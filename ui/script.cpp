@@ -157,11 +157,15 @@ bool runStateVerb(EditorState& state, const ScriptCommand& c, const std::string&
   } else if (c.verb == "coarse-first-after") {
     state.coarseFirstAfterMs = c.args[0] == "off" ? std::numeric_limits<double>::infinity() : num(0);
   } else if (c.verb == "change-cost") {
-    char line[160];
+    char line[400];
     const ChangeTimer& t = state.changeTimer();
-    std::snprintf(line, sizeof line, "change-cost size=%dx%d ms=%.1f first_image_ms=%.1f coarse=%d frames=%d pending=%d",
+    const PreviewTimings& p = t.lastPasses();
+    std::snprintf(line, sizeof line,
+                  "change-cost size=%dx%d ms=%.1f first_image_ms=%.1f coarse=%d frames=%d pending=%d gpu_ms gbuffer=%.1f "
+                  "direct_shadow=%.1f direct=%.1f vpl_shadow=%.1f gather=%.1f media=%.1f ssbc=%.1f tonemap=%.1f",
                   state.settings().width, state.settings().height, t.lastMs(), t.lastFirstImageMs(),
-                  t.lastHadCoarseImage(), t.lastFrames(), t.pending());
+                  t.lastHadCoarseImage(), t.lastFrames(), t.pending(), p.gbufferMs, p.directShadowMs, p.directMs,
+                  p.vplShadowMs, p.gatherMs, p.mediaMs, p.ssbcMs, p.tonemapMs);
     print(line);
   } else if (c.verb == "preset-state") {
     print("preset-state " + state.presetState());

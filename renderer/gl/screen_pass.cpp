@@ -33,6 +33,34 @@ ShaderProgram& BrdfVariants::operator[](bool lambert) {
   return program;
 }
 
+void BandCost::measured(int rows, double ms) {
+  // Two bands of clearly different heights give both parts (a time that did not grow with the rows is all fixed cost);
+  // heights closer than 3 : 2 would turn timing noise into either part, so such a band, like the first, keeps the
+  // fixed part and gives the rest of its time to the rows.
+  if (lastRows_ > 0 && 2 * std::max(rows, lastRows_) >= 3 * std::min(rows, lastRows_)) {
+    const double slope = (ms - lastMs_) / (rows - lastRows_);
+    if (slope > 0.0) {
+      msPerRow_ = slope;
+      fixedMs_ = std::clamp(ms - slope * rows, 0.0, ms);
+    } else {
+      fixedMs_ = std::min(ms, lastMs_);
+      msPerRow_ = std::max(ms - fixedMs_, 0.0) / rows;
+    }
+  } else {
+    fixedMs_ = std::min(fixedMs_, ms);
+    msPerRow_ = (ms - fixedMs_) / rows;
+  }
+  lastRows_ = rows;
+  lastMs_ = ms;
+}
+
+int BandCost::nextBand(int rowsLeft, int rows, double sliceMs) const {
+  if (lastRows_ == 0) return std::min(rowsLeft, std::max(1, rows / 8));
+  if (fixedMs_ >= 0.5 * sliceMs || msPerRow_ <= 0.0) return rowsLeft;
+  const double band = std::clamp((sliceMs - fixedMs_) / msPerRow_, 1.0, static_cast<double>(rows));
+  return std::min(rowsLeft, static_cast<int>(band));
+}
+
 void PassSlices::begin(std::function<bool()> outOfTime) {
   outOfTime_ = std::move(outOfTime);
   seen_ = 0;
@@ -69,13 +97,10 @@ void PassSlices::bands(glm::ivec4 rect, const std::function<void()>& draw) {
     stopAfterSlice();
     return;
   }
-  if (msPerRow_.size() <= static_cast<std::size_t>(index)) msPerRow_.resize(static_cast<std::size_t>(index) + 1, 0.0);
-  double& msPerRow = msPerRow_[static_cast<std::size_t>(index)];
+  if (bandCosts_.size() <= static_cast<std::size_t>(index)) bandCosts_.resize(static_cast<std::size_t>(index) + 1);
+  BandCost& cost = bandCosts_[static_cast<std::size_t>(index)];
   while (bandRow_ < rows) {
-    // An unmeasured draw starts with an eighth of its rows; then each band is sized from the last one's time.
-    const int band = msPerRow > 0.0 ? static_cast<int>(std::clamp(kSliceMs / msPerRow, 1.0, static_cast<double>(rows)))
-                                    : std::max(1, rows / 8);
-    const int height = std::min(band, rows - bandRow_);
+    const int height = cost.nextBand(rows - bandRow_, rows, kSliceMs);
     const auto start = std::chrono::steady_clock::now();
     glEnable(GL_SCISSOR_TEST);
     glScissor(rect.x, rect.y + bandRow_, rect.z, height);
@@ -88,7 +113,7 @@ void PassSlices::bands(glm::ivec4 rect, const std::function<void()>& draw) {
     }
     // outOfTime waits for the GPU, so the time to its answer is the band's.
     const bool stop = stopAfterSlice();
-    msPerRow = std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count() / height;
+    cost.measured(height, std::chrono::duration<double, std::milli>(std::chrono::steady_clock::now() - start).count());
     if (stop || done_ == index + 1) return;
   }
 }

@@ -43,6 +43,26 @@ struct InterleavedLayout {
   int width = 0, height = 0, k = 1, blockWidth = 0, blockHeight = 0;
 };
 
+/// The time of a banded draw as fixed + perRow x rows, fitted to its last two bands. A draw of a dense scene's triangles
+/// pays llvmpipe's geometry stage (every vertex shaded, every triangle set up) again in each band whatever its rows, so
+/// a model of time per row alone shrinks its bands to one row and multiplies that fixed cost by the image's height.
+class BandCost {
+ public:
+  /// A band of `rows` rows took `ms`.
+  void measured(int rows, double ms);
+  /// The rows of the next band of a draw with `rowsLeft` rows left, to take about sliceMs: every row left when the
+  /// fixed part alone takes half the slice (smaller bands would only repeat it); an eighth of `rows` before any
+  /// measurement.
+  int nextBand(int rowsLeft, int rows, double sliceMs) const;
+  double fixedMs() const { return fixedMs_; }
+  double msPerRow() const { return msPerRow_; }
+
+ private:
+  double fixedMs_ = 0.0, msPerRow_ = 0.0;
+  int lastRows_ = 0;
+  double lastMs_ = 0.0;
+};
+
 /// A pass's work as a fixed sequence of slices that a budgeted render (PreviewRenderer::render) can stop between and
 /// resume at in its next call. Each call replays the pass's code between begin() and end(): the steps that ran in
 /// earlier calls are skipped, and after each slice that runs, outOfTime() is asked whether to stop. So the code must
@@ -59,7 +79,7 @@ class PassSlices {
   /// One slice: runs `work` unless an earlier call ran it or this call has stopped.
   void step(const std::function<void()>& work);
   /// A draw into the rectangle (x, y, width, height) of the bound framebuffer, as one step. Under a budget it is drawn
-  /// in bands of rows (glScissor), each a slice sized from this step's last measured time per row so that it takes
+  /// in bands of rows (glScissor), each a slice sized from this step's measured cost (BandCost) so that it takes
   /// about kSliceMs; a band's texels must depend only on what was complete before the draw began.
   void bands(glm::ivec4 rect, const std::function<void()>& draw);
   /// Ends the call: true when every step has run (the next call starts a new run), false when some are left.
@@ -78,8 +98,8 @@ class PassSlices {
   // Steps met in this call's replay, steps finished in the run, and rows of the banded step `done_` drawn already.
   int seen_ = 0, done_ = 0, bandRow_ = 0;
   bool stopped_ = false;
-  // Per step: milliseconds per row of its last band (0: not measured yet).
-  std::vector<double> msPerRow_;
+  // Per step: the cost of its bands, kept across runs.
+  std::vector<BandCost> bandCosts_;
 };
 
 }  // namespace vplab
