@@ -11,6 +11,7 @@
 
 #include "evaluation/svg_chart.h"
 #include "renderer/core/atomic_file.h"
+#include "renderer/core/fnv1a.h"
 #include "renderer/image/heatmap.h"
 #include "renderer/image/image_io.h"
 #include "renderer/image/metrics.h"
@@ -50,17 +51,6 @@ double toDouble(const std::string& s) {
   }
 }
 
-std::string hashId(const std::string& text) {
-  // FNV-1a: a short stable file name for a run's images.
-  uint32_t h = 2166136261u;
-  for (unsigned char c : text) {
-    h ^= c;
-    h *= 16777619u;
-  }
-  char buf[16];
-  std::snprintf(buf, sizeof buf, "%08x", h);
-  return buf;
-}
 
 bool wanted(const BenchConfig& config, const std::string& method) {
   return config.methods.empty() ||
@@ -365,7 +355,8 @@ BenchOutcome runBench(const std::vector<std::string>& scenePaths, const BenchCon
         m = gl.render(setup.scene(), vpls, c.settings, setup.scene().camera);
       }
       ImageMetrics metrics = compareImages(m.image, ref.image);
-      std::string id = hashId([&] {
+      // A short stable file name for a run's images.
+      std::string id = fnv1a64Hex([&] {
         std::string k;
         for (const std::string& f : key) k += f + "|";
         return k;

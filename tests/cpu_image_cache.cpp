@@ -14,6 +14,7 @@
 #include <mutex>
 #include <sstream>
 
+#include "renderer/core/fnv1a.h"
 #include "renderer/image/image_io.h"
 #include "renderer/offline/path_tracer.h"
 #include "renderer/offline/vpl_renderer.h"
@@ -28,10 +29,7 @@ namespace {
 // FNV-1a over the bytes fed to it, field by field (never whole structs: their padding is not theirs to hash).
 class Digest {
  public:
-  void bytes(const void* data, std::size_t size) {
-    const auto* p = static_cast<const unsigned char*>(data);
-    for (std::size_t i = 0; i < size; ++i) hash_ = (hash_ ^ p[i]) * 1099511628211ull;
-  }
+  void bytes(const void* data, std::size_t size) { hash_.add(data, size); }
   template <class T>
   void value(const T& v) {
     static_assert(std::has_unique_object_representations_v<T> || std::is_floating_point_v<T>);
@@ -53,14 +51,10 @@ class Digest {
     vec(v.position), vec(v.normal), vec(v.geometricNormal), vec(v.incoming), vec(v.flux), vec(v.uv);
     value(v.material), value(v.bounce), value(v.radius), value(v.inMedium), value(v.medium);
   }
-  std::string hex() const {
-    char s[17];
-    std::snprintf(s, sizeof s, "%016llx", static_cast<unsigned long long>(hash_));
-    return s;
-  }
+  std::string hex() const { return hash_.hex(); }
 
  private:
-  std::uint64_t hash_ = 14695981039346656037ull;
+  Fnv1a64 hash_;
 };
 
 std::string digestOf(const std::string& text) {

@@ -6,6 +6,7 @@
 #include <fstream>
 #include <limits>
 
+#include "renderer/core/fnv1a.h"
 #include "renderer/vpl/vpl.h"
 #include "tests/cpu_image_cache.h"
 #include "tests/test_scenes.h"
@@ -13,6 +14,13 @@
 
 namespace vplab {
 namespace {
+
+// The key's hash (renderer/core/fnv1a.h) is FNV-1a's 64-bit: the published test vectors.
+TEST(CpuImageCache, KeysAreFnv1a64) {
+  EXPECT_EQ(fnv1a64Hex(""), "cbf29ce484222325");
+  EXPECT_EQ(fnv1a64Hex("a"), "af63dc4c8601ec8c");
+  EXPECT_EQ(fnv1a64Hex("foobar"), "85944171f73967e8");
+}
 
 TEST(CpuImageCache, InputsDifferWhenAnythingARenderReadsDiffers) {
   const Scene scene = test::makePlaneUnderPointLight(1.0f, glm::vec3(0, 0, 1), 2.0f);

@@ -7,6 +7,7 @@
 #include <stdexcept>
 
 #include "renderer/core/atomic_file.h"
+#include "renderer/core/fnv1a.h"
 #include "renderer/core/sampling.h"
 #include "renderer/image/metrics.h"
 #include "renderer/offline/render_methods.h"
@@ -529,13 +530,6 @@ bool EditorState::applyPreset(const TeachingPreset& preset) {
 
 std::string EditorState::presetState() const {
   // Hashes keep the line short; each part is named so that a difference says what leaked.
-  auto hash = [](const std::string& text) {
-    uint64_t h = 1469598103934665603ull;  // FNV-1a
-    for (unsigned char c : text) h = (h ^ c) * 1099511628211ull;
-    char out[17];
-    std::snprintf(out, sizeof out, "%016llx", static_cast<unsigned long long>(h));
-    return std::string(out);
-  };
   auto vec = [](const glm::vec3& v) {
     char out[96];
     std::snprintf(out, sizeof out, "%.9g %.9g %.9g;", v.x, v.y, v.z);
@@ -557,8 +551,10 @@ std::string EditorState::presetState() const {
                 toString(view_.view), view_.relativeDifference, view_.showRejected, view_.showMediumBoxes,
                 view_.divider, animateLight, reseedEveryFrame, animationPhase_, toString(chosenOfflineMethod_));
   return "scene=" + std::filesystem::path(scene_.sourcePath).filename().string() +
-         " settings=" + hash(settingsToJson(settings_)) + " lights=" + hash(lights) + " media=" + hash(media) +
-         " camera=" + hash(vec(cam.position) + vec(cam.forward) + vec(cam.up) + std::to_string(cam.yfov)) + " " + view;
+         " settings=" + fnv1a64Hex(settingsToJson(settings_)) + " lights=" + fnv1a64Hex(lights) +
+         " media=" + fnv1a64Hex(media) +
+         " camera=" + fnv1a64Hex(vec(cam.position) + vec(cam.forward) + vec(cam.up) + std::to_string(cam.yfov)) + " " +
+         view;
 }
 
 void EditorState::animate() {
