@@ -102,9 +102,8 @@ int cmdPreview(const Args& args) {
                   std::to_string(lights.vpls.size()) + " VPLs " +
                   (renderer.visibilityInUse() == VisibilityMethod::Cube ? "<=" : ">") + " 2^20)";
   std::printf("visibility  %s\n", visibility.c_str());
-  // Where the density grid went (renderer/gl/density_grid_storage.h): a 3D texture, or a NanoVDB buffer.
-  if (const std::string grid = renderer.densityGridInUse(); !grid.empty())
-    std::printf("density     %s\n", grid.c_str());
+  // Where each density grid went (renderer/gl/density_grid_storage.h): a 3D texture, or a NanoVDB buffer.
+  for (const std::string& grid : renderer.densityGridsInUse()) std::printf("density     %s\n", grid.c_str());
   std::printf("vpls        %llu accepted of %llu candidates from %llu light paths (acceptance %.1f%%%s), "
               "generated in %.3f s\n",
               static_cast<unsigned long long>(st.accepted), static_cast<unsigned long long>(st.candidates),

@@ -27,27 +27,7 @@
 namespace vplab {
 namespace {
 
-/// A grid medium over the world box [lower, upper] with n voxels per axis, voxel i's centre at lower + (i + 0.5) h: a
-/// constant grid then has the optical mass of the homogeneous box [lower, upper] along its axes (its density falls to 0
-/// over the half voxel outside the first and last centres on both sides).
-Medium gridMedium(const glm::vec3& lower, const glm::vec3& upper, glm::ivec3 n,
-                  const std::function<float(const glm::vec3&)>& density, const glm::vec3& sigmaA,
-                  const glm::vec3& sigmaS, float g, int majorantCell = kMajorantCell) {
-  const glm::vec3 h = (upper - lower) / glm::vec3(n);
-  std::vector<float> values;
-  for (int z = 0; z < n.z; ++z)
-    for (int y = 0; y < n.y; ++y)
-      for (int x = 0; x < n.x; ++x) values.push_back(density(lower + (glm::vec3(x, y, z) + 0.5f) * h));
-  auto grid = std::make_shared<DensityGrid>(DensityGrid::fromDense(glm::ivec3(0), n, values, majorantCell));
-  grid->localFromIndex = glm::dmat4(glm::scale(glm::translate(glm::mat4(1.0f), lower + 0.5f * h), h));
-  Medium m;
-  m.name = "smoke";
-  m.sigmaA = sigmaA;
-  m.sigmaS = sigmaS;
-  m.g = g;
-  m.setDensity(grid, glm::mat4(1.0f));
-  return m;
-}
+using test::gridMedium;
 
 /// The same medium with its majorant grid rebuilt at `cell` voxels and every majorant multiplied by `inflate`.
 Medium withMajorants(const Medium& m, int cell, float inflate) {

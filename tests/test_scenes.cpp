@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
+#include <glm/gtc/matrix_transform.hpp>
 #include <string>
 
 #include "renderer/core/sampling.h"
@@ -35,6 +36,25 @@ Medium spaceMedium(const glm::vec3& sigmaA, const glm::vec3& sigmaS, float g) {
   m.sigmaS = sigmaS;
   m.g = g;
   m.fillsSpace = true;
+  return m;
+}
+
+Medium gridMedium(const glm::vec3& lower, const glm::vec3& upper, glm::ivec3 n,
+                  const std::function<float(const glm::vec3&)>& density, const glm::vec3& sigmaA,
+                  const glm::vec3& sigmaS, float g, int majorantCell) {
+  const glm::vec3 h = (upper - lower) / glm::vec3(n);
+  std::vector<float> values;
+  for (int z = 0; z < n.z; ++z)
+    for (int y = 0; y < n.y; ++y)
+      for (int x = 0; x < n.x; ++x) values.push_back(density(lower + (glm::vec3(x, y, z) + 0.5f) * h));
+  auto grid = std::make_shared<DensityGrid>(DensityGrid::fromDense(glm::ivec3(0), n, values, majorantCell));
+  grid->localFromIndex = glm::dmat4(glm::scale(glm::translate(glm::mat4(1.0f), lower + 0.5f * h), h));
+  Medium m;
+  m.name = "smoke";
+  m.sigmaA = sigmaA;
+  m.sigmaS = sigmaS;
+  m.g = g;
+  m.setDensity(grid, glm::mat4(1.0f));
   return m;
 }
 

@@ -2,12 +2,14 @@
 // Scenes for the tests: built in code with a closed-form answer (independent of the glTF loader and the generated
 // assets), or loaded from assets/scenes/ together with their BVH and light sampler.
 
+#include <functional>
 #include <glm/glm.hpp>
 #include <memory>
 #include <string>
 
 #include "renderer/image/image.h"
 #include "renderer/offline/offline_scene.h"
+#include "renderer/scene/density_grid.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
 
@@ -18,6 +20,12 @@ namespace vplab::test {
 Medium boxMedium(const glm::vec3& centre, const glm::vec3& half, const glm::vec3& sigmaA, const glm::vec3& sigmaS,
                  float g);
 Medium spaceMedium(const glm::vec3& sigmaA, const glm::vec3& sigmaS, float g);
+/// A grid medium over the world box [lower, upper] with n voxels per axis, voxel i's centre at lower + (i + 0.5) h: a
+/// constant grid then has the optical mass of the homogeneous box [lower, upper] along its axes (its density falls to 0
+/// over the half voxel outside the first and last centres on both sides). Named "smoke".
+Medium gridMedium(const glm::vec3& lower, const glm::vec3& upper, glm::ivec3 n,
+                  const std::function<float(const glm::vec3&)>& density, const glm::vec3& sigmaA,
+                  const glm::vec3& sigmaS, float g, int majorantCell = kMajorantCell);
 
 /// Settings for a cheap reference test: size x size pixels, `spp` samples per pixel, 2 threads.
 Settings smallReferenceSettings(int size, int spp);

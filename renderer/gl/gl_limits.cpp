@@ -41,6 +41,7 @@ GlLimits queryGlLimits() {
   GlLimits limits;
   glGetIntegerv(GL_MAX_TEXTURE_SIZE, &limits.maxTextureSize);
   glGetIntegerv(GL_MAX_ARRAY_TEXTURE_LAYERS, &limits.maxArrayLayers);
+  glGetIntegerv(GL_MAX_3D_TEXTURE_SIZE, &limits.max3dTextureSize);
   GLint viewport[2] = {0, 0}, renderbuffer = 0;
   glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);

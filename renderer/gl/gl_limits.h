@@ -9,6 +9,7 @@ namespace vplab {
 struct GlLimits {
   int maxTextureSize = 0;
   int maxArrayLayers = 0;
+  int max3dTextureSize = 0;  ///< the longest side of a density grid's 3D texture (renderer/gl/density_grid_storage.h)
   /// Largest framebuffer the context renders (min of GL_MAX_VIEWPORT_DIMS and GL_MAX_RENDERBUFFER_SIZE).
   int maxFramebufferSize = 0;
   /// Bytes of texture memory the preview lets itself allocate: half of what the driver reports free

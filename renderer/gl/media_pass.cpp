@@ -21,14 +21,15 @@ struct MediumGpu {
   glm::mat4 boxFromWorld;
   glm::vec4 compensation;
 };
-// The grid medium's density texture or buffer (GlMediumGrid of common/medium.glsl).
+// A grid medium's density texture or NanoVDB grid (GlMediumGrid of common/medium.glsl).
 struct MediumGridGpu {
   glm::mat4 textureFromWorld;  // the buffer's: index from world
   glm::vec4 size;              // xyz: texels along x, y, z (the buffer's: 1); w: densityScale
+  glm::uvec4 bufferOffset;     // x: the byte offset of its NanoVDB grid in the buffer
 };
 struct MediaTableGpu {
   MediumGpu media[kPreviewMaxMedia];
-  MediumGridGpu grid;
+  MediumGridGpu grids[kPreviewMaxDensityGrids];
 };
 
 // Index coordinates to the texture's: the value at index i sits at the centre of texel i - origin, so index p maps to
@@ -43,11 +44,15 @@ int max3dTextureSize() {
   return size;
 }
 
-// The grid medium's row of the table for the grid's storage: texture coordinates (above), or index coordinates with
-// one "texel" per voxel, so that the march's step count is the voxels crossed either way.
-MediumGridGpu gridRow(const Medium& m, DensityGridStorage storage) {
-  if (storage == DensityGridStorage::Buffer) return {m.indexFromWorld, glm::vec4(1.0f, 1.0f, 1.0f, m.densityScale)};
-  return {textureFromIndex(*m.density) * m.indexFromWorld, glm::vec4(glm::vec3(m.density->size), m.densityScale)};
+// A grid medium's row of the table for its grid's storage: texture coordinates (above), or index coordinates with
+// one "texel" per voxel and the grid's place in the buffer, so that the march's step count is the voxels crossed
+// either way.
+MediumGridGpu gridRow(const Medium& m, DensityGridStorage storage, std::size_t bufferOffset) {
+  if (storage == DensityGridStorage::Buffer)
+    return {m.indexFromWorld, glm::vec4(1.0f, 1.0f, 1.0f, m.densityScale),
+            glm::uvec4(static_cast<uint32_t>(bufferOffset), 0u, 0u, 0u)};
+  return {textureFromIndex(*m.density) * m.indexFromWorld, glm::vec4(glm::vec3(m.density->size), m.densityScale),
+          glm::uvec4(0u)};
 }
 }  // namespace
 
@@ -98,63 +103,44 @@ glm::vec3 approximateCompensationFactor(const Medium& medium, float clampBound, 
   return c;
 }
 
-void MediaPass::uploadGrid(const DensityGrid& grid, DensityGridStorage storage) {
-  if (storage == DensityGridStorage::Texture) {
-    density_ = GlTexture::volume(grid.size, grid.values);
-    densityBuffer_ = GlBuffer();
-    return;
-  }
-  const std::vector<uint32_t> words = nanoVdbFloatGrid(grid);
-  const std::size_t bytes = words.size() * sizeof(uint32_t);
-  GLint64 maxBlock = 0;
-  glGetInteger64v(GL_MAX_SHADER_STORAGE_BLOCK_SIZE, &maxBlock);
-  if (static_cast<double>(bytes) > static_cast<double>(maxBlock))
-    throw std::runtime_error("density grid '" + grid.gridName + "': its NanoVDB grid takes " +
-                             formatBytes(static_cast<double>(bytes)) +
-                             ", over this GL context's largest storage block (" +
-                             formatBytes(static_cast<double>(maxBlock)) + "): use a coarser grid, or vplab render");
-  densityBuffer_.assign(words.data(), bytes);
-  density_ = GlTexture();
-}
-
-std::string MediaPass::gridSummary() const {
-  if (layout_.gridMedium < 0) return {};
-  const glm::ivec3 n = uploadedGrid_->size;
-  const double bytes =
-      gridStorage_ == DensityGridStorage::Texture ? 4.0 * n.x * n.y * static_cast<double>(n.z) : densityBuffer_.size();
-  return std::string(toString(gridStorage_)) + ", " + std::to_string(n.x) + "x" + std::to_string(n.y) + "x" +
-         std::to_string(n.z) + " voxels, " + formatBytes(bytes);
+std::vector<std::string> MediaPass::gridSummary() const {
+  std::vector<std::string> out;
+  for (int g = 0; g < grids_.count(); ++g) out.push_back(gridMediumNames_[g] + ": " + grids_.summary(g));
+  return out;
 }
 
 void MediaPass::upload(const Scene& scene, float clampBound, bool gridInBuffer) {
-  MediaTableGpu gpu{};
+  // Media that neither absorb nor scatter change nothing (mediumIntervals leaves them out too); beyond the limits
+  // (mediaFitProblem refuses such a scene) a medium is left out, a grid drawn as a uniform box.
+  std::vector<const Medium*> drawn;
+  for (const Medium& m : scene.media)
+    if (!m.isVacuum() && static_cast<int>(drawn.size()) < kPreviewMaxMedia) drawn.push_back(&m);
   layout_ = {};
-  for (const Medium& m : scene.media) {
-    // Media that neither absorb nor scatter change nothing (mediumIntervals leaves them out too).
-    if (m.isVacuum() || layout_.count == kPreviewMaxMedia) continue;
-    float density = 1.0f;
-    // Beyond kPreviewMaxDensityGrids (mediaFitProblem refuses such a scene) a grid would be drawn as a uniform box.
-    if (m.heterogeneous() && layout_.gridMedium < 0) {
-      const DensityGridStorage storage = densityGridStorage(*m.density, max3dTextureSize(), gridInBuffer);
-      if (m.density != uploadedGrid_ || storage != gridStorage_) {
-        uploadGrid(*m.density, storage);
-        uploadedGrid_ = m.density;
-        gridStorage_ = storage;
-        uploadedGridWeightedDensity_ = scatteringWeightedDensity(*m.density);
-      }
-      layout_.gridMedium = layout_.count;
-      layout_.gridInBuffer = storage == DensityGridStorage::Buffer;
-      gpu.grid = gridRow(m, storage);
-      density = m.densityScale * uploadedGridWeightedDensity_;
-    }
-    gpu.media[layout_.count++] = {glm::vec4(m.sigmaT(), m.fillsSpace ? 1.0f : 0.0f), glm::vec4(m.sigmaS, m.g),
-                                  m.boxFromWorld,
-                                  glm::vec4(approximateCompensationFactor(m, clampBound, density), 0.0f)};
+  layout_.count = static_cast<int>(drawn.size());
+  std::vector<DensityGridsGpu::Wanted> wanted;
+  gridMediumNames_.clear();
+  const int maxTextureSide = max3dTextureSize();
+  for (int i = 0; i < layout_.count; ++i) {
+    const Medium& m = *drawn[i];
+    if (!m.heterogeneous() || static_cast<int>(wanted.size()) == kPreviewMaxDensityGrids) continue;
+    const DensityGridStorage storage = densityGridStorage(*m.density, maxTextureSide, gridInBuffer);
+    if (storage == DensityGridStorage::Buffer) layout_.gridsInBuffer |= 1u << wanted.size();
+    wanted.push_back({m.density, storage});
+    layout_.gridMedia.push_back(i);
+    gridMediumNames_.push_back(m.name);
   }
-  if (layout_.gridMedium < 0) {
-    density_ = GlTexture();
-    densityBuffer_ = GlBuffer();
-    uploadedGrid_.reset();
+  grids_.update(wanted);
+
+  MediaTableGpu gpu{};
+  for (int i = 0; i < layout_.count; ++i) {
+    const Medium& m = *drawn[i];
+    float density = 1.0f;
+    if (const int g = layout_.gridOf(i); g >= 0) {
+      gpu.grids[g] = gridRow(m, grids_.storage(g), grids_.bufferOffset(g));
+      density = m.densityScale * grids_.weightedDensity(g);
+    }
+    gpu.media[i] = {glm::vec4(m.sigmaT(), m.fillsSpace ? 1.0f : 0.0f), glm::vec4(m.sigmaS, m.g), m.boxFromWorld,
+                    glm::vec4(approximateCompensationFactor(m, clampBound, density), 0.0f)};
   }
   table_.assign(&gpu, sizeof(gpu));
   uploadedBound_ = clampBound;
@@ -167,8 +153,7 @@ void MediaPass::upload(const Scene& scene, float clampBound, bool gridInBuffer) 
 
 void MediaPass::bind() const {
   table_.bindUniform(binding(BufferBinding::Media));
-  if (density_) density_.bind(unit(TextureUnit::MediaDensity));
-  if (densityBuffer_.size() > 0) densityBuffer_.bindStorage(binding(BufferBinding::MediaDensityGrid));
+  grids_.bind();
 }
 
 void MediaPass::useGatherDefines(const std::vector<std::string>& gatherDefines) {

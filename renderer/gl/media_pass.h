@@ -9,16 +9,16 @@
 // both interleaved like the surface passes, on the indirect light's grid, and merged (media_merge.frag.glsl); then
 // the composition through the media (media_compose.frag.glsl): T(camera, surface) times the surfaces' image plus the
 // scattered light.
-// A medium with a density grid (smoke, docs/theory.md §22) is uploaded as a 3D texture, or as a NanoVDB grid in a
-// storage buffer where no 3D texture holds it (density_grid_storage.h); the shaders compiled with PREVIEW_MEDIA_GRID
-// (media_shader_layout.h) integrate its optical depth by ray marching and scale sigma_s by the density where they
-// scatter (common/medium.glsl).
+// A medium with a density grid (smoke, docs/theory.md §22) has it uploaded as a 3D texture of its own, or as a NanoVDB
+// grid in a storage buffer where no 3D texture holds it (density_grids_gpu.h); the shaders compiled with
+// PREVIEW_MEDIA_GRIDS (media_shader_layout.h) integrate each grid's optical depth by ray marching and scale sigma_s by
+// its density where they scatter (common/medium.glsl).
 
 #include <memory>
 #include <string>
 #include <vector>
 
-#include "renderer/gl/density_grid_storage.h"
+#include "renderer/gl/density_grids_gpu.h"
 #include "renderer/gl/direct_pass.h"
 #include "renderer/gl/gather_pass.h"
 #include "renderer/gl/media_shader_layout.h"
@@ -33,10 +33,11 @@ namespace vplab {
 
 /// The most media one scene may hold in the preview (MEDIA_MAX of common/medium.glsl).
 inline constexpr int kPreviewMaxMedia = 8;
-/// The most media with a density grid one scene may hold in the preview: its medium is a shader define
-/// (PREVIEW_MEDIA_GRID), and the lights' scattering marches the one grid once per light along a camera ray
-/// (preview/media_lights.frag.glsl).
-inline constexpr int kPreviewMaxDensityGrids = 1;
+/// The most media with a density grid one scene may hold in the preview (MEDIA_GRID_MAX of common/medium.glsl): each
+/// grid takes a texture unit (TextureUnit::MediaDensity + g) and a row of the media table, its medium is a shader
+/// define (PREVIEW_MEDIA_GRID_MEDIA), and every transmittance marches each grid its segment crosses, the lights'
+/// scattering once per light and grid along a camera ray (preview/media_lights.frag.glsl).
+inline constexpr int kPreviewMaxDensityGrids = 4;
 /// Distances per light and pixel along a camera ray for the lights' single scattering: with equiangular sampling and
 /// the k x k merge, 4 keep the shafts of the bundled fog scenes within 2 % of the CPU's (tests/gl_media_test.cpp).
 inline constexpr int kMediaLightSteps = 4;
@@ -68,19 +69,22 @@ class MediaPass {
 
   /// Uploads the scene's media (at most kPreviewMaxMedia, mediaFitProblem()) with their compensation factors for the
   /// bound b; active() tells whether it has any that absorb or scatter.
-  /// A grid medium's density is uploaded, as densityGridStorage() picks for this context (`gridInBuffer`:
-  /// Settings::previewGridInBuffer), when its grid or its storage is not the one already uploaded. Throws
-  /// std::runtime_error when the NanoVDB grid exceeds the context's largest storage block.
+  /// Each grid medium's density is uploaded, as densityGridStorage() picks for this context (`gridInBuffer`:
+  /// Settings::previewGridInBuffer), when its grid or its storage is not one already uploaded: a change of one grid
+  /// uploads that grid only, a change of its densityScale none (the scale is in the table). Throws
+  /// std::runtime_error when the NanoVDB grids exceed the context's largest storage block.
   void upload(const Scene& scene, float clampBound, bool gridInBuffer);
   /// The bound the last upload() computed the compensation factors for.
   float uploadedBound() const { return uploadedBound_; }
   bool active() const { return layout_.count > 0; }
   /// What the passes that read the media are compiled for (the direct pass and the gather too).
   const MediaShaderLayout& layout() const { return layout_; }
-  /// Where the grid medium's density is and what it takes, e.g. "3D texture, 34x50x34 voxels, 0.22 MiB"; empty
-  /// without a grid.
-  std::string gridSummary() const;
-  /// Binds the media's table, and the grid's texture or buffer, for every pass compiled with PREVIEW_MEDIA.
+  /// Per grid medium, its name, where its density is and what it takes, e.g. "smoke: 3D texture, 34x50x34 voxels,
+  /// 0.22 MiB"; empty without a grid.
+  std::vector<std::string> gridSummary() const;
+  /// The grids as uploaded (a test's view of what an upload re-uploads).
+  const DensityGridsGpu& grids() const { return grids_; }
+  /// Binds the media's table, and the grids' textures or buffer, for every pass compiled with PREVIEW_MEDIA.
   void bind() const;
   /// Compiles the VPLs' in-scattering for the gather's table, visibility technique and media
   /// (VplGatherPass::defines()).
@@ -111,18 +115,12 @@ class MediaPass {
 
  private:
   void ensureTargets(const InterleavedLayout& layout);
-  void uploadGrid(const DensityGrid& grid, DensityGridStorage storage);
 
   GlBuffer table_;
   MediaShaderLayout layout_;
   float uploadedBound_ = 0.0f;
-  // The grid whose density `density_` or `densityBuffer_` holds (kept, so that a new grid is never taken for it at the
-  // same address), where, and its scatteringWeightedDensity().
-  std::shared_ptr<const DensityGrid> uploadedGrid_;
-  DensityGridStorage gridStorage_ = DensityGridStorage::Texture;
-  float uploadedGridWeightedDensity_ = 0.0f;
-  GlTexture density_;
-  GlBuffer densityBuffer_;
+  DensityGridsGpu grids_;
+  std::vector<std::string> gridMediumNames_;  // grid g's medium's name
   std::unique_ptr<ShaderProgram> lights_;
   int lightsLayoutCapacity_ = 0;
   std::unique_ptr<BrdfVariants> vpls_;

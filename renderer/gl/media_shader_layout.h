@@ -1,8 +1,8 @@
 #pragma once
-// What the passes that read the media table (shaders/common/medium.glsl) are compiled for: the number of media, and
-// which of them, if any, carries a density grid. Both are shader defines, so that the loops over the media unroll and
-// a scene without a grid compiles exactly the homogeneous code it always had (renderer/gl/media_pass.h uploads the
-// table and the grid, as a 3D texture or a NanoVDB buffer).
+// What the passes that read the media table (shaders/common/medium.glsl) are compiled for: the number of media, which
+// of them carry a density grid, and which of those grids are read from the NanoVDB buffer. All are shader defines, so
+// that the loops over the media and over the grids unroll and a scene without a grid compiles exactly the homogeneous
+// code it always had (renderer/gl/media_pass.h uploads the table, renderer/gl/density_grids_gpu.h the grids).
 
 #include <string>
 #include <vector>
@@ -10,16 +10,29 @@
 namespace vplab {
 
 struct MediaShaderLayout {
-  int count = 0;        ///< PREVIEW_MEDIA: media in the table (0: none, the transmittance is 1)
-  int gridMedium = -1;  ///< PREVIEW_MEDIA_GRID: the table index of the medium with a density grid; -1: none
-  /// PREVIEW_MEDIA_GRID_NANOVDB: the grid is read from a NanoVDB storage buffer, not a 3D texture
+  int count = 0;  ///< PREVIEW_MEDIA: media in the table (0: none, the transmittance is 1)
+  /// PREVIEW_MEDIA_GRIDS and PREVIEW_MEDIA_GRID_MEDIA: the table indices of the media with a density grid, in table
+  /// order; grid g of the shaders is medium gridMedia[g]. Empty: none.
+  std::vector<int> gridMedia;
+  /// PREVIEW_MEDIA_GRID_NANOVDB: bit g set where grid g is read from the NanoVDB storage buffer, not a 3D texture
   /// (renderer/gl/density_grid_storage.h).
-  bool gridInBuffer = false;
+  unsigned gridsInBuffer = 0;
+
+  /// The index of medium m's grid in gridMedia, or -1.
+  int gridOf(int m) const {
+    for (std::size_t g = 0; g < gridMedia.size(); ++g)
+      if (gridMedia[g] == m) return static_cast<int>(g);
+    return -1;
+  }
 
   std::vector<std::string> defines() const {
     std::vector<std::string> out = {"PREVIEW_MEDIA " + std::to_string(count)};
-    if (gridMedium >= 0) out.push_back("PREVIEW_MEDIA_GRID " + std::to_string(gridMedium));
-    if (gridMedium >= 0 && gridInBuffer) out.push_back("PREVIEW_MEDIA_GRID_NANOVDB");
+    if (gridMedia.empty()) return out;
+    std::string media;
+    for (int m : gridMedia) media += (media.empty() ? "" : ", ") + std::to_string(m);
+    out.push_back("PREVIEW_MEDIA_GRIDS " + std::to_string(gridMedia.size()));
+    out.push_back("PREVIEW_MEDIA_GRID_MEDIA " + media);
+    if (gridsInBuffer != 0) out.push_back("PREVIEW_MEDIA_GRID_NANOVDB " + std::to_string(gridsInBuffer));
     return out;
   }
   bool operator==(const MediaShaderLayout&) const = default;

@@ -264,7 +264,7 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
       4.0 * (6.0 * cubes * lightMaps.punctualFace * lightMaps.punctualFace +
              static_cast<double>(squares) * lightMaps.directional * lightMaps.directional);
   // A density grid is an R32F 3D texture of its stored voxels: 4 bytes each. Where no texture holds it, a NanoVDB grid
-  // of the 8^3 leaves with smoke and the tree's nodes (MediaPass::upload) takes that for a plume whose box is mostly
+  // of the 8^3 leaves with smoke and the tree's nodes (DensityGridsGpu) takes that for a plume whose box is mostly
   // empty, and up to about twice that for a dense one (0.45 MiB for cornell-smoke's 0.22 MiB of voxels); counted here
   // at the texture's size.
   double gridBytes = 0.0;
@@ -281,9 +281,9 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
                 std::ceil(static_cast<double>(settings.height) / settings.interleave);
   const double total = vplMaps.bytes + targetBytes + searchBytes + lightBytes + gridBytes;
   if (total > limits.memoryBytes && gridBytes > 0.5 * total) {
-    why << "the scene's density grid needs up to " << formatBytes(gridBytes) << " of GPU memory: the preview needs "
+    why << "the scene's density grids need up to " << formatBytes(gridBytes) << " of GPU memory: the preview needs "
         << formatBytes(total) << ", over the " << formatBytes(limits.memoryBytes) << " it allows itself here (half the "
-        << limits.memorySource << "); the grid is the cause: use a coarser grid, or vplab render";
+        << limits.memorySource << "); the grids are the cause: use coarser grids, or vplab render";
     return why.str();
   }
   // When the lights' own shadow maps are most of it, no VPL or image flag helps: say that the lights are the cause

@@ -123,8 +123,8 @@ class PreviewRenderer {
   Image readLinear(PreviewOutput which = PreviewOutput::Final);
   /// The VPL visibility technique of the last render: Settings::visibility, `auto` resolved (resolveVisibility).
   VisibilityMethod visibilityInUse() const { return visibilityMethod_; }
-  /// Where the last render keeps the scene's density grid (MediaPass::gridSummary); empty without one.
-  std::string densityGridInUse() const { return media_.gridSummary(); }
+  /// Where the last render keeps each of the scene's density grids (MediaPass::gridSummary); empty without one.
+  std::vector<std::string> densityGridsInUse() const { return media_.gridSummary(); }
   /// Tonemapped (exposure, sRGB-encoded, [0, 1]) image of the last render, row 0 at the top.
   Image readTonemapped() const;
 

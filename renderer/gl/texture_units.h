@@ -29,11 +29,11 @@ enum class TextureUnit : int {
   LightShadows = 16,
   /// The directional lights' orthographic shadow maps (renderer/gl/light_shadows.h) in the direct pass.
   DirectionalShadows = 17,
-  /// The density grid of the scene's grid medium (renderer/gl/media_pass.h, common/medium.glsl), in every pass that
-  /// reads the media table.
-  MediaDensity = 18,
   /// The direct pass's blocker searches of the area emitters, one per k x k block (renderer/gl/direct_pass.h).
-  BlockerSearch = 19,
+  BlockerSearch = 18,
+  /// The first of the grid media's density textures (renderer/gl/density_grids_gpu.h, common/medium.glsl), in every
+  /// pass that reads the media table: grid g's on unit MediaDensity + g, up to kPreviewMaxDensityGrids (4) units.
+  MediaDensity = 19,
 };
 
 constexpr int unit(TextureUnit u) {
@@ -57,8 +57,8 @@ enum class BufferBinding : int {
   Vpls = 8,
   /// The scene's participating media (uniform block of common/medium.glsl).
   Media = 9,
-  /// The density grid of the scene's grid medium as a NanoVDB grid, where no 3D texture holds it (storage block of
-  /// common/medium.glsl, renderer/gl/density_grid_storage.h).
+  /// The density grids of the scene's grid media that no 3D texture holds, as NanoVDB grids (storage block of
+  /// common/medium.glsl, renderer/gl/density_grids_gpu.h).
   MediaDensityGrid = 10,
 };
 

@@ -59,31 +59,36 @@ int mediumAlong(MediaRay r, float t) {
   return found;
 }
 
-// Transmittance from the camera to the ray's point at t, the grid's part given: `gridIntegral`, the integral of its
-// density from the ray's entry into it to t (unused without a grid).
-vec3 cameraTransmittanceGiven(MediaRay r, float t, float gridIntegral) {
-  vec3 depth = vec3(0.0);
+// Transmittance from the camera to the ray's point at t, the grids' part given: `gridDepth`, their optical depth from
+// the ray's entry into each to t (0 without grids).
+vec3 cameraTransmittanceGiven(MediaRay r, float t, vec3 gridDepth) {
+  vec3 depth = gridDepth;
   for (int m = 0; m < PREVIEW_MEDIA; ++m) {
-#ifdef PREVIEW_MEDIA_GRID
-    if (m == PREVIEW_MEDIA_GRID) {
-      depth += media[m].sigmaT.rgb * gridIntegral;
-      continue;
-    }
+#ifdef PREVIEW_MEDIA_GRIDS
+    if (gridOfMedium(m) >= 0) continue;
 #endif
     depth += media[m].sigmaT.rgb * max(0.0, min(r.range[m].y, t) - r.range[m].x);
   }
   return exp(-depth);
 }
 
-// Transmittance from the camera to the ray's point at t (ray-marched from the camera through a density grid; not
-// marched, and meaningless, where `needed` is false: see opticalDepth in common/medium.glsl).
-vec3 cameraTransmittance(MediaRay r, float t, bool needed) {
-#ifdef PREVIEW_MEDIA_GRID
-  vec2 g = r.range[PREVIEW_MEDIA_GRID];
-  return cameraTransmittanceGiven(r, t, gridDensityIntegral(r.origin, r.dir, g.x, needed ? min(g.y, t) : g.x));
-#else
-  return cameraTransmittanceGiven(r, t, 0.0);
+#ifdef PREVIEW_MEDIA_GRIDS
+// Grid g's optical depth along the ray from the ray's entry into it to t (0, not marched, where `needed` is false).
+vec3 gridDepthAlong(MediaRay r, int g, float t, bool needed) {
+  int m = mediaGridMedium[g];
+  vec2 range = r.range[m];
+  return media[m].sigmaT.rgb * gridDensityIntegral(g, r.origin, r.dir, range.x, needed ? min(range.y, t) : range.x);
+}
 #endif
+
+// Transmittance from the camera to the ray's point at t (ray-marched from the camera through each density grid the
+// ray crosses; not marched, and meaningless, where `needed` is false: see opticalDepth in common/medium.glsl).
+vec3 cameraTransmittance(MediaRay r, float t, bool needed) {
+  vec3 gridDepth = vec3(0.0);
+#ifdef PREVIEW_MEDIA_GRIDS
+  for (int g = 0; g < PREVIEW_MEDIA_GRIDS; ++g) gridDepth += gridDepthAlong(r, g, t, needed);
+#endif
+  return cameraTransmittanceGiven(r, t, gridDepth);
 }
 
 // Equiangular distances in [a, b) around p: t = delta + h tan(theta), theta uniform between the span's angles seen

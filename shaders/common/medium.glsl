@@ -5,12 +5,15 @@
 // the loops over the media and makes their reads constant (llvmpipe: half the cost of a loop to a count read from the
 // table). With PREVIEW_MEDIA 0 (no media) the transmittance is 1 and costs nothing, so the surface passes include this
 // file unconditionally.
-// PREVIEW_MEDIA_GRID, when defined, is the index of the one medium with a density grid (smoke): its coefficients are
-// per unit density, sigma(x) = densityScale d(x) sigma, d the grid's trilinear interpolation, read from a 3D texture
-// whose linear filtering is that interpolation, or with PREVIEW_MEDIA_GRID_NANOVDB from a NanoVDB grid in a storage
-// buffer (renderer/gl/density_grid_storage.h), interpolated here. Its optical depth is ray-marched
-// (gridDensityIntegral); the other media take the closed form as without a grid, so a scene without one compiles the
-// code it always had.
+// PREVIEW_MEDIA_GRIDS, when defined, is the number of media with a density grid (smoke), and
+// PREVIEW_MEDIA_GRID_MEDIA their table indices (grid g is medium mediaGridMedium[g]): their coefficients are per unit
+// density, sigma(x) = densityScale d(x) sigma, d the grid's trilinear interpolation, read from a 3D texture per grid
+// whose linear filtering is that interpolation, or, for the grids whose bit is set in PREVIEW_MEDIA_GRID_NANOVDB, from
+// a NanoVDB grid in a storage buffer (renderer/gl/density_grids_gpu.h), interpolated here. Their optical depth is
+// ray-marched (gridDensityIntegral), one march per grid the segment crosses; the other media take the closed form as
+// without a grid, so a scene without one compiles the code it always had. The grid count, the indices and the storage
+// are compile-time constants: the loops over the grids unroll, and with the loops over the media every grid's lookup
+// folds to its own texture and its own medium's coefficients.
 #ifndef PREVIEW_MEDIA
 #define PREVIEW_MEDIA 0
 #endif
@@ -21,38 +24,60 @@
 // The most media a scene may hold in the preview (renderer/gl/media_pass.h kPreviewMaxMedia).
 #define MEDIA_MAX 8
 
+// The most media with a density grid (renderer/gl/media_pass.h kPreviewMaxDensityGrids).
+#define MEDIA_GRID_MAX 4
+
 struct GlMedium {
   vec4 sigmaT;        // rgb sigma_a + sigma_s, w: 1 when the medium fills all space
   vec4 sigmaS;        // rgb sigma_s, w: Henyey-Greenstein g
   mat4 boxFromWorld;  // maps the medium's box onto the cube [-1, 1]^3
   vec4 compensation;  // rgb: the approximate bias compensation's factor C for the bound b (renderer/gl/media_pass.h)
 };
-// The grid medium's density texture (unused without PREVIEW_MEDIA_GRID).
+// A grid medium's density texture or NanoVDB grid (unused without PREVIEW_MEDIA_GRIDS).
 struct GlMediumGrid {
   mat4 textureFromWorld;  // world -> texture coordinates: index point p at (p - origin + 0.5) / size, a texel centre
   vec4 size;              // xyz: texels along x, y, z (the grid's stored voxels, zero margin included); w: densityScale
+  uvec4 bufferOffset;     // x: the byte offset of its NanoVDB grid in the storage buffer (PREVIEW_MEDIA_GRID_NANOVDB)
 };
 layout(std140, binding = BINDING_MEDIA) uniform Media {
   GlMedium media[MEDIA_MAX];
-  GlMediumGrid mediaGrid;
+  GlMediumGrid mediaGrids[MEDIA_GRID_MAX];
 };
 
-#ifdef PREVIEW_MEDIA_GRID
-#ifdef PREVIEW_MEDIA_GRID_NANOVDB
-// The grid as a NanoVDB float grid at byte 0 of a storage buffer (renderer/gl/density_grid_storage.h), read through
-// NanoVDB's own GLSL reader; mediaGrid.textureFromWorld then maps world to index coordinates and mediaGrid.size.xyz
-// is 1, so that the march below counts voxels alike for both storages.
+#ifdef PREVIEW_MEDIA_GRIDS
+// The table index of grid g's medium.
+const int mediaGridMedium[PREVIEW_MEDIA_GRIDS] = int[](PREVIEW_MEDIA_GRID_MEDIA);
+
+// The grid of medium m, or -1 (a constant where m is: the loops over the media unroll).
+int gridOfMedium(int m) {
+  int found = -1;
+  for (int g = 0; g < PREVIEW_MEDIA_GRIDS; ++g)
+    if (mediaGridMedium[g] == m) found = g;
+  return found;
+}
+
+#ifndef PREVIEW_MEDIA_GRID_NANOVDB
+#define PREVIEW_MEDIA_GRID_NANOVDB 0
+#endif
+// Grid g is read from the NanoVDB buffer (else from its 3D texture).
+bool gridInBuffer(int g) { return (PREVIEW_MEDIA_GRID_NANOVDB >> g & 1) != 0; }
+
+#if PREVIEW_MEDIA_GRID_NANOVDB
+// The NanoVDB grids at their byte offsets in one storage buffer (renderer/gl/density_grids_gpu.h), read through
+// NanoVDB's own GLSL reader; their mediaGrids[g].textureFromWorld then maps world to index coordinates and
+// mediaGrids[g].size.xyz is 1, so that the march below counts voxels alike for both storages.
 layout(std430, binding = BINDING_MEDIA_DENSITY_GRID) readonly buffer MediaDensityGrid { uint pnanovdb_buf_data[]; };
 #define PNANOVDB_GLSL
 #include <nanovdb/PNanoVDB.h>
 
-// The trilinear interpolation of the voxel values at integer index points, as DensityGrid::lookup (a voxel the grid
-// leaves out reads its background, 0). Corner c is voxel i + (c & 1, c >> 1 & 1, c >> 2).
-float gridDensityAt(vec3 index) {
+// The trilinear interpolation of the voxel values at integer index points of the NanoVDB grid at byte `offset`, as
+// DensityGrid::lookup (a voxel the grid leaves out reads its background, 0). Corner c is voxel i + (c & 1, c >> 1 & 1,
+// c >> 2).
+float nanoVdbDensityAt(uint offset, vec3 index) {
   pnanovdb_buf_t buf;  // GLSL's reader names the storage block itself; the handle is a placeholder
   buf.unused = 0u;
   pnanovdb_grid_handle_t grid;
-  grid.address.byte_offset = 0u;
+  grid.address.byte_offset = offset;
   pnanovdb_readaccessor_t acc;
   pnanovdb_readaccessor_init(acc, pnanovdb_tree_get_root(buf, pnanovdb_grid_get_tree(buf, grid)));
   vec3 f0 = floor(index), f = index - f0;
@@ -78,43 +103,75 @@ float gridDensityAt(vec3 index) {
   }
   float y0 = mix(mix(v[0], v[1], f.x), mix(v[2], v[3], f.x), f.y);
   float y1 = mix(mix(v[4], v[5], f.x), mix(v[6], v[7], f.x), f.y);
-  return mediaGrid.size.w * mix(y0, y1, f.z);
+  return mix(y0, y1, f.z);
 }
-#else
-// R32F, linear filtering, clamped to the edge: outside the stored box it reads the zero margin, as the CPU's lookup.
-layout(binding = UNIT_MEDIA_DENSITY) uniform sampler3D uMediaDensity;
-
-// densityScale d at texture coordinates uvw (explicit level: the callers sample in non-uniform control flow).
-float gridDensityAt(vec3 uvw) { return mediaGrid.size.w * textureLod(uMediaDensity, uvw, 0.0).r; }
 #endif
 
-// The most steps of one ray march through the grid. A march takes one step per voxel the segment crosses (its length
+// R32F, linear filtering, clamped to the edge: outside the stored box each reads its zero margin, as the CPU's lookup.
+// Grid g's texture is on unit UNIT_MEDIA_DENSITY + g (a grid in the buffer leaves its unit unused). One sampler each,
+// not an array: llvmpipe (LLVM 15) crashed compiling the direct pass with an array indexed by the grid.
+layout(binding = UNIT_MEDIA_DENSITY) uniform sampler3D uMediaDensity0;
+#if PREVIEW_MEDIA_GRIDS > 1
+layout(binding = UNIT_MEDIA_DENSITY + 1) uniform sampler3D uMediaDensity1;
+#endif
+#if PREVIEW_MEDIA_GRIDS > 2
+layout(binding = UNIT_MEDIA_DENSITY + 2) uniform sampler3D uMediaDensity2;
+#endif
+#if PREVIEW_MEDIA_GRIDS > 3
+layout(binding = UNIT_MEDIA_DENSITY + 3) uniform sampler3D uMediaDensity3;
+#endif
+
+// Grid g's texel at texture coordinates uvw (explicit level: the callers sample in non-uniform control flow).
+float gridTexel(int g, vec3 uvw) {
+#if PREVIEW_MEDIA_GRIDS > 3
+  if (g == 3) return textureLod(uMediaDensity3, uvw, 0.0).r;
+#endif
+#if PREVIEW_MEDIA_GRIDS > 2
+  if (g == 2) return textureLod(uMediaDensity2, uvw, 0.0).r;
+#endif
+#if PREVIEW_MEDIA_GRIDS > 1
+  if (g == 1) return textureLod(uMediaDensity1, uvw, 0.0).r;
+#endif
+  return textureLod(uMediaDensity0, uvw, 0.0).r;
+}
+
+// densityScale d of grid g at its texture (or index) coordinates p.
+float gridDensityAt(int g, vec3 p) {
+#if PREVIEW_MEDIA_GRID_NANOVDB
+  if (gridInBuffer(g)) return mediaGrids[g].size.w * nanoVdbDensityAt(mediaGrids[g].bufferOffset.x, p);
+#endif
+  return mediaGrids[g].size.w * gridTexel(g, p);
+}
+
+// The most steps of one ray march through a grid. A march takes one step per voxel the segment crosses (its length
 // in index coordinates), so a segment longer than this many voxels is marched with longer steps. One step per voxel
 // keeps the optical depth within 1.3 % of a fine quadrature on cornell-smoke (tests/gl_smoke_test.cpp); four steps
 // per voxel give 0.1 % at four times the cost, and no visible change in its images.
 #define MEDIA_GRID_MAX_STEPS 256
 
-// densityScale d(x) at the world point x.
-float gridDensity(vec3 x) { return gridDensityAt((mediaGrid.textureFromWorld * vec4(x, 1.0)).xyz); }
+// densityScale d(x) of grid g at the world point x.
+float gridDensity(int g, vec3 x) { return gridDensityAt(g, (mediaGrids[g].textureFromWorld * vec4(x, 1.0)).xyz); }
 
-// The integral of densityScale d over the points o + t d, t in [t0, t1] (d need not be unit: the integral is over
-// world length), by the midpoint rule with one step per voxel crossed, at most MEDIA_GRID_MAX_STEPS. 0 when t0 >= t1.
-float gridDensityIntegral(vec3 o, vec3 d, float t0, float t1) {
+// The integral of grid g's densityScale d over the points o + t d, t in [t0, t1] (d need not be unit: the integral is
+// over world length), by the midpoint rule with one step per voxel crossed, at most MEDIA_GRID_MAX_STEPS. 0 when
+// t0 >= t1.
+float gridDensityIntegral(int g, vec3 o, vec3 d, float t0, float t1) {
   if (!(t1 > t0)) return 0.0;
-  vec3 a = (mediaGrid.textureFromWorld * vec4(o + d * t0, 1.0)).xyz;
-  vec3 b = (mediaGrid.textureFromWorld * vec4(o + d * t1, 1.0)).xyz;
-  int steps = clamp(int(ceil(length((b - a) * mediaGrid.size.xyz))), 1, MEDIA_GRID_MAX_STEPS);
+  vec3 a = (mediaGrids[g].textureFromWorld * vec4(o + d * t0, 1.0)).xyz;
+  vec3 b = (mediaGrids[g].textureFromWorld * vec4(o + d * t1, 1.0)).xyz;
+  int steps = clamp(int(ceil(length((b - a) * mediaGrids[g].size.xyz))), 1, MEDIA_GRID_MAX_STEPS);
   vec3 stride = (b - a) / float(steps);
   float sum = 0.0;
-  for (int i = 0; i < steps; ++i) sum += gridDensityAt(a + stride * (float(i) + 0.5));
+  for (int i = 0; i < steps; ++i) sum += gridDensityAt(g, a + stride * (float(i) + 0.5));
   return sum * ((t1 - t0) * length(d) / float(steps));
 }
 #endif
 
-// sigma_s of medium m at x, a point inside it.
+// sigma_s of medium m at x, a point inside it (m may differ between lanes: each grid's test reads its own texture).
 vec3 mediumSigmaS(int m, vec3 x) {
-#ifdef PREVIEW_MEDIA_GRID
-  if (m == PREVIEW_MEDIA_GRID) return media[m].sigmaS.rgb * gridDensity(x);
+#ifdef PREVIEW_MEDIA_GRIDS
+  for (int g = 0; g < PREVIEW_MEDIA_GRIDS; ++g)
+    if (m == mediaGridMedium[g]) return media[m].sigmaS.rgb * gridDensity(g, x);
 #endif
   return media[m].sigmaS.rgb;
 }
@@ -131,7 +188,7 @@ vec2 mediumRange(int m, vec3 o, vec3 d) {
   return vec2(max(max(lo.x, lo.y), lo.z), min(min(hi.x, hi.y), hi.z));
 }
 
-// Optical depth per channel of o + t d for t in [tMin, tMax]. Where `needed` is false the grid's part is left out
+// Optical depth per channel of o + t d for t in [tMin, tMax]. Where `needed` is false the grids' part is left out
 // unmarched (the caller discards the result there): llvmpipe runs a march as long as its longest active lane, so a
 // march skipped where a term is zero anyway (a back-facing or shadowed VPL or light) saves its steps. The closed forms
 // are taken either way.
@@ -140,9 +197,10 @@ vec3 opticalDepth(vec3 o, vec3 d, float tMin, float tMax, bool needed) {
   float len = length(d);
   for (int m = 0; m < PREVIEW_MEDIA; ++m) {
     vec2 r = mediumRange(m, o, d);
-#ifdef PREVIEW_MEDIA_GRID
-    if (m == PREVIEW_MEDIA_GRID) {
-      depth += media[m].sigmaT.rgb * gridDensityIntegral(o, d, max(r.x, tMin), needed ? min(r.y, tMax) : tMin);
+#ifdef PREVIEW_MEDIA_GRIDS
+    int g = gridOfMedium(m);
+    if (g >= 0) {
+      depth += media[m].sigmaT.rgb * gridDensityIntegral(g, o, d, max(r.x, tMin), needed ? min(r.y, tMax) : tMin);
       continue;
     }
 #endif

@@ -52,11 +52,15 @@ const int kAreaLight = 0, kPunctualLight = 1, kDirectionalLight = 2;
 vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, float minH) {
   vec3 sum = vec3(0.0);
   Equiangular around = equiangularAround(r, l.position.xyz, minH);
-#ifdef PREVIEW_MEDIA_GRID
-  // The distances grow with j (u does, and both mappings below are increasing), so the march through the grid from the
-  // camera continues from the previous distance: one march per light instead of one per distance (each as fine).
-  vec2 grid = r.range[PREVIEW_MEDIA_GRID];
-  float marchedTo = grid.x, marched = 0.0;
+#ifdef PREVIEW_MEDIA_GRIDS
+  // The distances grow with j (u does, and both mappings below are increasing), so the march through each grid from
+  // the camera continues from the previous distance: one march per light and grid instead of one per distance (each
+  // as fine). Grids the ray crosses one behind the other each add their whole depth once the distance is past them.
+  float marchedTo[PREVIEW_MEDIA_GRIDS], marched[PREVIEW_MEDIA_GRIDS];
+  for (int g = 0; g < PREVIEW_MEDIA_GRIDS; ++g) {
+    marchedTo[g] = r.range[mediaGridMedium[g]].x;
+    marched[g] = 0.0;
+  }
 #endif
   for (int j = 0; j < uMediaSteps; ++j) {
     float u = (float(j) + rotation) / float(uMediaSteps);
@@ -100,11 +104,17 @@ vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, f
     }
     float phase = phaseHG(dot(w, r.dir), media[medium].sigmaS.w);
     bool contributes = m >= 0 && pdf > 0.0 && falloff * visibility > 0.0;
-#ifdef PREVIEW_MEDIA_GRID
-    float reach = clamp(t, grid.x, grid.y);
-    marched += gridDensityIntegral(r.origin, r.dir, marchedTo, reach);
-    marchedTo = max(marchedTo, reach);
-    vec3 toCamera = cameraTransmittanceGiven(r, t, marched);
+#ifdef PREVIEW_MEDIA_GRIDS
+    vec3 gridDepth = vec3(0.0);
+    for (int g = 0; g < PREVIEW_MEDIA_GRIDS; ++g) {
+      int gm = mediaGridMedium[g];
+      vec2 range = r.range[gm];
+      float reach = min(max(t, range.x), range.y);  // not clamp: the range is empty where the ray misses the grid
+      marched[g] += gridDensityIntegral(g, r.origin, r.dir, marchedTo[g], reach);
+      marchedTo[g] = max(marchedTo[g], reach);
+      gridDepth += media[gm].sigmaT.rgb * marched[g];
+    }
+    vec3 toCamera = cameraTransmittanceGiven(r, t, gridDepth);
 #else
     vec3 toCamera = cameraTransmittance(r, t, contributes);
 #endif
