@@ -2,6 +2,8 @@
 
 #include <algorithm>
 #include <numeric>
+#include <stdexcept>
+#include <string>
 
 #include "renderer/core/sampling.h"
 
@@ -49,6 +51,10 @@ void VplGatherPass::upload(const Scene& scene, const VplSet& set, const std::vec
   for (std::size_t i = 0; i < gpu.size(); ++i) {
     const Vpl& v = set.vpls[order[i]];
     haveRadius_ = haveRadius_ || v.radius > 0.0f;
+    if (v.inMedium ? v.medium >= scene.media.size() : v.material >= scene.materials.size())
+      throw std::invalid_argument("VPL " + std::to_string(order[i]) + " names a " +
+                                  (v.inMedium ? "medium" : "material") +
+                                  " the scene does not have: the VPLs were made for another scene");
     if (v.inMedium) {
       // A medium VPL (common/vpl_table.glsl): flagged in geoNormal.w, its phase function's g in baseColor.w, the
       // direction its light travelled on in geoNormal.xyz; no surface, so no shading normal and no BRDF.
