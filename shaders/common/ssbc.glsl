@@ -41,10 +41,13 @@ const int kSsbcRingTexels = 2;
 const ivec2 kSsbcLevel0Taps[12] = ivec2[](ivec2(0, -2), ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-2, 0),
                                           ivec2(-1, 0), ivec2(1, 0), ivec2(2, 0), ivec2(-1, 1), ivec2(0, 1),
                                           ivec2(1, 1), ivec2(0, 2));
-const ivec2 kSsbcRingTaps[20] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(1, -2), ivec2(-2, -1), ivec2(-1, -1),
-                                        ivec2(0, -1), ivec2(1, -1), ivec2(2, -1), ivec2(-2, 0), ivec2(-1, 0),
-                                        ivec2(1, 0), ivec2(2, 0), ivec2(-2, 1), ivec2(-1, 1), ivec2(0, 1),
-                                        ivec2(1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2), ivec2(1, 2));
+// At level l >= 2, with p in the lower half of its texel in x and y (mirrored along an axis where it lies in the upper
+// half), the texels of the ring (1, 2] texels around p are among these 16 of the 5 x 5 window: the others lie nearer
+// than 1 or beyond 2 texels for every such p.
+const ivec2 kSsbcRingTaps[16] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(1, -2), ivec2(-2, -1), ivec2(-1, -1),
+                                        ivec2(0, -1), ivec2(1, -1), ivec2(-2, 0), ivec2(-1, 0), ivec2(1, 0),
+                                        ivec2(2, 0), ivec2(-2, 1), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1),
+                                        ivec2(0, 2));
 // At level 1 the centre of p's texel is 0.25 texels from p in x and y, so the ring (1, 2] texels holds exactly these
 // 10 texels for p at even coordinates (mirrored along an axis where p's coordinate is odd).
 const ivec2 kSsbcLevel1Taps[10] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(-2, -1), ivec2(-1, -1), ivec2(1, -1),
@@ -151,19 +154,19 @@ vec3 ssbcLevel1(SsbcReceiver r, ivec2 px) {
 }
 
 // Levels first..last (>= 2) of the rings. Only window texels that can lie in the ring are visited (llvmpipe
-// evaluates a skipped tap at full cost): the 5 x 5 window without its corners (>= 1.5 sqrt 2 texels away) and its
-// centre (<= 0.5 sqrt 2 texels away).
+// evaluates a skipped tap at full cost): the 16 of kSsbcRingTaps, mirrored to the half of its texel that p lies in.
 vec3 ssbcRings(SsbcReceiver r, ivec2 px, int first, int last) {
   vec3 sum = vec3(0.0);
   for (int level = first; level <= last; ++level) {
     float scale = float(1 << level);
     float inner = float(kSsbcRingTexels) * scale * 0.5, outer = float(kSsbcRingTexels) * scale;
     ivec2 base = px >> level;
+    ivec2 mirror = 1 - 2 * ((px >> (level - 1)) & 1);
     ivec2 levelSize = max(r.size >> level, ivec2(1));
     // Texel centre of `base` relative to p, in pixels.
     vec2 centre = (vec2(base) + 0.5) * scale - r.pc;
-    for (int tap = 0; tap < 20; ++tap) {
-      ivec2 offset = kSsbcRingTaps[tap];
+    for (int tap = 0; tap < 16; ++tap) {
+      ivec2 offset = kSsbcRingTaps[tap] * mirror;
       vec2 rel = vec2(offset) * scale + centre;
       float r2 = dot(rel, rel);
       sum += ssbcTap(r, base + offset, level, levelSize, r2 > inner * inner && r2 <= outer * outer);
