@@ -64,8 +64,8 @@ void drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
   raw.framebuffer.bind(layout.blockWidth * k, layout.blockHeight * k);
   // Draws add up (several ranges per subset) or are left out (a subset without lights in a range: a scene with fewer
   // punctual lights than k^2 subsets draws only the subsets that have one), so the blocks start from zero. Where each
-  // subset is one draw, that draw writes every texel of its block and no clear is needed (llvmpipe fills a cleared
-  // RGBA32F target texel by texel: about 1 ms at 640x480).
+  // subset is one draw, that draw writes every texel of its block and no clear is needed (a 640x480 RGBA32F clear
+  // took about 1.9 ms of llvmpipe's CPU time at load 7, docs/benchmarks.md "GL preview").
   bool oneDrawPerBlock = perSubset == 1;
   for (int subset = 0; subset < k * k && oneDrawPerBlock; ++subset) oneDrawPerBlock = drawn(subset, ranges.front());
   if (!oneDrawPerBlock) slices.step([&] { raw.framebuffer.clearColor(0, glm::vec4(0.0f)); });
