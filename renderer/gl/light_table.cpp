@@ -58,10 +58,17 @@ void drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
   auto programOf = [&](const LightChunk& c) -> ShaderProgram& { return c.program ? *c.program : program; };
   const int k = layout.k;
   const int perSubset = static_cast<int>(ranges.size()), total = k * k * perSubset;
+  auto drawn = [&](int subset, const Range& r) {
+    return table.drawEmptySubsets || r.begin + subsetOffset(r.begin, subset, k) < r.end;
+  };
   raw.framebuffer.bind(layout.blockWidth * k, layout.blockHeight * k);
   // Draws add up (several ranges per subset) or are left out (a subset without lights in a range: a scene with fewer
-  // punctual lights than k^2 subsets draws only the subsets that have one), so the blocks start from zero.
-  slices.step([&] { raw.framebuffer.clearColor(0, glm::vec4(0.0f)); });
+  // punctual lights than k^2 subsets draws only the subsets that have one), so the blocks start from zero. Where each
+  // subset is one draw, that draw writes every texel of its block and no clear is needed (a 640x480 RGBA32F clear
+  // took about 1.9 ms of llvmpipe's CPU time at load 7, docs/benchmarks.md "GL preview").
+  bool oneDrawPerBlock = perSubset == 1;
+  for (int subset = 0; subset < k * k && oneDrawPerBlock; ++subset) oneDrawPerBlock = drawn(subset, ranges.front());
+  if (!oneDrawPerBlock) slices.step([&] { raw.framebuffer.clearColor(0, glm::vec4(0.0f)); });
   for (const LightChunk& c : table.chunks) {
     programOf(c).set("uInterleave", k);
     programOf(c).set("uImageSize", glm::ivec2(layout.width, layout.height));
@@ -77,7 +84,7 @@ void drawInterleavedLightTable(ShaderProgram& program, Target& raw, const Interl
     const LightChunk& chunk = table.chunks[static_cast<std::size_t>(r.chunk)];
     ShaderProgram& p = programOf(chunk);
     const int offset = subsetOffset(r.begin, subset, k);
-    if (r.begin + offset >= r.end && !table.drawEmptySubsets) continue;
+    if (!drawn(subset, r)) continue;
     const int sx = subset % k, sy = subset / k;
     const glm::ivec2 origin(sx * layout.blockWidth, sy * layout.blockHeight);
     slices.bands(glm::ivec4(origin, layout.blockWidth, layout.blockHeight), [&] {

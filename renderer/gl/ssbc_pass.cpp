@@ -11,8 +11,9 @@ namespace vplab {
 
 struct SsbcPass::Targets {
   int width, height;
-  // Per mip texel of the G-buffer: x2 with the packed unit normal, and dA, of a compensation tap
-  // (ssbc_taps.frag.glsl), one framebuffer per level; I dA per mip texel of a step's input (ssbc_radiance.frag.glsl).
+  // Per mip texel of the G-buffer: x2 with the x of the unit normal, and dA with the code of its y, of a compensation
+  // tap (ssbc_taps.frag.glsl), one framebuffer per level; I dA with that code per mip texel of a step's input
+  // (ssbc_radiance.frag.glsl).
   GlTexture taps, area, radiance;
   std::vector<GlFramebuffer> tapLevels, radianceLevels;
   // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
@@ -31,7 +32,7 @@ struct SsbcPass::Targets {
       : width(w),
         height(h),
         taps(w, h, TextureFormat::Rgba32F, 0),
-        area(w, h, TextureFormat::R32F, 0),
+        area(w, h, TextureFormat::Rg32F, 0),
         radiance(w, h, TextureFormat::Rgba32F, 0),
         coarse((w + 3) / 4, (h + 3) / 4),
         coarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F),

@@ -10,8 +10,8 @@
 // is largest (next to p, i.e. at creases). Conservative: samples off screen, on the background, or straddling a
 // discontinuity (mip-averaged coverage < 1 or averaged normal shorter than 0.9) add nothing; V~ = 1 inside the
 // (local) footprint. The factors of a tap that depend on q alone are precomputed per mip texel, so that a tap reads
-// two texels: x2 with the packed unit normal (uTaps, ssbc_taps.frag.glsl, once per frame) and L_I dA (uTapRadiance,
-// ssbc_radiance.frag.glsl, once per step; 0 where q does not take part).
+// two texels: x2 with the x of q's unit normal (uTaps, ssbc_taps.frag.glsl, once per frame) and L_I dA with its y and
+// the sign of its z (uTapRadiance, ssbc_radiance.frag.glsl, once per step; 0 where q does not take part).
 //
 // Multi-resolution rings (SSBC_SPLIT, Settings::ssbcCoarseRings): the rings at and above kSsbcFineLevels (texels at
 // least kSsbcCoarseSpacing px away) vary on the scale of their own radius along a surface, so they are evaluated only
@@ -26,9 +26,10 @@
 // Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included before it.
 #include "common/units.glsl"
 
-// Per mip texel: I dA (I: reflected light only, no emission; 0 where the texel does not take part).
+// Per mip texel: rgb I dA (I: reflected light only, no emission; 0 where the texel does not take part), w the y of its
+// unit normal coded by ssbcNormalYCode.
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uTapRadiance;
-// Per mip texel: x2, unit normal packed by ssbcPackNormal (-1: does not take part) (ssbc_taps.frag.glsl).
+// Per mip texel: xyz x2, w the x of its unit normal (ssbc_taps.frag.glsl).
 layout(binding = UNIT_PASS_INPUT3) uniform sampler2D uTaps;
 uniform vec3 uCameraPosition;
 uniform vec3 uCameraForward;
@@ -41,10 +42,13 @@ const int kSsbcRingTexels = 2;
 const ivec2 kSsbcLevel0Taps[12] = ivec2[](ivec2(0, -2), ivec2(-1, -1), ivec2(0, -1), ivec2(1, -1), ivec2(-2, 0),
                                           ivec2(-1, 0), ivec2(1, 0), ivec2(2, 0), ivec2(-1, 1), ivec2(0, 1),
                                           ivec2(1, 1), ivec2(0, 2));
-const ivec2 kSsbcRingTaps[20] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(1, -2), ivec2(-2, -1), ivec2(-1, -1),
-                                        ivec2(0, -1), ivec2(1, -1), ivec2(2, -1), ivec2(-2, 0), ivec2(-1, 0),
-                                        ivec2(1, 0), ivec2(2, 0), ivec2(-2, 1), ivec2(-1, 1), ivec2(0, 1),
-                                        ivec2(1, 1), ivec2(2, 1), ivec2(-1, 2), ivec2(0, 2), ivec2(1, 2));
+// At level l >= 2, with p in the lower half of its texel in x and y (mirrored along an axis where it lies in the upper
+// half), the texels of the ring (1, 2] texels around p are among these 16 of the 5 x 5 window: the others lie nearer
+// than 1 or beyond 2 texels for every such p.
+const ivec2 kSsbcRingTaps[16] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(1, -2), ivec2(-2, -1), ivec2(-1, -1),
+                                        ivec2(0, -1), ivec2(1, -1), ivec2(-2, 0), ivec2(-1, 0), ivec2(1, 0),
+                                        ivec2(2, 0), ivec2(-2, 1), ivec2(-1, 1), ivec2(0, 1), ivec2(1, 1),
+                                        ivec2(0, 2));
 // At level 1 the centre of p's texel is 0.25 texels from p in x and y, so the ring (1, 2] texels holds exactly these
 // 10 texels for p at even coordinates (mirrored along an axis where p's coordinate is odd).
 const ivec2 kSsbcLevel1Taps[10] = ivec2[](ivec2(-1, -2), ivec2(0, -2), ivec2(-2, -1), ivec2(-1, -1), ivec2(1, -1),
@@ -84,37 +88,33 @@ bool ssbcReceiver(ivec2 px, out SsbcReceiver r) {
   return pos.w > 0.0 && !isinf(uClampBound);
 }
 
-// Unit normal packed into one float, exactly: octahedral coordinates quantised to 12 bits each, a * 4096 + b < 2^24.
-float ssbcPackNormal(vec3 n) {
-  vec2 p = n.xy / (abs(n.x) + abs(n.y) + abs(n.z));
-  if (n.z < 0.0) p = (1.0 - abs(p.yx)) * vec2(p.x >= 0.0 ? 1.0 : -1.0, p.y >= 0.0 ? 1.0 : -1.0);
-  vec2 q = round(clamp(p * 0.5 + 0.5, 0.0, 1.0) * 4095.0);
-  return q.x * 4096.0 + q.y;
+// A unit normal is stored as its x and this code of its y and the sign of its z, so that a tap decodes it with one
+// square root (ssbcNormal): an octahedral code in one float took a quarter of the tap's cost.
+float ssbcNormalYCode(vec3 n) {
+  return n.z < 0.0 ? n.y + 4.0 : n.y;
 }
 
-// The unit normal of ssbcPackNormal; 0 for a negative value (the texel does not take part).
-vec3 ssbcUnpackNormal(float code) {
-  float a = floor(code * (1.0 / 4096.0));
-  vec2 e = vec2(a, code - a * 4096.0) * (2.0 / 4095.0) - 1.0;
-  vec3 n = vec3(e, 1.0 - abs(e.x) - abs(e.y));
-  float t = max(-n.z, 0.0);
-  n.xy += vec2(n.x >= 0.0 ? -t : t, n.y >= 0.0 ? -t : t);
-  return code < 0.0 ? vec3(0.0) : normalize(n);
+// The unit normal of x and ssbcNormalYCode's code, its z from the unit length.
+vec3 ssbcNormal(float x, float yCode) {
+  bool below = yCode > 2.0;
+  float y = below ? yCode - 4.0 : yCode;
+  float z = sqrt(max(1.0 - x * x - y * y, 0.0));
+  return vec3(x, y, below ? -z : z);
 }
 
 // One tap at texel q of `level` (levelSize texels); `use` false (outside the ring) or q off the level adds nothing.
 vec3 ssbcTap(SsbcReceiver r, ivec2 q, int level, ivec2 levelSize, bool use) {
   ivec2 qc = clamp(q, ivec2(0), levelSize - 1);
-  vec4 tap = texelFetch(uTaps, qc, level);
-  vec3 x2 = tap.xyz, n2 = ssbcUnpackNormal(tap.w);
-  vec3 radianceArea = texelFetch(uTapRadiance, qc, level).rgb;
+  vec4 tap = texelFetch(uTaps, qc, level), radiance = texelFetch(uTapRadiance, qc, level);
+  vec3 x2 = tap.xyz, n2 = ssbcNormal(tap.w, radiance.w), radianceArea = radiance.rgb;
   vec3 d = x2 - r.x1;
   float dist2 = dot(d, d);
   vec3 w = d * inversesqrt(max(dist2, 1e-12));
   float cos1 = max(dot(r.n1, w), 0.0), cos2 = max(-dot(n2, w), 0.0);
   // G <= 1 / d^2: beyond the footprint sphere max(G - b, 0) is 0 whatever the normals (docs/theory.md §4).
   float excess = max(cos1 * cos2 / max(dist2, 1e-12) - uClampBound, 0.0);
-  bool take = use && all(equal(q, qc)) && dist2 > 1e-12 && tap.w >= 0.0;
+  // A texel that does not take part has I dA = 0.
+  bool take = use && all(equal(q, qc)) && dist2 > 1e-12;
 #ifdef BRDF_LAMBERT_ONLY
   // Pure Lambert: f(x1) does not depend on w and is applied once per sum (ssbcReflected).
   return take ? excess * radianceArea : vec3(0.0);
@@ -151,19 +151,19 @@ vec3 ssbcLevel1(SsbcReceiver r, ivec2 px) {
 }
 
 // Levels first..last (>= 2) of the rings. Only window texels that can lie in the ring are visited (llvmpipe
-// evaluates a skipped tap at full cost): the 5 x 5 window without its corners (>= 1.5 sqrt 2 texels away) and its
-// centre (<= 0.5 sqrt 2 texels away).
+// evaluates a skipped tap at full cost): the 16 of kSsbcRingTaps, mirrored to the half of its texel that p lies in.
 vec3 ssbcRings(SsbcReceiver r, ivec2 px, int first, int last) {
   vec3 sum = vec3(0.0);
   for (int level = first; level <= last; ++level) {
     float scale = float(1 << level);
     float inner = float(kSsbcRingTexels) * scale * 0.5, outer = float(kSsbcRingTexels) * scale;
     ivec2 base = px >> level;
+    ivec2 mirror = 1 - 2 * ((px >> (level - 1)) & 1);
     ivec2 levelSize = max(r.size >> level, ivec2(1));
     // Texel centre of `base` relative to p, in pixels.
     vec2 centre = (vec2(base) + 0.5) * scale - r.pc;
-    for (int tap = 0; tap < 20; ++tap) {
-      ivec2 offset = kSsbcRingTaps[tap];
+    for (int tap = 0; tap < 16; ++tap) {
+      ivec2 offset = kSsbcRingTaps[tap] * mirror;
       vec2 rel = vec2(offset) * scale + centre;
       float r2 = dot(rel, rel);
       sum += ssbcTap(r, base + offset, level, levelSize, r2 > inner * inner && r2 <= outer * outer);

@@ -1,18 +1,17 @@
 #version 450 core
 // Per-texel factors of the compensation integral (common/ssbc.glsl) that depend on the tap texel q alone, computed
-// once per camera for every mip level instead of once per (pixel, tap, step): x2 with the packed unit normal at q,
-// and
+// once per camera for every mip level instead of once per (pixel, tap, step): x2 and the unit normal at q, and
 //   dA(q) = omega_pix(q) |x2 - camera|^2 / |cos theta_q|,  omega_pix = 4^l cos^3(alpha) / f^2   (pinhole, f in px)
-// with dA = 0, x2 = 0 and the packed normal -1 for a texel that must not take part (background or straddling a
-// discontinuity: mip-averaged coverage < 1 or averaged normal shorter than 0.9). dA is multiplied into the input
-// radiance once per step (ssbc_radiance.frag.glsl).
+// with dA = 0 (and x2 = 0) for a texel that must not take part (background or straddling a discontinuity:
+// mip-averaged coverage < 1 or averaged normal shorter than 0.9). dA is multiplied into the input radiance once per
+// step (ssbc_radiance.frag.glsl), which also moves the normal's y code beside it.
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
 #include "common/ssbc.glsl"
 
 uniform int uLevel;
-layout(location = 0) out vec4 outTap;   // xyz x2, w packed unit normal (ssbcPackNormal; -1: not used)
-layout(location = 1) out vec4 outArea;  // x dA(q) (0: not used)
+layout(location = 0) out vec4 outTap;   // xyz x2, w the normal's x
+layout(location = 1) out vec4 outArea;  // x dA(q) (0: not used), y the normal's y and z sign (ssbcNormalYCode)
 
 void main() {
   ivec2 q = ivec2(gl_FragCoord.xy);
@@ -20,7 +19,7 @@ void main() {
   vec3 qn = texelFetch(gNormal, q, uLevel).xyz;
   float qnLen = length(qn);
   if (qp.w < 0.999 || qnLen < 0.9) {
-    outTap = vec4(0.0, 0.0, 0.0, -1.0);
+    outTap = vec4(0.0);
     outArea = vec4(0.0);
     return;
   }
@@ -33,6 +32,6 @@ void main() {
   vec3 toCamera = uCameraPosition - qp.xyz;
   float camDist2 = dot(toCamera, toCamera);
   float cosQ = max(abs(dot(qn, toCamera * inversesqrt(camDist2))), 0.05);
-  outTap = vec4(qp.xyz, ssbcPackNormal(qn));
-  outArea = vec4(omega * camDist2 / cosQ, 0.0, 0.0, 0.0);
+  outTap = vec4(qp.xyz, qn.x);
+  outArea = vec4(omega * camDist2 / cosQ, ssbcNormalYCode(qn), 0.0, 0.0);
 }
