@@ -29,12 +29,4 @@ export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_afte
 export LSAN_OPTIONS="suppressions=$root/tests/lsan-mesa.supp:print_suppressions=0"
 export UBSAN_OPTIONS="print_stacktrace=1:halt_on_error=1"
 cd "$build"
-# CTest starts the costliest tests first when it knows their times, so that no long test runs alone at the end; a
-# first sanitized run knows none. $VPLAB_TEST_COST_DATA, the Release run's measured times (scripts/test.sh), is the
-# order they take under the sanitizers too, closely enough for that.
-costs="Testing/Temporary/CTestCostData.txt"
-if [ -n "${VPLAB_TEST_COST_DATA:-}" ] && [ -f "$VPLAB_TEST_COST_DATA" ] && [ ! -f "$costs" ]; then
-  mkdir -p "$(dirname "$costs")"
-  cp "$VPLAB_TEST_COST_DATA" "$costs"
-fi
 ctest --output-on-failure -j "$(nproc)" -L "$labels" "${exclude[@]}"

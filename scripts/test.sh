@@ -14,6 +14,5 @@ export VPLAB_TEST_IMAGE_CACHE
 trap 'rm -rf "$VPLAB_TEST_IMAGE_CACHE"' EXIT
 (cd "$build" && ctest --output-on-failure -j "$(nproc)")
 if [ "${VPLAB_SKIP_SANITIZED:-0}" != 1 ]; then
-  # The sanitized run schedules by the times this run measured (scripts/test-sanitized.sh).
-  VPLAB_TEST_COST_DATA="$build/Testing/Temporary/CTestCostData.txt" "$root/scripts/test-sanitized.sh"
+  "$root/scripts/test-sanitized.sh"
 fi
