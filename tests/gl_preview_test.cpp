@@ -522,6 +522,28 @@ TEST(GlPreview, ANewSetAtTheSameAddressIsGatheredAgain) {
   EXPECT_EQ(test::differingPixels(kept.readLinear(), fresh.readLinear()), 0u);
 }
 
+// The same for a scene: another scene assigned to the variable the renderer was handed is drawn without
+// invalidateScene(), Scene::id telling the two apart.
+TEST(GlPreview, ANewSceneAtTheSameAddressIsDrawnAgain) {
+  HeadlessGlContext context;
+  Scene scene = floorScene();
+  Settings settings = smallSettings();
+  settings.components = Components::Indirect;
+  const VplSet vpls = oneVpl(glm::vec3(0.0f, 0.0f, 1.0f), glm::vec3(1.0f));
+  PreviewRenderer kept;
+  kept.render(scene, vpls, settings, scene.camera);
+  const Image before = kept.readLinear();
+  Scene other = floorScene();  // with a blocker above the floor
+  addQuad(other, glm::vec3(-0.2f, -0.2f, 0.3f), glm::vec3(0.4f, 0, 0), glm::vec3(0, 0.4f, 0), 0);
+  other.finalize();
+  scene = other;
+  kept.render(scene, vpls, settings, scene.camera);
+  PreviewRenderer fresh;
+  fresh.render(scene, vpls, settings, scene.camera);
+  EXPECT_GT(test::differingPixels(before, kept.readLinear()), 0u) << "the old scene's image was kept";
+  EXPECT_EQ(test::differingPixels(kept.readLinear(), fresh.readLinear()), 0u);
+}
+
 // The passes a change re-runs are the stages renderer/invalidation.h names for it: the preview follows the same model
 // as the editor instead of rules of its own. (Changes of VPL generation are left out: the renderer takes the VPLs it
 // is handed, and keeps their maps when the casters did not move.)

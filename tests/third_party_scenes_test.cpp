@@ -114,8 +114,7 @@ TEST(GlThirdPartyScenes, EveryLoadableFileGivesAFiniteStagedPreview) {
     Settings s = tinySettings();
     OfflineScene offline(*scene);
     VplSet vpls = generateVpls(offline, s);
-    // Each file's scene may sit where the last one did, and the renderer tells scenes apart by address.
-    renderer.invalidateScene();
+    // Each file's scene may sit where the last one did: Scene::id tells them apart.
     renderer.render(*scene, vpls, s, scene->camera);
     EXPECT_EQ(renderer.counters().gbuffer, ++previewed) << "the file's own G-buffer";
     EXPECT_EQ(nonFinite(renderer.readLinear()), 0u);

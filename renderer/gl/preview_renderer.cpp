@@ -316,9 +316,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     throw std::runtime_error(problem);
   if (std::string problem = mediaFitProblem(scene); !problem.empty()) throw std::runtime_error(problem);
   PreviewTimings t;
-  if (&scene != scene_ || sceneDirty_ || !glScene_) {
+  if (&scene != scene_ || scene.id != sceneId_ || sceneDirty_ || !glScene_) {
     glScene_ = std::make_unique<GlScene>(scene);
     scene_ = &scene;
+    sceneId_ = scene.id;
     // The same test as evaluateBrdf's Lambert fast path (metallic and specular are per material, never textured).
     lambertOnly_ = std::all_of(scene.materials.begin(), scene.materials.end(),
                                [](const Material& m) { return m.metallic <= 0.0f && m.specular <= 0.0f; });

@@ -94,8 +94,8 @@ class PreviewRenderer {
   PreviewRenderer(const PreviewRenderer&) = delete;
   PreviewRenderer& operator=(const PreviewRenderer&) = delete;
 
-  /// Renders settings.width x settings.height. The scene is compared by address, the VPL set by address and VplSet::id:
-  /// call invalidateScene() / invalidateVpls() after editing them in place.
+  /// Renders settings.width x settings.height. The scene is compared by address and Scene::id, the VPL set by address
+  /// and VplSet::id: call invalidateScene() / invalidateVpls() after editing them in place.
   /// budgetMs splits long work across calls (the editor's frames): passes run in order until one finishes after the
   /// budget is spent; the next call resumes with the remaining ones (and redoes any that a new change made stale).
   /// The G-buffer (in bands of rows), the lights' maps (a cube face at a time), the VPL maps (for a technique that
@@ -152,6 +152,7 @@ class PreviewRenderer {
   std::unique_ptr<Targets> targets_;
   std::unique_ptr<GlScene> glScene_;
   const Scene* scene_ = nullptr;
+  std::uint64_t sceneId_ = 0;
   const VplSet* vplSet_ = nullptr;
   std::uint64_t vplSetId_ = 0;
   bool vplsDirty_ = true;

@@ -95,7 +95,14 @@ struct Bounds {
   float diagonal() const { return valid() ? glm::length(extent()) : 0.0f; }
 };
 
+/// A new value at every call: a Scene's identity (Scene::id).
+std::uint64_t newSceneId();
+
 struct Scene {
+  /// Every scene made has its own (copies keep it): with its address, how a renderer tells another scene from the one
+  /// it uploaded, also when a new scene takes the place of the old one in the same variable. Edits in place keep it
+  /// (the renderers' invalidate calls say so).
+  std::uint64_t id = newSceneId();
   std::string sourcePath;
 
   // Per-vertex, world space.
