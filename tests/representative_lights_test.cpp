@@ -145,7 +145,7 @@ TEST(GlRepresentatives, ReducedPreviewMatchesTheCpuExactSumOverEveryVpl) {
   // The representatives at their own flux (no rescaling): the same comparison fails by far. Same positions, so the
   // renderer keeps the maps and gathers again.
   VplSet unscaled = reduced;
-  unscaled.id = newVplSetId();
+  unscaled.id = newObjectId();
   for (std::size_t i = 0; i < unscaled.vpls.size(); ++i)
     for (const Vpl& v : vpls.vpls)
       if (v.position == reduced.vpls[i].position && v.normal == reduced.vpls[i].normal) {

@@ -3,15 +3,9 @@
 #include "renderer/core/sampling.h"
 
 #include <algorithm>
-#include <atomic>
 #include <cmath>
 
 namespace vplab {
-
-std::uint64_t newSceneId() {
-  static std::atomic<std::uint64_t> next{1};
-  return next.fetch_add(1, std::memory_order_relaxed);
-}
 
 glm::vec3 Texture::sample(glm::vec2 uv) const {
   if (width <= 0 || height <= 0 || texels.empty()) return glm::vec3(1.0f);

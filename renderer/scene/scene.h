@@ -2,6 +2,7 @@
 // The whole world vplab renders: flattened world-space triangles, materials, lights and one camera.
 // glTF node transforms are baked at load time; there is no scene graph.
 
+#include "renderer/core/object_id.h"
 #include "renderer/scene/medium.h"
 
 #include <glm/glm.hpp>
@@ -95,14 +96,11 @@ struct Bounds {
   float diagonal() const { return valid() ? glm::length(extent()) : 0.0f; }
 };
 
-/// A new value at every call: a Scene's identity (Scene::id).
-std::uint64_t newSceneId();
-
 struct Scene {
   /// Every scene made has its own (copies keep it): with its address, how a renderer tells another scene from the one
   /// it uploaded, also when a new scene takes the place of the old one in the same variable. Edits in place keep it
   /// (the renderers' invalidate calls say so).
-  std::uint64_t id = newSceneId();
+  std::uint64_t id = newObjectId();
   std::string sourcePath;
 
   // Per-vertex, world space.

@@ -3,6 +3,8 @@
 
 #include <glm/glm.hpp>
 
+#include "renderer/core/object_id.h"
+
 #include <cstdint>
 #include <string>
 #include <vector>
@@ -65,9 +67,6 @@ struct VplStats {
   std::vector<std::string> warnings;  ///< e.g. a fallback to light tracing, with the reason
 };
 
-/// A number that no other VplSet made in this process has.
-std::uint64_t newVplSetId();
-
 struct VplSet {
   std::vector<Vpl> vpls;
   /// The media segments of the same light paths as virtual ray lights (scenes with media only; the `vrl` and `vbl`
@@ -78,7 +77,7 @@ struct VplSet {
   /// Every set made has its own (copies keep it): with its address, how a renderer tells another set from the one it
   /// uploaded, also when a new set is assigned to the same variable. Edits in place keep it (the renderers' invalidate
   /// calls say so).
-  std::uint64_t id = newVplSetId();
+  std::uint64_t id = newObjectId();
 };
 
 }  // namespace vplab

@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <array>
-#include <atomic>
 #include <chrono>
 #include <cmath>
 #include <optional>
@@ -13,11 +12,6 @@
 #include "renderer/vpl/vpl_importance.h"
 
 namespace vplab {
-
-std::uint64_t newVplSetId() {
-  static std::atomic<std::uint64_t> next{1};
-  return next.fetch_add(1, std::memory_order_relaxed);
-}
 
 namespace {
 
