@@ -11,6 +11,8 @@
 # - the OSMesa instances of the suites run on both backends (label gl-osmesa-twin): the same renders and CPU
 #   references as their EGL twins through the same code but the context's, which the context tests take on OSMesa;
 #   VPLAB_SANITIZE_TWINS=1 runs them as well.
+# A CTest test runs a whole gtest suite here (VPLAB_CTEST_PER_SUITE, tests/CMakeLists.txt): a sanitized test process
+# takes about half a second to start and exit. `build-sanitized/tests/vplab_tests --gtest_filter=...` runs single tests.
 # Run from scripts/test.sh, the GL tests take the CPU images they compare with from the Release run's
 # (VPLAB_TEST_IMAGE_CACHE, tests/cpu_image_cache.h): the CPU renderers run under the sanitizers in their own tests.
 set -euo pipefail
@@ -23,7 +25,7 @@ left_out=()
 exclude=()
 if [ "${#left_out[@]}" -gt 0 ]; then exclude=(-LE "$(IFS='|'; echo "${left_out[*]}")"); fi
 cmake -S "$root" -B "$build" -DCMAKE_BUILD_TYPE=Debug -DCMAKE_CXX_FLAGS_DEBUG="-g1 -O1" -DVPLAB_SANITIZE=ON \
-  -DVPLAB_BUILD_BENCH=OFF >/dev/null
+  -DVPLAB_BUILD_BENCH=OFF -DVPLAB_CTEST_PER_SUITE=ON >/dev/null
 cmake --build "$build" -j "$(nproc)"
 export ASAN_OPTIONS="detect_leaks=1:strict_string_checks=1:detect_stack_use_after_return=1:check_initialization_order=1"
 export LSAN_OPTIONS="suppressions=$root/tests/lsan-mesa.supp:print_suppressions=0"
