@@ -45,14 +45,56 @@ uniform int uSearchLayer;  // this run's emitter
 
 layout(location = 0) out vec4 outColor;
 
+// Light i's reflected radiance at surface s: shadowed through its map when `shadowed` (a constant at every call), else
+// unshadowed (visibility 1). rotation: the punctual and directional lights' filter rotation; search: an area run's
+// blocker search.
+vec3 directLight(int i, InterleavedSurface s, float rotation, BlockerSearch search, bool shadowed) {
+  vec3 x1 = s.x1, n1 = s.n1, ng = s.ng, wo = s.wo;
+  DirectLight l = lights[i - uUboBase];
+#if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
+  // Arrives from -direction with its irradiance, no falloff with distance.
+  vec3 w = -l.axis.xyz;
+  float dist2 = 1.0, emitted = 1.0;
+#else
+  vec3 d = l.position.xyz - x1;
+  float dist2 = dot(d, d);
+  vec3 w = d * inversesqrt(max(dist2, 1e-30));
+  float cosLight = -dot(l.axis.xyz, w);
+#if DIRECT_MAP_KIND == DIRECT_MAP_AREA
+  // One-sided emitter, cosine at the light.
+  float emitted = max(cosLight, 0.0);
+#else
+  // A point light, or a spot light with the KHR_lights_punctual falloff.
+  float t = clamp((cosLight - l.axis.w) / max(0.001, l.weight.w - l.axis.w), 0.0, 1.0);
+  float emitted = l.position.w == 2.0 ? t * t : 1.0;
+#endif
+#endif
+  float visibility = 1.0;
+  if (shadowed) {
+#if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
+    visibility = directionalVisibility(int(l.shadow.x), l.axis.xyz, x1, ng, rotation);
+#elif DIRECT_MAP_KIND == DIRECT_MAP_PUNCTUAL
+    visibility = pointLightVisibility(int(l.shadow.x), l.centre.xyz, x1, ng, rotation);
+#else
+    visibility = areaSampleVisibility(search, areaShadowCell(int(l.shadow.x), l.centre.xyz, x1, ng), l.position.xyz,
+                                      l.axis.xyz);
+#endif
+  }
+  // One-sided receiver: the light must be on the side the geometric normal faces.
+  float cos1 = dot(n1, w);
+  bool reaches = dist2 > 0.0 && dot(ng, w) > 0.0 && cos1 > 0.0 && emitted > 0.0;
+  // Through participating media, the transmittance between the light and x1 (1 without media).
+  return reaches ? evaluateBrdf(s.brdf, n1, wo, w) * (cos1 / dist2 * emitted * visibility * l.weight.rgb) *
+                       mediaLightTransmittance(l.position, l.axis.xyz, x1, reaches && visibility > 0.0)
+                 : vec3(0.0);
+}
+
 void main() {
   InterleavedSurface s;
   if (!interleavedSurface(s)) {
     outColor = vec4(0.0);
     return;
   }
-  vec3 x1 = s.x1, n1 = s.n1, ng = s.ng, wo = s.wo;
-  BrdfParams p = s.brdf;
   vec3 sum = vec3(0.0);
   int k2 = uInterleave * uInterleave;
 #if DIRECT_MAP_KIND != DIRECT_MAP_AREA
@@ -64,42 +106,21 @@ void main() {
   vec4 found = texelFetch(uBlockerSearch, ivec3(ivec2(gl_FragCoord.xy) - uBlockOrigin, uSearchLayer), 0);
   BlockerSearch search = BlockerSearch(found.xyz, int(found.w));
 #endif
-  for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2) {
-    DirectLight l = lights[i - uUboBase];
-#if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
-    // Arrives from -direction with its irradiance, no falloff with distance.
-    vec3 w = -l.axis.xyz;
-    float dist2 = 1.0, emitted = 1.0;
-#else
-    vec3 d = l.position.xyz - x1;
-    float dist2 = dot(d, d);
-    vec3 w = d * inversesqrt(max(dist2, 1e-30));
-    float cosLight = -dot(l.axis.xyz, w);
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA
-    // One-sided emitter, cosine at the light.
-    float emitted = max(cosLight, 0.0);
+  // Where the block's search found no blocker every sample's visibility is 1 (areaSampleVisibility), and the map reads
+  // and their set-up were about 45% of this pass (docs/benchmarks.md "GL preview"). llvmpipe runs a branch's body
+  // under a lane mask for every pixel, but a loop only while one of its lanes still iterates (at least once): so the
+  // samples are summed in two loops, each entered by one kind of pixel, unshadowed where the block has no blocker and
+  // through the maps where it has. A SIMD group of one kind pays one masked iteration of the other loop instead of
+  // one per sample. The sum is the single loop's, term for term.
+  int first = uLightBegin + uSubsetOffset;
+  bool blocked = search.blockers > 0;
+  for (int i = first; i < (blocked ? first : uLightEnd); i += k2) sum += directLight(i, s, 0.0, search, false);
+  for (int i = first; i < (blocked ? uLightEnd : first); i += k2) sum += directLight(i, s, 0.0, search, true);
 #else
-    // A point light, or a spot light with the KHR_lights_punctual falloff.
-    float t = clamp((cosLight - l.axis.w) / max(0.001, l.weight.w - l.axis.w), 0.0, 1.0);
-    float emitted = l.position.w == 2.0 ? t * t : 1.0;
+  for (int i = uLightBegin + uSubsetOffset; i < uLightEnd; i += k2)
+    sum += directLight(i, s, rotation, blockerSearchBegin(), true);
 #endif
-#endif
-#if DIRECT_MAP_KIND == DIRECT_MAP_DIRECTIONAL
-    float visibility = directionalVisibility(int(l.shadow.x), l.axis.xyz, x1, ng, rotation);
-#elif DIRECT_MAP_KIND == DIRECT_MAP_PUNCTUAL
-    float visibility = pointLightVisibility(int(l.shadow.x), l.centre.xyz, x1, ng, rotation);
-#else
-    float visibility = areaSampleVisibility(search, areaShadowCell(int(l.shadow.x), l.centre.xyz, x1, ng),
-                                            l.position.xyz, l.axis.xyz);
-#endif
-    // One-sided receiver: the light must be on the side the geometric normal faces.
-    float cos1 = dot(n1, w);
-    bool reaches = dist2 > 0.0 && dot(ng, w) > 0.0 && cos1 > 0.0 && emitted > 0.0;
-    // Through participating media, the transmittance between the light and x1 (1 without media).
-    sum += reaches ? evaluateBrdf(p, n1, wo, w) * (cos1 / dist2 * emitted * visibility * l.weight.rgb) *
-                         mediaLightTransmittance(l.position, l.axis.xyz, x1, reaches && visibility > 0.0)
-                   : vec3(0.0);
-  }
 #if DIRECT_MAP_KIND == DIRECT_MAP_AREA
   outColor = interleavedOutput(s, sum * float(k2));
 #else
