@@ -27,7 +27,8 @@
 namespace vplab::app {
 
 int cmdPreview(const Args& args) {
-  Settings settings;
+  // k = 4, s = 2 unless told otherwise, as in the editor: the preview is the fast view of the VPLs.
+  Settings settings = previewDefaultSettings();
   const unsigned use = kUseImage | kUseGeneration | kUseGl;
   cli::CommandLine cl("vplab preview <scene.gltf|scene.glb> -o image.png|image.exr [options]",
                       cli::imageOutputOptions());

@@ -300,6 +300,13 @@ const char* toString(Stage stage) {
   return "?";
 }
 
+Settings previewDefaultSettings() {
+  Settings s;
+  s.interleave = 4;
+  s.indirectDownscale = 2;
+  return s;
+}
+
 Settings offlineRenderSettings(const Settings& settings, Method method) {
   Settings s = settings;
   if (method != Method::Reference) s.samplesPerPixel = settings.exactSamplesPerPixel;

@@ -238,11 +238,13 @@ struct Settings {
   // --- GL preview (section 8) -------------------------------------------------------------------------------
   /// Shadow-mapped samples on area lights for the preview's direct light [1, 4096]. Default 64.
   int directLightSamples = 64;
-  /// Interleaved sampling: VPLs split into k x k subsets, k = 1 is off [1, 8]. Default 1.
+  /// Interleaved sampling: VPLs split into k x k subsets, k = 1 is off [1, 8]. Default 1 (4 in `vplab preview` and
+  /// the editor: previewDefaultSettings).
   int interleave = 1;
   /// The indirect light (the VPL gather) and its compensation are computed at 1/s of the image's width and height
   /// and upsampled along surfaces (preview/upsample.frag.glsl); the G-buffer, the direct light and emission stay per
-  /// pixel [1, 4]. Both passes' work scales with their pixels, so s = 2 does about a quarter of it. Default 1.
+  /// pixel [1, 4]. Both passes' work scales with their pixels, so s = 2 does about a quarter of it. Default 1 (2 in
+  /// `vplab preview` and the editor: previewDefaultSettings).
   int indirectDownscale = 1;
   /// Resolution of each VPL's shadow map, in texels per side [16, 2048]. Default 256.
   int shadowMapSize = 256;
@@ -344,6 +346,14 @@ void requireValidSettings(const Settings& settings);
 /// The settings an offline render of `method` runs with: the reference takes samplesPerPixel, an exact VPL render
 /// exactSamplesPerPixel (the editor's exact render and `vplab render` alike).
 Settings offlineRenderSettings(const Settings& settings, Method method);
+
+/// The defaults of the commands that show the GL preview (`vplab preview`, the editor) where the command line and a
+/// settings file say nothing: the gather interleaved over 4 x 4 subsets and the indirect light on the half-resolution
+/// grid. A cold 640x480 `vplab preview` takes about half the time of k = s = 1 and an edit in the editor a third to a
+/// tenth (docs/benchmarks.md, "The cold headless preview" and "Editing in the editor"); the accuracy tests pin this
+/// configuration against the CPU as they pin k = s = 1. The offline renders, the bench and the presets keep the
+/// Settings defaults.
+Settings previewDefaultSettings();
 
 const char* toString(Method method);
 const char* toString(Components components);

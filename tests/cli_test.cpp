@@ -342,6 +342,9 @@ TEST(CliFlags, HelpListsOnlyWhatActsOnTheCommandWithItsOwnDefaults) {
   EXPECT_TRUE(contains(preview.out, "--ref <FILE>"));
   EXPECT_TRUE(contains(preview.out, "--components"));
   EXPECT_FALSE(contains(preview.out, "--samples-per-pixel"));
+  // The preview's own defaults (previewDefaultSettings), not the Settings struct's k = s = 1.
+  EXPECT_TRUE(contains(preview.out, "1 = off (default 4)")) << preview.out;
+  EXPECT_TRUE(contains(preview.out, "upsampled along surfaces (default 2)")) << preview.out;
   CliRun reference = vplab("reference --help");
   EXPECT_TRUE(contains(reference.out, "(default 64)"));
   EXPECT_FALSE(contains(reference.out, "--vpl-count"));

@@ -10,16 +10,13 @@
 
 namespace vplab::ui {
 
-/// The editor's initial settings where the command line and a settings file say nothing: interleaved over 4 x 4
-/// subsets, the indirect light on the half-resolution grid. At the fitted size they make an edit show in about a tenth
-/// of a second on llvmpipe, where k = s = 1 takes 0.2-0.8 s on the Cornell boxes and seconds in the smoke
-/// (docs/benchmarks.md, "Editing in the editor"); the accuracy tests pin this configuration against the CPU as they
-/// pin k = s = 1. The settings panel, a settings file or --interleave 1 --indirect-downscale 1 give the full gather.
+/// The editor's initial settings where the command line and a settings file say nothing: those of `vplab preview`,
+/// interleaved over 4 x 4 subsets, the indirect light on the half-resolution grid (previewDefaultSettings). At the
+/// fitted size they make an edit show in about a tenth of a second on llvmpipe, where k = s = 1 takes 0.2-0.8 s on
+/// the Cornell boxes and seconds in the smoke (docs/benchmarks.md, "Editing in the editor"). The settings panel, a
+/// settings file or --interleave 1 --indirect-downscale 1 give the full gather.
 inline Settings editorDefaultSettings() {
-  Settings s;
-  s.interleave = 4;
-  s.indirectDownscale = 2;
-  return s;
+  return previewDefaultSettings();
 }
 
 struct EditorOptions {
