@@ -24,7 +24,7 @@ int cmdEdit(const Args& args) {
                       });
   const unsigned use = kUseImage | kUseReference | kUseGeneration | kUseCpuVpl | kUseGl;
 #ifdef VPLAB_HAVE_EDITOR
-  const Settings defaults = ui::editorDefaultSettings();
+  const Settings defaults = previewDefaultSettings();
 #else
   const Settings defaults;
 #endif

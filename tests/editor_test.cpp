@@ -465,7 +465,7 @@ TEST(EditorWindow, ScriptedViewMatchesHeadlessPreviewAndKeepsVplsOnCameraMoves) 
 
   // The same settings and camera through the headless preview.
   Scene scene = loadScene(std::string(VPLAB_TEST_ASSETS) + "/scenes/cornell-box.gltf");
-  Settings settings = ui::editorDefaultSettings();
+  Settings settings = previewDefaultSettings();
   settings.width = settings.height = 96;
   settings.vplCount = 48;
   settings.directLightSamples = 16;
