@@ -2,7 +2,6 @@
 
 #include "app/cli.h"
 #include "app/commands.h"
-#include "app/huge_page_malloc.h"
 #include "renderer/core/atomic_file.h"
 #include "renderer/core/text.h"
 #include "renderer/image/image_io.h"
@@ -83,8 +82,6 @@ int main(int argc, char** argv) {
     return 2;
   }
   std::string name = argv[1];
-  // The commands that draw with llvmpipe, whose zero-filled textures fault in page by page (app/huge_page_malloc.h).
-  if (name == "preview" || name == "edit") vplab::app::reexecWithHugePageMalloc(argv);
   if (name == "--help" || name == "-h" || name == "help") {
     printUsage();
     return 0;

@@ -135,7 +135,7 @@ bool DirectLightPass::renderMaps(const Scene& scene, const Settings& settings, f
 }
 
 bool DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius,
-                           Target& raw, const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao,
+                           Target& raw, const InterleavedLayout& layout, Target* punctual, const GlVertexArray& vao,
                            const std::function<bool()>& outOfTime) {
   // The programs of the kinds of map the scene has: a program is compiled when first asked for (BrdfVariants).
   for (int kind = 0; kind < MapKinds; ++kind) {
@@ -166,7 +166,7 @@ bool DirectLightPass::draw(bool lambertOnly, const Camera& camera, glm::vec3 sce
   drawBlockerSearches(layout, vao);
   drawInterleavedLightTable(standIn, raw, layout, area, vao, drawSlices_);
   const InterleavedLayout everyPixel{layout.width, layout.height, 1, layout.width, layout.height};
-  drawInterleavedLightTable(standIn, punctual, everyPixel, exact, vao, drawSlices_);
+  if (punctual) drawInterleavedLightTable(standIn, *punctual, everyPixel, exact, vao, drawSlices_);
   return drawSlices_.end();
 }
 

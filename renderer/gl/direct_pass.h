@@ -56,16 +56,19 @@ class DirectLightPass {
   void restartMaps() { mapsStarted_ = false; }
   /// Draws the direct light, reading the G-buffer bound at its units: the area-light samples' into the interleaved
   /// layout of `raw` (merged with the gather), the punctual lights' at every pixel of `punctual` (layout's width and
-  /// height; added after the merge, deinterleave.frag.glsl). Both targets are cleared first. With outOfTime, stops
-  /// after the draw (or band of one) at which it says so and returns false; the next call goes on from there, and the
-  /// image is the same as one call's.
+  /// height; added after the merge, deinterleave.frag.glsl; null when hasExactLights() is false). Both are written
+  /// whole. With outOfTime, stops after the draw (or band of one) at which it says so and returns false; the next call
+  /// goes on from there, and the image is the same as one call's.
   bool draw(bool lambertOnly, const Camera& camera, glm::vec3 sceneCentre, float sceneRadius, Target& raw,
-            const InterleavedLayout& layout, Target& punctual, const GlVertexArray& vao,
+            const InterleavedLayout& layout, Target* punctual, const GlVertexArray& vao,
             const std::function<bool()>& outOfTime = {});
   /// The next draw() starts from its first draw (what it reads changed while it was under way).
   void restartDraw() { drawSlices_.restart(); }
   /// Whether the lights uploaded by the last renderMaps() include area-light samples (else `raw` stays 0).
   bool hasAreaSamples() const { return !runs_.empty() && runs_.front().kind == AreaMap; }
+  /// Whether they include point, spot or directional lights, whose light draw() writes per pixel into `punctual`
+  /// (which may be null otherwise).
+  bool hasExactLights() const { return !runs_.empty() && runs_.back().kind != AreaMap; }
   /// Compiles the passes with the transmittance of the scene's media toward each light (common/medium.glsl; a count
   /// of 0: none).
   void useMedia(const MediaShaderLayout& media);

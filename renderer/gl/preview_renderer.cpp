@@ -96,8 +96,13 @@ struct ScreenGrid {
   // Whether what the compensation derives from the G-buffer alone (mips of position and normal, tap factors, flat
   // blocks) was made from the current G-buffer: a VPL change does not redo it.
   bool gbufferDerivedCurrent = false;
-  // The de-interleaved gather.
-  Target indirect;
+  // The de-interleaved gather: every frame on the indirect light's own grid; on the image's grid only when a component
+  // is read back (readLinear), so it is made when first asked for (llvmpipe zero-fills what it allocates).
+  std::unique_ptr<Target> indirectMerged;
+  Target& indirect() {
+    if (!indirectMerged) indirectMerged = std::make_unique<Target>(width, height);
+    return *indirectMerged;
+  }
   // Row sums of the separable de-interleave (deinterleave.frag.glsl), accepted count in w.
   Target rows;
   // What only the grid the indirect light is gathered on needs (Targets::indirectGrid() makes it): I0 = direct +
@@ -121,19 +126,21 @@ struct ScreenGrid {
   // Interleaved direct light of the area-light samples (on the image's own grid only) and gather in the deinterleaved
   // block layout (gather.frag.glsl): k x k blocks of blockWidth x blockHeight texels, reallocated when k changes.
   std::unique_ptr<Target> directRaw, indirectRaw;
-  // The punctual lights' direct light at every pixel, which the merge adds (with directRaw: the image's own grid).
+  // The punctual lights' direct light at every pixel, which the merge adds (the image's own grid, in a scene with such
+  // lights).
   std::unique_ptr<Target> punctualDirect;
   int rawInterleave = 0, blockWidth = 0, blockHeight = 0;
 
-  ScreenGrid(int w, int h) : width(w), height(h), g(w, h), indirect(w, h), rows(w, h) {}
+  ScreenGrid(int w, int h) : width(w), height(h), g(w, h), rows(w, h) {}
 
-  void ensureRaw(int k, bool withDirect) {
+  void ensureRaw(int k, bool withDirect, bool withPunctual) {
+    if (!withPunctual) punctualDirect.reset();
+    else if (!punctualDirect) punctualDirect = std::make_unique<Target>(width, height);
     if (rawInterleave == k && static_cast<bool>(directRaw) == withDirect) return;
     rawInterleave = k;
     blockWidth = (width + k - 1) / k;
     blockHeight = (height + k - 1) / k;
     directRaw = withDirect ? std::make_unique<Target>(blockWidth * k, blockHeight * k) : nullptr;
-    punctualDirect = withDirect ? std::make_unique<Target>(width, height) : nullptr;
     indirectRaw = std::make_unique<Target>(blockWidth * k, blockHeight * k);
   }
   InterleavedLayout interleaved() const { return {width, height, rawInterleave, blockWidth, blockHeight}; }
@@ -509,8 +516,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   }
   shadowsValid_ = true;
 
-  tg.full.ensureRaw(settings.interleave, true);
-  if (ownGrid) grid.ensureRaw(settings.interleave, false);
+  tg.full.ensureRaw(settings.interleave, true, direct_.hasExactLights());
+  if (ownGrid) grid.ensureRaw(settings.interleave, false, false);
 
   // Pass 2: direct light, interleaved over the light samples, draw by draw (in bands of rows) when a budget is given.
   if (pending_.direct && !outOfBudget) {
@@ -518,7 +525,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     t.directMs = timed(timer_, t.directWallMs, [&] {
       tg.full.g.bind();
       drawn = direct_.draw(lambertOnly_, camera, scene.bounds.center(), sceneRadius, *tg.full.directRaw,
-                           tg.full.interleaved(), *tg.full.punctualDirect, vao_, outOfTime);
+                           tg.full.interleaved(), tg.full.punctualDirect.get(), vao_, outOfTime);
     });
     tg.directMergeStale = true;
     ended(drawn, counters_.direct, pending_.direct);
@@ -571,14 +578,16 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         // Punctual lights alone need no merge: their light is per pixel already.
         if (direct_.hasAreaSamples())
           mergeInterleaved(tg.full, glm::vec2(1.0f, 0.0f), tg.direct.framebuffer, mergeSlices_);
-        else
+        else if (tg.full.punctualDirect)
           mergeSlices_.step([&] { tg.direct.texture.copyFrom(tg.full.punctualDirect->texture); });
+        else
+          mergeSlices_.step([&] { tg.direct.framebuffer.clearColor(0, glm::vec4(0.0f)); });
         mergeSlices_.step([&] { tg.directMergeStale = false; });
       }
-      mergeInterleaved(grid, glm::vec2(0.0f, 1.0f), grid.indirect.framebuffer, mergeSlices_);
+      mergeInterleaved(grid, glm::vec2(0.0f, 1.0f), grid.indirect().framebuffer, mergeSlices_);
       tg.full.g.bind();
       tg.direct.texture.bind(unit(TextureUnit::PassInput0));
-      grid.indirect.texture.bind(unit(TextureUnit::PassInput1));
+      grid.indirect().texture.bind(unit(TextureUnit::PassInput1));
       grid.results().i0.framebuffer.bind(grid.width, grid.height);
       gridInput_.set("uDownscale", tg.downscale);
       mergeSlices_.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridInput_, vao_); });
@@ -679,7 +688,7 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   Targets& tg = *targets_;
   ScreenGrid& grid = *tg.downscaled;
   grid.g.bind();
-  grid.indirect.texture.bind(unit(TextureUnit::PassInput1));
+  grid.indirect().texture.bind(unit(TextureUnit::PassInput1));
   grid.results().r1.texture.bind(unit(TextureUnit::PassInput2));
   grid.results().r2.texture.bind(unit(TextureUnit::PassInput3));
   grid.results().light.framebuffer.bind(grid.width, grid.height);
@@ -712,20 +721,20 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
   Targets& tg = *targets_;
   if (which == PreviewOutput::Scattered) {
     if (!media_.active()) return Image(tg.width, tg.height);
-    tg.full.indirect.texture.copyFrom(tg.linear.texture);
-    throughMedia(tg.full.indirect, glm::vec4(0.0f, 1.0f, 1.0f, lastSettings_.ssbcSteps > 0 ? 1.0f : 0.0f));
+    tg.full.indirect().texture.copyFrom(tg.linear.texture);
+    throughMedia(tg.full.indirect(), glm::vec4(0.0f, 1.0f, 1.0f, lastSettings_.ssbcSteps > 0 ? 1.0f : 0.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    return readFramebuffer(tg.full.indirect.framebuffer, 0, tg.width, tg.height);
+    return readFramebuffer(tg.full.indirect().framebuffer, 0, tg.width, tg.height);
   }
   if (tg.downscaled && (which == PreviewOutput::Residual || which == PreviewOutput::Indirect)) {
     // Upsampled from the indirect light's grid on demand.
     const bool residual = which == PreviewOutput::Residual;
     PassSlices whole;
     upsample(glm::vec4(0.0f, !residual, residual && residualSteps_ >= 1, residual && residualSteps_ >= 2),
-             lastCamera_.position, tg.full.indirect.framebuffer, whole);
-    throughMedia(tg.full.indirect, residual ? glm::vec4(1.0f, 0.0f, 0.0f, 0.0f) : glm::vec4(1.0f, 0.0f, 1.0f, 0.0f));
+             lastCamera_.position, tg.full.indirect().framebuffer, whole);
+    throughMedia(tg.full.indirect(), residual ? glm::vec4(1.0f, 0.0f, 0.0f, 0.0f) : glm::vec4(1.0f, 0.0f, 1.0f, 0.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
-    return readFramebuffer(tg.full.indirect.framebuffer, 0, tg.width, tg.height);
+    return readFramebuffer(tg.full.indirect().framebuffer, 0, tg.width, tg.height);
   }
   if (which == PreviewOutput::Residual) {
     // R1 + R2: the final composition adds them itself, so the sum is formed only when asked for.
@@ -741,7 +750,7 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     // A frame merges only their sum I0; one component is merged from the interleaved passes' results on demand.
     if (!tg.full.directRaw) return {};
     const bool direct = which == PreviewOutput::Direct;
-    Target& out = direct ? tg.direct : tg.full.indirect;
+    Target& out = direct ? tg.direct : tg.full.indirect();
     PassSlices whole;
     mergeInterleaved(tg.full, direct ? glm::vec2(1.0f, 0.0f) : glm::vec2(0.0f, 1.0f), out.framebuffer, whole);
     throughMedia(out, direct ? glm::vec4(1.0f, 1.0f, 0.0f, 0.0f) : glm::vec4(1.0f, 0.0f, 1.0f, 0.0f));
