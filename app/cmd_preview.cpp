@@ -22,6 +22,7 @@
 
 #include <algorithm>
 #include <cstdio>
+#include <future>
 #include <limits>
 
 namespace vplab::app {
@@ -58,9 +59,14 @@ int cmdPreview(const Args& args) {
   if (refPath)
     reference = cli::readReference(*refPath, settings, cli::renderInfo(settings, "gl-preview", 1), "preview");
 
-  // The context first: the machine's GL limits are checked before any work.
+  // The scene is read on another thread while the context starts: loading the driver (with LLVM) takes tens of
+  // milliseconds, as can a large glTF file or a density grid. The GL limits are checked before any VPL is traced. A
+  // context that fails waits for the reading to end (the future's destructor), and its error is the one reported.
+  std::future<Scene> loading = std::async(std::launch::async, [&] {
+    return cli::loadSceneForCommand("preview", cl.positional()[0], settings.stage);
+  });
   HeadlessGlContext context(backend);
-  Scene scene = cli::loadSceneForCommand("preview", cl.positional()[0], settings.stage);
+  Scene scene = loading.get();
   resolveClampBound(settings, scene.geometryBounds.diagonal());
   // Image size, shadow maps and tiles against what this context holds (texture sizes, layers, memory), before the
   // VPLs are traced.
