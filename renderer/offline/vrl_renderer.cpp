@@ -131,13 +131,10 @@ bool finishVrlPoint(const Context& ctx, const Vrl& vrl, float v, float pdf, Rng&
 
 /// v along a VRL equiangularly around the point p (Kulla & Fajardo 2012): pdf h / ((B - A) (h^2 + (v - delta)^2)).
 bool sampleVrlAroundPoint(const Context& ctx, const Vrl& vrl, const glm::vec3& p, Rng& rng, VrlPoint& out) {
-  const float uV = rng.next1D();
-  const float delta = glm::dot(p - vrl.start, vrl.direction);
-  const float h = std::max(1e-6f * ctx.sceneDiagonal, glm::length(vrl.start + vrl.direction * delta - p));
-  const float thetaA = std::atan2(vrl.t0 - delta, h), thetaB = std::atan2(vrl.t1 - delta, h);
-  const float v = std::clamp(delta + h * std::tan(thetaA + uV * (thetaB - thetaA)), vrl.t0, vrl.t1);
-  const float pdf = h / ((thetaB - thetaA) * (h * h + (v - delta) * (v - delta)));
-  return finishVrlPoint(ctx, vrl, v, pdf, rng, out);
+  const EquiangularSpan span(vrl.start, vrl.direction, vrl.t0, vrl.t1, p, 1e-6f * ctx.sceneDiagonal);
+  // Clamped against rounding at the span's ends: the pdf is that of the clamped v.
+  const float v = std::clamp(span.at(rng.next1D()), vrl.t0, vrl.t1);
+  return finishVrlPoint(ctx, vrl, v, span.pdf(v), rng, out);
 }
 
 /// v along a VRL with the two-line pdf ~ 1 / sqrt(h^2 + (v - v_c)^2 sin^2 theta) toward the camera line o + t d
