@@ -13,7 +13,8 @@
 // Each configuration runs with each VPL visibility technique of --visibility (default cube,ism): "vis" column.
 //
 // usage: vplab_bench_gl_bench [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv out.csv] [--scene file.gltf]
-//                             [--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--visibility cube,ism] [--quick]
+//                             [--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--indirect-downscale s]
+//                             [--visibility cube,ism] [--quick]
 
 #include <algorithm>
 #include <chrono>
@@ -113,7 +114,7 @@ int main(int argc, char** argv) {
   std::string scenePath = std::string(VPLAB_ASSET_DIR) + "/scenes/cornell-box.gltf";
   std::string csvPath = "gl_bench.csv";
   GlBackend backend = GlBackend::Auto;
-  int width = 640, height = 480, frames = 5, ssbc = 2, ssbcCoarseRings = 1;
+  int width = 640, height = 480, frames = 5, ssbc = 2, ssbcCoarseRings = 1, downscale = 1;
   float clamp = 20.0f;
   bool quick = false;
   std::vector<VisibilityMethod> methods = {VisibilityMethod::Cube, VisibilityMethod::Ism};
@@ -137,6 +138,9 @@ int main(int argc, char** argv) {
       clamp = std::strtof(next().c_str(), nullptr);
     } else if (a == "--ssbc-coarse-rings") {
       ssbcCoarseRings = std::atoi(next().c_str());
+    } else if (a == "--indirect-downscale") {
+      downscale = std::atoi(next().c_str());
+      if (downscale < 1 || downscale > 4) return std::fprintf(stderr, "gl_bench: --indirect-downscale is 1 to 4\n"), 2;
     } else if (a == "--quick") {
       quick = true;
     } else if (a == "--visibility") {
@@ -151,7 +155,8 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: %s [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv F] [--scene F] "
-                   "[--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--visibility cube,ism] [--quick]\n",
+                   "[--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--indirect-downscale s] [--visibility cube,ism] "
+                   "[--quick]\n",
                    argv[0]);
       return a == "--help" ? 0 : 2;
     }
@@ -161,10 +166,10 @@ int main(int argc, char** argv) {
   OfflineScene offline(scene);
   HeadlessGlContext context(backend);
   std::printf(
-      "gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (coarse rings %s), median of %d frames "
-      "after warm-up\n\n",
+      "gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (coarse rings %s), indirect light on a 1/%d grid, median of "
+      "%d frames after warm-up\n\n",
       context.description().c_str(), scene.sourcePath.c_str(), width, height, clamp, ssbc,
-      ssbcCoarseRings != 0 ? "on" : "off", frames);
+      ssbcCoarseRings != 0 ? "on" : "off", downscale, frames);
 
   std::ofstream csv(csvPath);
   csv << "visibility,vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
@@ -173,7 +178,9 @@ int main(int argc, char** argv) {
   std::printf("%4s %6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s %6s %7s\n", "vis", "VPLs", "k",
               "frame ms", "fps", "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms",
               "gather G/s", "probe", "probe ms", "probe G/s", "ceiling", "merge", "draws");
-  CeilingProbe probe(width, height);
+  // The gather runs on the indirect light's grid: the probe runs on as many pixels.
+  const int gridWidth = (width + downscale - 1) / downscale, gridHeight = (height + downscale - 1) / downscale;
+  CeilingProbe probe(gridWidth, gridHeight);
   std::vector<int> counts = quick ? std::vector<int>{256} : std::vector<int>{64, 256, 1024};
   std::vector<int> ks = quick ? std::vector<int>{4} : std::vector<int>{1, 2, 4};
   for (VisibilityMethod method : methods) {
@@ -186,6 +193,7 @@ int main(int argc, char** argv) {
       settings.clampBound = clamp;
       settings.ssbcSteps = ssbc;
       settings.ssbcCoarseRings = ssbcCoarseRings != 0;
+      settings.indirectDownscale = downscale;
       VplSet vpls = generateVpls(offline, settings);
       PreviewRenderer renderer;
       double shadowMs = 0.0;  // VPL shadow maps are rendered once per VPL set, with the first k
@@ -214,10 +222,11 @@ int main(int argc, char** argv) {
         double fm = median(frame), gm = median(ga);
         double rate = gm > 0.0 ? evals / (gm * 1e6) : 0.0;
         // Ceiling probe over the same pixel x light evaluations (lights per pixel = N / k^2, rounded).
-        int probeLights = std::max(1, static_cast<int>(std::lround(evals / (static_cast<double>(width) * height))));
+        int probeLights =
+            std::max(1, static_cast<int>(std::lround(evals / (static_cast<double>(gridWidth) * gridHeight))));
         double probeMean = 0.0;
         double probeMs = probe.measure(probeLights, probeMean);
-        double probeEvals = static_cast<double>(width) * height * probeLights;
+        double probeEvals = static_cast<double>(gridWidth) * gridHeight * probeLights;
         double probeRate = probeMs > 0.0 ? probeEvals / (probeMs * 1e6) : 0.0;
         double ofCeiling = probeRate > 0.0 ? rate / probeRate : 0.0;
         // The gather's own draws, without the de-interleave that its time includes.

@@ -653,7 +653,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   checkGlError("PreviewRenderer::render");
 
   if (gatherPending && !pending_.gather)
-    t.gatherEvaluations = static_cast<double>(settings.width) * settings.height *
+    t.gatherEvaluations = static_cast<double>(grid.width) * grid.height *
                           static_cast<double>(vpls.vpls.size()) /
                           static_cast<double>(settings.interleave * settings.interleave);
   t.frameWallMs = msSince(frameStart);

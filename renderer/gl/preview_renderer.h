@@ -52,7 +52,8 @@ struct PreviewTimings {
          ssbcWallMs = 0, tonemapWallMs = 0, mediaWallMs = 0;
   /// CPU wall time of the whole render() call (uploads and invalidation checks included).
   double frameWallMs = 0;
-  /// Pixel x VPL evaluations the gather pass performed (each with one shadow-map fetch): pixels x N / k^2.
+  /// Pixel x VPL evaluations the gather pass performed (each with one shadow-map fetch): pixels of the indirect
+  /// light's grid (Settings::indirectDownscale) x N / k^2.
   double gatherEvaluations = 0;
   /// GPU time of the geometry-aware de-interleave, already counted in gatherMs (in directMs when only that ran).
   double deinterleaveMs = 0;
