@@ -70,6 +70,12 @@ std::string mediaFitProblem(const Scene& scene) {
   return {};
 }
 
+int areaLightSteps(int areaSamples, int subsets) {
+  if (areaSamples <= 0) return kMediaLightSteps;
+  const int perPixel = std::max(1, areaSamples / std::max(1, subsets));
+  return std::clamp((kMediaLightSteps + perPixel - 1) / perPixel, 1, kMediaLightSteps);
+}
+
 MediaPass::MediaPass() : merge_({"preview/fullscreen.vert.glsl", "preview/media_merge.frag.glsl"}) {}
 
 float scatteringWeightedDensity(const DensityGrid& grid) {
@@ -211,6 +217,7 @@ bool MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
     ShaderProgram& program = *lights_;
     common(program);
     program.set("uMediaSteps", kMediaLightSteps);
+    program.set("uAreaSteps", areaLightSteps(table.areaEnd, k2));
     program.set("uLightShadowTexel", 2.0f / static_cast<float>(table.sizes.punctualFace));
     program.set("uAreaShadowTexel", 2.0f / static_cast<float>(table.sizes.areaFace));
     program.set("uSceneCentre", frame.sceneCentre);
@@ -262,11 +269,11 @@ bool MediaPass::draw(const Frame& frame, const Settings& settings, const Interle
   merged_->framebuffer.bind(layout.width, layout.height);
   lightsRaw_->texture.bind(unit(TextureUnit::PassInput0));
   vplsRaw_->texture.bind(unit(TextureUnit::PassInput1));
-  merge_.set("uInterleave", k);
-  merge_.set("uBlockSize", glm::ivec2(layout.blockWidth, layout.blockHeight));
-  merge_.set("uImageSize", glm::ivec2(layout.width, layout.height));
-  merge_.set("uCameraPosition", frame.camera.position);
-  slices_.bands(glm::ivec4(0, 0, layout.width, layout.height), [&] { drawFullscreen(merge_, vao); });
+  merge_->set("uInterleave", k);
+  merge_->set("uBlockSize", glm::ivec2(layout.blockWidth, layout.blockHeight));
+  merge_->set("uImageSize", glm::ivec2(layout.width, layout.height));
+  merge_->set("uCameraPosition", frame.camera.position);
+  slices_.bands(glm::ivec4(0, 0, layout.width, layout.height), [&] { drawFullscreen(merge_.get(), vao); });
   return slices_.end();
 }
 

@@ -42,6 +42,10 @@ inline constexpr int kPreviewMaxDensityGrids = 4;
 /// the k x k merge, 4 keep the shafts of the bundled fog scenes within 2 % of the CPU's (tests/gl_media_test.cpp).
 inline constexpr int kMediaLightSteps = 4;
 
+/// Distances per area-light sample and pixel in the lights' single scattering: kMediaLightSteps spread over the
+/// `areaSamples / subsets` samples a pixel of the k^2 = `subsets` interleaving subsets takes, at least one each.
+int areaLightSteps(int areaSamples, int subsets);
+
 /// One sentence when the scene holds more media, or more media with a density grid, than the preview draws, else
 /// empty.
 std::string mediaFitProblem(const Scene& scene);
@@ -124,7 +128,7 @@ class MediaPass {
   std::unique_ptr<ShaderProgram> lights_;
   int lightsLayoutCapacity_ = 0;
   std::unique_ptr<BrdfVariants> vpls_;
-  ShaderProgram merge_;
+  DeferredProgram merge_;
   std::unique_ptr<ShaderProgram> compose_;
   // The media the programs were compiled for.
   MediaShaderLayout lightsMedia_, composeMedia_;

@@ -487,9 +487,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         // The indirect light's grid takes the G-buffer's texels at its representatives: once every band is drawn.
         tg.full.g.bind();
         grid.g.framebuffer.bind(grid.width, grid.height);
-        gridGbuffer_.set("uDownscale", tg.downscale);
+        gridGbuffer_->set("uDownscale", tg.downscale);
         gbufferSlices_.bands(glm::ivec4(0, 0, grid.width, grid.height),
-                             [&] { drawFullscreen(gridGbuffer_, vao_); });
+                             [&] { drawFullscreen(gridGbuffer_.get(), vao_); });
         grid.gbufferDerivedCurrent = false;
       }
     });
@@ -589,8 +589,8 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       tg.direct.texture.bind(unit(TextureUnit::PassInput0));
       grid.indirect().texture.bind(unit(TextureUnit::PassInput1));
       grid.results().i0.framebuffer.bind(grid.width, grid.height);
-      gridInput_.set("uDownscale", tg.downscale);
-      mergeSlices_.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridInput_, vao_); });
+      gridInput_->set("uDownscale", tg.downscale);
+      mergeSlices_.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridInput_.get(), vao_); });
     });
     t.deinterleaveMs = gpuMs;
     (gatherPending ? t.gatherMs : t.directMs) += gpuMs;
@@ -622,9 +622,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         tg.full.results().i0.texture.bind(unit(TextureUnit::PassInput0));
         tg.full.results().r1.texture.bind(unit(TextureUnit::PassInput2));
         tg.full.results().r2.texture.bind(unit(TextureUnit::PassInput3));
-        compose_.set("uResidualSteps", residualSteps_);
-        compose_.set("uCameraPosition", camera.position);
-        ssbcSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(compose_, vao_); });
+        compose_->set("uResidualSteps", residualSteps_);
+        compose_->set("uCameraPosition", camera.position);
+        ssbcSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(compose_.get(), vao_); });
       }
       // Through media: the surfaces' image attenuated along the camera rays, plus the light scattered into them.
       if (media_.active()) {
@@ -692,8 +692,8 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   grid.results().r1.texture.bind(unit(TextureUnit::PassInput2));
   grid.results().r2.texture.bind(unit(TextureUnit::PassInput3));
   grid.results().light.framebuffer.bind(grid.width, grid.height);
-  gridLight_.set("uTerms", terms);
-  slices.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridLight_, vao_); });
+  gridLight_->set("uTerms", terms);
+  slices.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(gridLight_.get(), vao_); });
   // The upsample reads the grid's light around each pixel's representative: every band of it is drawn by now.
   tg.full.g.bind();
   tg.direct.texture.bind(unit(TextureUnit::PassInput0));
@@ -702,10 +702,10 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   grid.g.position.bind(unit(TextureUnit::PassInput4));
   grid.g.mergeKey.bind(unit(TextureUnit::PassInput5));
   out.bind(tg.width, tg.height);
-  upsample_.set("uDownscale", tg.downscale);
-  upsample_.set("uTerms", terms);
-  upsample_.set("uCameraPosition", cameraPosition);
-  slices.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(upsample_, vao_); });
+  upsample_->set("uDownscale", tg.downscale);
+  upsample_->set("uTerms", terms);
+  upsample_->set("uCameraPosition", cameraPosition);
+  slices.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(upsample_.get(), vao_); });
 }
 
 void PreviewRenderer::throughMedia(Target& target, glm::vec4 weights) {

@@ -178,9 +178,10 @@ class PreviewRenderer {
   ShaderProgram deinterleaveRows_, deinterleaveColumns_;
   SsbcPass ssbc_;
   /// The indirect light's grid at 1/s resolution: its G-buffer and its I0 (preview/indirect_grid.frag.glsl).
-  ShaderProgram gridGbuffer_, gridInput_;
+  DeferredProgram gridGbuffer_, gridInput_;
   /// The two passes of the upsample from the grid (preview/upsample.frag.glsl).
-  ShaderProgram compose_, gridLight_, upsample_, tonemap_;
+  DeferredProgram compose_, gridLight_, upsample_;
+  ShaderProgram tonemap_;
   // Compensation steps of the last frame whose results R1, R2 are current (0: none, the residual is 0).
   int residualSteps_ = 0;
   GlVertexArray vao_;

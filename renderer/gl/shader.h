@@ -9,6 +9,7 @@
 #include <glm/glm.hpp>
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <unordered_map>
 #include <vector>
@@ -78,6 +79,25 @@ class ShaderProgram {
   std::vector<std::string> defines_;
   std::string shaderDir_;
   std::unordered_map<std::string, int> locations_;
+};
+
+/// A program built when it is first used, not when its pass is made: a run that never draws it (the compensation's
+/// programs without SSBC, the full-resolution composition when the indirect light has a grid of its own) neither
+/// compiles it nor loads it from Mesa's shader cache (milliseconds each, warm; tens of them with an empty cache).
+/// Compile errors surface at that first use.
+class DeferredProgram {
+ public:
+  explicit DeferredProgram(std::vector<std::string> files, std::vector<std::string> defines = {})
+      : files_(std::move(files)), defines_(std::move(defines)) {}
+  ShaderProgram& get() {
+    if (!program_) program_.emplace(files_, defines_);
+    return *program_;
+  }
+  ShaderProgram* operator->() { return &get(); }
+
+ private:
+  std::vector<std::string> files_, defines_;
+  std::optional<ShaderProgram> program_;
 };
 
 }  // namespace vplab

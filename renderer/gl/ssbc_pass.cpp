@@ -140,20 +140,20 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   if (redoFlat_) {
     // Which coarse blocks lie on one plane: depends on the G-buffer only, once for both steps and every VPL set.
     tg.flatRows.bind(tg.flat.texture.width(), height);
-    drawWhole(flatRows_, tg.flat.texture.width(), height);
+    drawWhole(flatRows_.get(), tg.flat.texture.width(), height);
     tg.flatRowPlanes.bind(unit(TextureUnit::PassInput4));
     tg.flatRowStates.bind(unit(TextureUnit::PassInput6));
     tg.flat.framebuffer.bind(tg.flat.texture.width(), tg.flat.texture.height());
-    drawWhole(flatColumns_, tg.flat.texture.width(), tg.flat.texture.height());
+    drawWhole(flatColumns_.get(), tg.flat.texture.width(), tg.flat.texture.height());
     slices.step([&] { tg.flatCurrent = true; });
   }
   if (split) tg.flat.texture.bind(unit(TextureUnit::PassInput7));
   // The tap factors depend on the camera and the G-buffer only (the camera cannot move without the G-buffer being
   // drawn again): once for both steps and every VPL set.
   if (redoTaps_) {
-    taps_.set("uCameraPosition", camera.position);
-    taps_.set("uFocalPixels", focal);
-    drawEveryLevel(tg.tapLevels, taps_);
+    taps_->set("uCameraPosition", camera.position);
+    taps_->set("uFocalPixels", focal);
+    drawEveryLevel(tg.tapLevels, taps_.get());
     slices.step([&] { tg.tapsCurrent = true; });
   }
   tg.taps.bind(unit(TextureUnit::PassInput3));
@@ -164,7 +164,7 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     // The radiance factor of the taps, I dA, at every mip level of this step's input.
     slices.step([&] { input->texture.generateMipmaps(); });
     input->texture.bind(unit(TextureUnit::PassInput0));
-    drawEveryLevel(tg.radianceLevels, radiance_);
+    drawEveryLevel(tg.radianceLevels, radiance_.get());
     tg.radiance.bind(unit(TextureUnit::PassInput0));
     if (split) {
       tg.coarse.framebuffer.bind(tg.coarse.texture.width(), tg.coarse.texture.height());

@@ -40,14 +40,14 @@ class SsbcPass {
   struct Targets;
   std::unique_ptr<Targets> targets_;
   BrdfVariants ssbc_;
-  ShaderProgram taps_, radiance_;
+  DeferredProgram taps_, radiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
   // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are
   // not zero (SSBC_FINE_PASS, with the flat-block mask of flatRows_ and flatColumns_) and the pass that adds what could
   // not be interpolated (SSBC_FALLBACK_PASS); in the second step, the coarse rings extrapolated instead
   // (SSBC_UPSAMPLE_PASS).
   BrdfVariants split_, coarse_, fine_;
-  ShaderProgram flatRows_, flatColumns_;
+  DeferredProgram flatRows_, flatColumns_;
   BrdfVariants fallback_, upsample_;
   // What the run under way redoes of what depends on the G-buffer alone: taken when it starts, since its own steps
   // make these current.

@@ -6,8 +6,11 @@
 //   L_light = weight cosLight / d^2 * T(light, x) * V          (area sample y_k, one-sided, weight = Le / (K p_A))
 //           = I(-w) / d^2 * T(light, x) * V                     (point or spot light, KHR_lights_punctual falloff)
 //           = E * T(x -> infinity) * V                          (directional light)
-// estimated with uMediaSteps distances per light, drawn equiangularly around it (uniformly over the span for a
-// directional light), stratified and rotated per pixel and per light. V is one lookup in the light's map (no filter: a
+// estimated with uMediaSteps distances per punctual or directional light, drawn equiangularly around it (uniformly over
+// the span for a directional light), stratified and rotated per pixel and per light. An area light's samples share
+// those distances: each of a pixel's samples takes uAreaSteps of them (uMediaSteps over the samples the pixel takes, at
+// least one), rotated per pixel and per sample, so that a pixel marches toward the light uMediaSteps times, not
+// uMediaSteps times per sample (the estimate stays unbiased; its noise is what the merge of the subsets averages). V is one lookup in the light's map (no filter: a
 // medium point has no surface to bias against, and the ray's integral smooths the shadow's edge).
 // Interleaved like the direct pass: pixel subset s takes the area samples s, s + k^2, ... with weight k^2; the few
 // punctual and directional lights are taken at every pixel. Written in the deinterleaved block layout
@@ -38,7 +41,8 @@ uniform float uDirectionalShadowTexel;  // metres
 uniform float uLightShadowTexel;        // angle of a cube texel at a face's centre (point and spot lights)
 uniform float uAreaShadowTexel;         // the same for an area-light cell's map
 
-uniform int uMediaSteps;   // distances per light and pixel
+uniform int uMediaSteps;   // distances per punctual or directional light and pixel
+uniform int uAreaSteps;    // distances per area sample and pixel
 uniform int uAreaFirst;    // this subset's first area sample in the bound range
 uniform int uAreaEnd;      // one past the last area sample in the bound range
 uniform int uPunctualEnd;  // one past the last point or spot light; directional lights follow up to uLightEnd
@@ -49,7 +53,7 @@ const int kAreaLight = 0, kPunctualLight = 1, kDirectionalLight = 2;
 
 // T(0, t) sigma_s f_p L_light(x(t)) / pdf(t), summed over the light's distances and divided by their count. `kind` is
 // a constant at every call, so each loop below is compiled without the other kinds' code.
-vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, float minH) {
+vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, float minH, int steps) {
   vec3 sum = vec3(0.0);
   Equiangular around = equiangularAround(r, l.position.xyz, minH);
 #ifdef PREVIEW_MEDIA_GRIDS
@@ -62,8 +66,8 @@ vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, f
     marched[g] = 0.0;
   }
 #endif
-  for (int j = 0; j < uMediaSteps; ++j) {
-    float u = (float(j) + rotation) / float(uMediaSteps);
+  for (int j = 0; j < steps; ++j) {
+    float u = (float(j) + rotation) / float(steps);
     float pdf, t;
     if (kind == kDirectionalLight) {
       t = mix(r.a, r.b, u);
@@ -122,7 +126,7 @@ vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, f
                 mediaLightTransmittance(l.position, l.axis.xyz, x, contributes);
     sum += contributes ? term : vec3(0.0);
   }
-  return sum / float(uMediaSteps);
+  return sum / float(steps);
 }
 
 void main() {
@@ -135,12 +139,16 @@ void main() {
   int k2 = at.k2;
   float jitter = at.jitter, minH = at.minH;
   vec3 sum = vec3(0.0);
-  // Each light's distances rotated by its own amount (the golden ratio's fraction), so that lights do not share strata.
+  // Each light's distances rotated by its own amount (the golden ratio's fraction), so that lights do not share strata;
+  // a pixel's area samples (i = subset + k^2 q) by their ordinal q, so that the pixel's few distances spread over [0, 1).
   for (int i = uAreaFirst; i < uAreaEnd; i += k2)
-    sum += float(k2) * scatteredLight(lights[i - uUboBase], kAreaLight, r, fract(jitter + 0.618034 * float(i)), minH);
+    sum += float(k2) * scatteredLight(lights[i - uUboBase], kAreaLight, r, fract(jitter + 0.618034 * float(i / k2)),
+                                      minH, uAreaSteps);
   for (int i = max(uAreaEnd, uLightBegin); i < uPunctualEnd; ++i)
-    sum += scatteredLight(lights[i - uUboBase], kPunctualLight, r, fract(jitter + 0.618034 * float(i)), minH);
+    sum += scatteredLight(lights[i - uUboBase], kPunctualLight, r, fract(jitter + 0.618034 * float(i)), minH,
+                          uMediaSteps);
   for (int i = max(uPunctualEnd, uLightBegin); i < uLightEnd; ++i)
-    sum += scatteredLight(lights[i - uUboBase], kDirectionalLight, r, fract(jitter + 0.618034 * float(i)), minH);
+    sum += scatteredLight(lights[i - uUboBase], kDirectionalLight, r, fract(jitter + 0.618034 * float(i)), minH,
+                          uMediaSteps);
   outColor = vec4(sum, 1.0);
 }
