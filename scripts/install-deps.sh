@@ -7,7 +7,7 @@ packages=(
   build-essential cmake pkg-config git
   libglfw3-dev libosmesa6-dev libegl-dev libegl1-mesa-dev libgl-dev libopengl-dev libgl1-mesa-dri
   libimgui-dev libtinygltf-dev libglm-dev libembree-dev libtbb-dev libstb-dev nlohmann-json3-dev
-  libtinyexr-dev libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth python3-glad
+  libtinyexr-dev zlib1g-dev libgtest-dev libgmock-dev libbenchmark-dev xvfb xauth python3-glad
   libopenvdb-dev libboost-iostreams-dev  # density grids (smoke); OpenVDB's CMake module needs Boost iostreams
   libnanovdb-dev                         # the preview's grids too big for a 3D texture (PNanoVDB.h in GLSL)
   python3-openvdb python3-numpy          # scripts/make_smoke.py writes the bundled smoke's grid
