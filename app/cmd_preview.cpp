@@ -41,7 +41,7 @@ int cmdPreview(const Args& args) {
     std::printf("%s", cl.help().c_str());
     std::printf("Generates the VPLs as `vplab render` does (same settings, same seed => same VPLs), then renders the\n"
                 "OpenGL 4.5 preview: G-buffer, shadow-mapped direct light, cube shadow maps per VPL, VPL gather\n"
-                "(G_b, VSL, k x k interleaving), screen-space bias compensation, tonemap.\n");
+                "(G_b, VSL, k x k interleaving), screen-space bias compensation.\n");
     return 0;
   }
   cl.requirePositional(1, 1, "one scene file");
@@ -149,11 +149,10 @@ int cmdPreview(const Args& args) {
                       {"vpl shadows", first.vplShadowMs, first.vplShadowWallMs},
                       {"gather", t.gatherMs, t.gatherWallMs},
                       {"media", t.mediaMs, t.mediaWallMs},
-                      {"ssbc", t.ssbcMs, t.ssbcWallMs},
-                      {"tonemap", t.tonemapMs, t.tonemapWallMs}};
+                      {"ssbc", t.ssbcMs, t.ssbcWallMs}};
   std::printf("%-16s %10s %10s\n", "pass", "GPU ms", "wall ms");
   for (const Row& r : rows) std::printf("%-16s %10.2f %10.2f\n", r.name, r.gpu, r.wall);
-  double frameGpu = t.gbufferMs + t.directMs + t.gatherMs + t.mediaMs + t.ssbcMs + t.tonemapMs;
+  double frameGpu = t.gbufferMs + t.directMs + t.gatherMs + t.mediaMs + t.ssbcMs;
   std::printf("%-16s %10.2f %10.2f  (GPU: screen passes; wall: the whole render call)\n", "frame", frameGpu, t.frameWallMs);
   if (t.gatherMs > 0.0)
     std::printf("gather      %.3g pixel x VPL evaluations, %.3f G/s (its de-interleave: %.2f ms)\n",

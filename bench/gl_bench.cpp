@@ -1,6 +1,6 @@
 // GL preview benchmark: per-pass GPU times (GL_TIME_ELAPSED) and frames/s of the headless preview on the Cornell box
 // for N VPLs x interleave k, plus the gather pass's pixel x VPL evaluations/s. A "frame" is what a camera move costs
-// (G-buffer, direct, gather, SSBC, tonemap; VPL shadow maps are kept); shadow-map time is reported on its own.
+// (G-buffer, direct, gather, SSBC; VPL shadow maps are kept); shadow-map time is reported on its own.
 // Every configuration is warmed up first (llvmpipe compiles shaders on first use), then timed
 // over several frames; the table shows the median frame.
 // Beside every configuration, on the same context and at the same size, a ceiling probe
@@ -172,11 +172,11 @@ int main(int argc, char** argv) {
       ssbcCoarseRings != 0 ? "on" : "off", downscale, frames);
 
   std::ofstream csv(csvPath);
-  csv << "visibility,vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,tonemap_ms,vpl_shadow_ms,frame_wall_ms,"
+  csv << "visibility,vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,vpl_shadow_ms,frame_wall_ms,"
          "gather_evals,gather_gevals_per_s,probe_lights,probe_ms,probe_gevals_per_s,gather_of_ceiling,deinterleave_ms,"
          "gather_draws_of_ceiling\n";
-  std::printf("%4s %6s %3s %9s %7s %8s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s %6s %7s\n", "vis", "VPLs", "k",
-              "frame ms", "fps", "gbuffer", "direct", "gather", "ssbc", "tonemap", "vpl shadow", "wall ms",
+  std::printf("%4s %6s %3s %9s %7s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s %6s %7s\n", "vis", "VPLs", "k",
+              "frame ms", "fps", "gbuffer", "direct", "gather", "ssbc", "vpl shadow", "wall ms",
               "gather G/s", "probe", "probe ms", "probe G/s", "ceiling", "merge", "draws");
   // The gather runs on the indirect light's grid: the probe runs on as many pixels.
   const int gridWidth = (width + downscale - 1) / downscale, gridHeight = (height + downscale - 1) / downscale;
@@ -204,17 +204,16 @@ int main(int argc, char** argv) {
         // Warm-up: every pass once more with this k (first use compiles the shader variants).
         renderer.invalidateFrame();
         renderer.render(scene, vpls, settings, scene.camera);
-        std::vector<double> frame, gb, di, ga, ss, tm, wall, merge;
+        std::vector<double> frame, gb, di, ga, ss, wall, merge;
         double evals = 0.0;
         for (int f = 0; f < frames; ++f) {
           renderer.invalidateFrame();
           PreviewTimings t = renderer.render(scene, vpls, settings, scene.camera);
-          frame.push_back(t.gbufferMs + t.directMs + t.gatherMs + t.ssbcMs + t.tonemapMs);
+          frame.push_back(t.gbufferMs + t.directMs + t.gatherMs + t.ssbcMs);
           gb.push_back(t.gbufferMs);
           di.push_back(t.directMs);
           ga.push_back(t.gatherMs);
           ss.push_back(t.ssbcMs);
-          tm.push_back(t.tonemapMs);
           wall.push_back(t.frameWallMs);
           merge.push_back(t.deinterleaveMs);
           evals = t.gatherEvaluations;
@@ -235,13 +234,13 @@ int main(int argc, char** argv) {
         if (!(probeMean > 0.0) || !std::isfinite(probeMean))
           std::fprintf(stderr, "gl_bench: ceiling probe wrote %g: its work was not done\n", probeMean);
         std::printf(
-            "%4s %6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f %6d %9.1f %9.3f %7.0f%% %6.1f "
+            "%4s %6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f %6d %9.1f %9.3f %7.0f%% %6.1f "
             "%6.0f%%\n",
-            toString(method), vpls.vpls.size(), k, fm, 1000.0 / fm, median(gb), median(di), gm, median(ss), median(tm),
-            shadowMs, median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling, mm,
+            toString(method), vpls.vpls.size(), k, fm, 1000.0 / fm, median(gb), median(di), gm, median(ss), shadowMs,
+            median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling, mm,
             100.0 * drawsOfCeiling);
         csv << toString(method) << ',' << vpls.vpls.size() << ',' << k << ',' << fm << ',' << 1000.0 / fm << ','
-            << median(gb) << ',' << median(di) << ',' << gm << ',' << median(ss) << ',' << median(tm) << ',' << shadowMs
+            << median(gb) << ',' << median(di) << ',' << gm << ',' << median(ss) << ',' << shadowMs
             << ',' << median(wall) << ',' << evals << ',' << rate << ',' << probeLights << ',' << probeMs << ','
             << probeRate << ',' << ofCeiling << ',' << mm << ',' << drawsOfCeiling << '\n';
       }

@@ -49,7 +49,7 @@ struct Measured {
     vplShadows.push_back(t.vplShadowWallMs);
     gather.push_back(t.gatherWallMs);
     media.push_back(t.mediaWallMs);
-    ssbc.push_back(t.ssbcWallMs + t.tonemapWallMs);
+    ssbc.push_back(t.ssbcWallMs);
   }
 };
 
@@ -164,7 +164,7 @@ int main(int argc, char** argv) {
   std::printf("%s, %dx%d, %zu VPLs, k = %d, s = %d, b = %g, %s; median of %d after a warm-up (ms)\n\n",
               scenePath.c_str(), width, height, sets[0].vpls.size(), interleave, downscale, clamp,
               context.description().c_str(), repeats);
-  std::printf("| change | wall | CPU | G-buffer | direct | VPL maps | gather | media | SSBC + tonemap |\n");
+  std::printf("| change | wall | CPU | G-buffer | direct | VPL maps | gather | media | SSBC |\n");
   std::printf("|---|---:|---:|---:|---:|---:|---:|---:|---:|\n");
   std::ofstream csv;
   if (!csvPath.empty()) {

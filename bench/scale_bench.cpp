@@ -4,9 +4,9 @@
 //   load       glTF load + BVH + light sampler (CPU)
 //   first      the first preview (scene upload, ISM points, every map, shader compiles)
 //   vpl change a new VPL set (the maximum VPL bounce changed, so positions move and the direct light stays):
-//              generation + VPL maps + gather + SSBC + tonemap, wall time and process CPU time, with its parts
+//              generation + VPL maps + gather + SSBC, wall time and process CPU time, with its parts
 //   light move every punctual light moved 2 cm: light sampler, VPL generation, the lights' maps and the VPL maps,
-//              direct light, gather, SSBC, tonemap, wall time and process CPU time, with its parts (scenes whose only
+//              direct light, gather, SSBC, wall time and process CPU time, with its parts (scenes whose only
 //              lights are emissive triangles move geometry, which rebuilds the scene: not measured here)
 //   reference  the Embree reference at 256x256, 16 spp, BVH included (the yardstick: a preview slower than this is
 //              not interactive)

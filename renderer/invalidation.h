@@ -21,7 +21,8 @@
 //   gather            <- the G-buffer, the VPLs (the representatives) and their shadow maps, clampBound, the VSL
 //                        radius, interleave, shadowBias, components
 //   SSBC              <- the direct light, the gather, ssbcSteps, ssbcCoarseRings
-//   tonemap           <- SSBC, exposure
+//   tonemap           <- SSBC, exposure (the view's tonemapping of the read-back linear image, on the CPU; the GL
+//                        preview has no pass for it)
 //   (media)           <- a scene's media (coefficients, g, boxes) act on the light paths: VPL generation (where
 //                        paths scatter, their attenuation) and the offline result; the clamp bound b and the camera
 //                        do not touch the VPLs, in media as elsewhere

@@ -321,7 +321,7 @@ TEST(EditorTimings, AChangeCostsFromItselfUntilTheImageConvergedOverEveryFrame) 
   partial.mediaMs = 30.0;  // a pass sliced over both frames
   rest.gatherMs = 25.0;
   rest.mediaMs = 12.0;
-  rest.tonemapMs = 1.0;
+  rest.ssbcMs = 1.0;
   timer.changed(10.0);
   timer.vplsGenerated(5.0);
   timer.rendered(10.1, partial);

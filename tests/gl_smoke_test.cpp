@@ -472,5 +472,18 @@ TEST(SmokePreviewFit, RefusesWhatThePreviewCannotDraw) {
             "grids into one, or use vplab render");
 }
 
+// The lights' single scattering marches toward an area light kMediaLightSteps times per pixel however many of its
+// samples the pixel takes: the distances are spread over them, one at least each.
+TEST(SmokePreviewFit, AreaLightSamplesShareTheScatteringDistances) {
+  EXPECT_EQ(kMediaLightSteps, 4);
+  EXPECT_EQ(areaLightSteps(64, 16), 1);  // 4 samples per pixel (64 samples, k = 4)
+  EXPECT_EQ(areaLightSteps(32, 16), 2);  // 2 samples
+  EXPECT_EQ(areaLightSteps(48, 16), 2);  // 3 samples: at least kMediaLightSteps distances in all
+  EXPECT_EQ(areaLightSteps(16, 16), 4);  // 1 sample
+  EXPECT_EQ(areaLightSteps(8, 16), 4);   // half the subsets take one sample, the others none
+  EXPECT_EQ(areaLightSteps(64, 1), 1);   // 64 samples per pixel (k = 1)
+  EXPECT_EQ(areaLightSteps(0, 16), kMediaLightSteps);
+}
+
 }  // namespace
 }  // namespace vplab

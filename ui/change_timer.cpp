@@ -36,7 +36,6 @@ void ChangeTimer::rendered(double seconds, const PreviewTimings& t) {
   passes_.gatherMs += t.gatherMs;
   passes_.mediaMs += t.mediaMs;
   passes_.ssbcMs += t.ssbcMs;
-  passes_.tonemapMs += t.tonemapMs;
   if (!t.complete) return;
   pending_ = false;
   lastMs_ = 1e3 * (seconds - start_);

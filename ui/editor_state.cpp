@@ -385,7 +385,6 @@ void EditorState::updateWork(double budgetMs) {
   keep(lastPassMs_.gatherMs, timings_.gatherMs);
   keep(lastPassMs_.mediaMs, timings_.mediaMs);
   keep(lastPassMs_.ssbcMs, timings_.ssbcMs);
-  keep(lastPassMs_.tonemapMs, timings_.tonemapMs);
   if (startUpdate) {
     const bool offline = stale_.offline;
     stale_ = Staleness{};

@@ -129,7 +129,6 @@ void drawChartSection(EditorState& state, PanelState& panels) {
         {"gather", t.gatherMs, last.gatherMs},
         {"media", t.mediaMs, last.mediaMs},
         {"SSBC", t.ssbcMs, last.ssbcMs},
-        {"tonemap", t.tonemapMs, last.tonemapMs},
         {"VPL generation (CPU)", timer.lastVplGenerationMs(), state.vpls().stats.generationSeconds * 1e3}};
     if (timer.lastMs() >= 0.0)
       ImGui::TextDisabled("last change, %d frame%s; GPU ms per pass:", timer.lastFrames(),

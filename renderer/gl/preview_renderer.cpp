@@ -150,9 +150,9 @@ struct PreviewRenderer::Targets {
   int width, height;
   ScreenGrid full;
   GlTexture gDepth;
-  // The de-interleaved direct light (a frame merges it into I0 with the gather when the grid is the image's own), the
-  // final linear image and its tonemapped display.
-  Target direct, linear, display;
+  // The de-interleaved direct light (a frame merges it into I0 with the gather when the grid is the image's own) and
+  // the final linear image.
+  Target direct, linear;
   // The indirect light's grid when Settings::indirectDownscale > 1, and its s.
   std::unique_ptr<ScreenGrid> downscaled;
   int downscale = 1;
@@ -166,8 +166,7 @@ struct PreviewRenderer::Targets {
         full(w, h),
         gDepth(w, h, TextureFormat::Depth32F),
         direct(w, h),
-        linear(w, h),
-        display(w, h) {
+        linear(w, h) {
     full.g.framebuffer.attachDepth(gDepth);
     full.g.framebuffer.finalize(6);
   }
@@ -199,8 +198,7 @@ PreviewRenderer::PreviewRenderer()
       gridInput_({"preview/fullscreen.vert.glsl", "preview/indirect_grid.frag.glsl"}, {"INDIRECT_GRID_GBUFFER 0"}),
       compose_({"preview/fullscreen.vert.glsl", "preview/compose.frag.glsl"}),
       gridLight_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 1"}),
-      upsample_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 0"}),
-      tonemap_({"preview/fullscreen.vert.glsl", "preview/tonemap.frag.glsl"}) {
+      upsample_({"preview/fullscreen.vert.glsl", "preview/upsample.frag.glsl"}, {"UPSAMPLE_GRID_LIGHT 0"}) {
   useVisibility(VisibilityMethod::Cube, {});
 }
 
@@ -412,7 +410,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   pending_.mediaVpls |= media_.active() && stale.gather;
   pending_.merge |= stale.direct || stale.gather;
   pending_.ssbc |= stale.ssbc;
-  pending_.tonemap |= stale.tonemap;
   if (!jobRunning) jobDone_ = 0;
   jobTotal_ = jobDone_ + pending_.count();
   haveFrame_ = true;
@@ -638,17 +635,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
     ended(ssbcSlices_.end(), counters_.ssbc, pending_.ssbc);
   }
 
-  // Pass 6: tonemap.
-  if (pending_.tonemap && !pending_.ssbc && !outOfBudget) {
-    t.tonemapMs = timed(timer_, t.tonemapWallMs, [&] {
-      tg.display.framebuffer.bind(tg.width, tg.height);
-      tg.linear.texture.bind(unit(TextureUnit::PassInput0));
-      tonemap_.set("uExposureScale", std::exp2(settings.exposure));
-      drawFullscreen(tonemap_, vao_);
-    });
-    ++counters_.tonemap;
-    finished(pending_.tonemap);
-  }
   glBindFramebuffer(GL_FRAMEBUFFER, 0);
   checkGlError("PreviewRenderer::render");
 
@@ -758,11 +744,6 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     return readFramebuffer(out.framebuffer, 0, tg.width, tg.height);
   }
   return readFramebuffer(tg.linear.framebuffer, 0, tg.width, tg.height);
-}
-
-Image PreviewRenderer::readTonemapped() const {
-  if (!targets_) return {};
-  return readFramebuffer(targets_->display.framebuffer, 0, targets_->width, targets_->height);
 }
 
 }  // namespace vplab

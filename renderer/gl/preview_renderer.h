@@ -1,11 +1,11 @@
 #pragma once
 // The interactive instant-radiosity preview (docs/theory.md §1, §4, §6-§8), rasterised with OpenGL 4.5:
 //   1 G-buffer  2 direct light (shadow-mapped area samples + punctual lights)  3 VPL visibility maps (cube or ISM)
-//   4 VPL gather (G_b, VSL, interleaved k x k) + geometry-aware de-interleave  5 screen-space bias compensation
-//   6 tonemap.
+//   4 VPL gather (G_b, VSL, interleaved k x k) + geometry-aware de-interleave  5 screen-space bias compensation.
 // The image is Le (seen directly) + direct + indirect (+ compensation), in the CPU renderer's linear units. In a scene
 // with participating media the surfaces' light is attenuated along every light, VPL and camera segment, and the media
-// add the light they scatter into camera rays (media_pass.h).
+// add the light they scatter into camera rays (media_pass.h). Callers read the linear image back and tonemap it
+// themselves (the editor's view, image files): exposure is not the renderer's.
 // Needs a current GL context (HeadlessGlContext or the editor's window); does not create one.
 //
 // Each pass is a class of its own (direct_pass.h, gather_pass.h, ssbc_pass.h; the VPL maps behind vpl_visibility.h);
@@ -40,16 +40,16 @@ namespace vplab {
 /// GPU time per pass in milliseconds (GL_TIME_ELAPSED); 0 for a pass that was skipped because nothing it depends on
 /// changed.
 struct PreviewTimings {
-  double gbufferMs = 0, directShadowMs = 0, directMs = 0, vplShadowMs = 0, gatherMs = 0, ssbcMs = 0, tonemapMs = 0;
+  double gbufferMs = 0, directShadowMs = 0, directMs = 0, vplShadowMs = 0, gatherMs = 0, ssbcMs = 0;
   /// The media's scattering along camera rays with its merge (media_pass.h; 0 in a scene without media).
   double mediaMs = 0;
   double totalMs() const {
-    return gbufferMs + directShadowMs + directMs + vplShadowMs + gatherMs + mediaMs + ssbcMs + tonemapMs;
+    return gbufferMs + directShadowMs + directMs + vplShadowMs + gatherMs + mediaMs + ssbcMs;
   }
   /// CPU wall time per pass in milliseconds, from issuing its commands until the GPU finished them (the timer
   /// query result is waited for), so it includes driver overhead that GL_TIME_ELAPSED does not see.
   double gbufferWallMs = 0, directShadowWallMs = 0, directWallMs = 0, vplShadowWallMs = 0, gatherWallMs = 0,
-         ssbcWallMs = 0, tonemapWallMs = 0, mediaWallMs = 0;
+         ssbcWallMs = 0, mediaWallMs = 0;
   /// CPU wall time of the whole render() call (uploads and invalidation checks included).
   double frameWallMs = 0;
   /// Pixel x VPL evaluations the gather pass performed (each with one shadow-map fetch): pixels of the indirect
@@ -65,7 +65,7 @@ struct PreviewTimings {
 
 /// How often each pass ran since construction (tests check the invalidation rules with these).
 struct PreviewCounters {
-  int gbuffer = 0, directShadowMaps = 0, direct = 0, vplShadowMaps = 0, gather = 0, ssbc = 0, tonemap = 0, media = 0;
+  int gbuffer = 0, directShadowMaps = 0, direct = 0, vplShadowMaps = 0, gather = 0, ssbc = 0, media = 0;
 };
 
 /// Which image readLinear() returns.
@@ -115,7 +115,7 @@ class PreviewRenderer {
   void invalidateLights();
   /// The VPL set was edited in place: its data is re-uploaded; shadow maps are re-rendered only if a position changed.
   void invalidateVpls();
-  /// Forgets the cached screen-space results (G-buffer to tonemap) so that the next render redoes them, as a camera
+  /// Forgets the cached screen-space results (G-buffer to compensation) so that the next render redoes them, as a camera
   /// move would; shadow maps are kept. For timing steady-state frames.
   void invalidateFrame();
 
@@ -126,8 +126,6 @@ class PreviewRenderer {
   VisibilityMethod visibilityInUse() const { return visibilityMethod_; }
   /// Where the last render keeps each of the scene's density grids (MediaPass::gridSummary); empty without one.
   std::vector<std::string> densityGridsInUse() const { return media_.gridSummary(); }
-  /// Tonemapped (exposure, sRGB-encoded, [0, 1]) image of the last render, row 0 at the top.
-  Image readTonemapped() const;
 
   const PreviewCounters& counters() const { return counters_; }
 
@@ -181,7 +179,6 @@ class PreviewRenderer {
   DeferredProgram gridGbuffer_, gridInput_;
   /// The two passes of the upsample from the grid (preview/upsample.frag.glsl).
   DeferredProgram compose_, gridLight_, upsample_;
-  ShaderProgram tonemap_;
   // Compensation steps of the last frame whose results R1, R2 are current (0: none, the residual is 0).
   int residualSteps_ = 0;
   GlVertexArray vao_;
@@ -200,10 +197,10 @@ class PreviewRenderer {
   struct PendingPasses {
     // mediaLights, mediaVpls: the media's scattering of the lights and of the VPLs (media_pass.h).
     bool gbuffer = false, directMaps = false, vplMaps = false, direct = false, gather = false, mediaLights = false,
-         mediaVpls = false, merge = false, ssbc = false, tonemap = false;
+         mediaVpls = false, merge = false, ssbc = false;
     bool media() const { return mediaLights || mediaVpls; }
     int count() const {
-      return gbuffer + directMaps + vplMaps + direct + gather + media() + merge + ssbc + tonemap;
+      return gbuffer + directMaps + vplMaps + direct + gather + media() + merge + ssbc;
     }
     bool any() const { return count() > 0; }
   };
