@@ -38,8 +38,9 @@ inline constexpr int kPreviewMaxMedia = 8;
 /// define (PREVIEW_MEDIA_GRID_MEDIA), and every transmittance marches each grid its segment crosses, the lights'
 /// scattering once per light and grid along a camera ray (preview/media_lights.frag.glsl).
 inline constexpr int kPreviewMaxDensityGrids = 4;
-/// Distances per light and pixel along a camera ray for the lights' single scattering: with equiangular sampling and
-/// the k x k merge, 4 keep the shafts of the bundled fog scenes within 2 % of the CPU's (tests/gl_media_test.cpp).
+/// Distances per light and pixel along a camera ray for the lights' single scattering (an area light's samples share
+/// them: areaLightSteps): with equiangular sampling and the k x k merge, 4 keep the shafts of the bundled fog scenes
+/// within 2 % of the CPU's (tests/gl_media_test.cpp).
 inline constexpr int kMediaLightSteps = 4;
 
 /// Distances per area-light sample and pixel in the lights' single scattering: kMediaLightSteps spread over the

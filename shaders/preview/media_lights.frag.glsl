@@ -10,8 +10,9 @@
 // the span for a directional light), stratified and rotated per pixel and per light. An area light's samples share
 // those distances: each of a pixel's samples takes uAreaSteps of them (uMediaSteps over the samples the pixel takes, at
 // least one), rotated per pixel and per sample, so that a pixel marches toward the light uMediaSteps times, not
-// uMediaSteps times per sample (the estimate stays unbiased; its noise is what the merge of the subsets averages). V is one lookup in the light's map (no filter: a
-// medium point has no surface to bias against, and the ray's integral smooths the shadow's edge).
+// uMediaSteps times per sample (the estimate stays unbiased; its noise is what the merge of the subsets averages).
+// V is one lookup in the light's map (no filter: a medium point has no surface to bias against, and the ray's integral
+// smooths the shadow's edge).
 // Interleaved like the direct pass: pixel subset s takes the area samples s, s + k^2, ... with weight k^2; the few
 // punctual and directional lights are taken at every pixel. Written in the deinterleaved block layout
 // (common/interleaved.glsl) and merged by preview/media_merge.frag.glsl.
