@@ -369,9 +369,11 @@ void appendPngChunk(std::string& out, const char type[4], const unsigned char* d
   };
   be32(static_cast<uint32_t>(size));
   out.append(type, 4);
-  out.append(reinterpret_cast<const char*>(data), size);
   uLong crc = crc32(0L, reinterpret_cast<const Bytef*>(type), 4);
-  if (size > 0) crc = crc32(crc, data, static_cast<uInt>(size));
+  if (size > 0) {
+    out.append(reinterpret_cast<const char*>(data), size);
+    crc = crc32(crc, data, static_cast<uInt>(size));
+  }
   be32(static_cast<uint32_t>(crc));
 }
 
