@@ -179,7 +179,8 @@ int main(int argc, char** argv) {
               "frame ms", "fps", "gbuffer", "direct", "gather", "ssbc", "vpl shadow", "wall ms",
               "gather G/s", "probe", "probe ms", "probe G/s", "ceiling", "merge", "draws");
   // The gather runs on the indirect light's grid: the probe runs on as many pixels.
-  const int gridWidth = (width + downscale - 1) / downscale, gridHeight = (height + downscale - 1) / downscale;
+  const glm::ivec2 grid = indirectGridSize(width, height, downscale);
+  const int gridWidth = grid.x, gridHeight = grid.y;
   CeilingProbe probe(gridWidth, gridHeight);
   std::vector<int> counts = quick ? std::vector<int>{256} : std::vector<int>{64, 256, 1024};
   std::vector<int> ks = quick ? std::vector<int>{4} : std::vector<int>{1, 2, 4};

@@ -95,7 +95,9 @@ BrdfVariants directProgram(const UniformTableLayout& layout, int mapKind, const 
 DirectLightPass::DirectLightPass()
     : tableLayout_(uniformTableLayout(sizeof(DirectLightGpu))),
       programs_{directProgram(tableLayout_, AreaMap), directProgram(tableLayout_, PunctualMap),
-                directProgram(tableLayout_, DirectionalMap)} {}
+                directProgram(tableLayout_, DirectionalMap)},
+      searchProgram_({"preview/fullscreen.vert.glsl", "preview/blocker_search.frag.glsl"},
+                     {"BLOCKER_SEARCH_TAPS " + std::to_string(kBlockerSearchTaps)}) {}
 
 void DirectLightPass::useMedia(const MediaShaderLayout& media) {
   if (media == media_) return;
@@ -176,10 +178,7 @@ void DirectLightPass::drawBlockerSearches(const InterleavedLayout& layout, const
   if (!searches_ || searches_.width() != layout.blockWidth || searches_.height() != layout.blockHeight ||
       searches_.layers() != emitters)
     searches_ = GlTexture(layout.blockWidth, layout.blockHeight, TextureFormat::Rgba32F, 1, emitters);
-  if (!searchProgram_)
-    searchProgram_.emplace(std::vector<std::string>{"preview/fullscreen.vert.glsl", "preview/blocker_search.frag.glsl"},
-                           std::vector<std::string>{"BLOCKER_SEARCH_TAPS " + std::to_string(kBlockerSearchTaps)});
-  ShaderProgram& search = *searchProgram_;
+  ShaderProgram& search = searchProgram_.get();
   search.set("uInterleave", layout.k);
   search.set("uImageSize", glm::ivec2(layout.width, layout.height));
   search.set("uAreaShadowTexel", 2.0f / static_cast<float>(sizes_.areaFace));

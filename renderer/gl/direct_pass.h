@@ -5,7 +5,6 @@
 
 #include <array>
 #include <functional>
-#include <optional>
 #include <vector>
 
 #include "renderer/gl/light_shadows.h"
@@ -103,7 +102,7 @@ class DirectLightPass {
   std::vector<MapRun> runs_;
   // Per area run, in the order of runs_.
   std::vector<BlockerSearchTaps> searchTaps_;
-  std::optional<ShaderProgram> searchProgram_;  // compiled when a scene with area lights first needs it
+  DeferredProgram searchProgram_;  // compiled when a scene with area lights first needs it
   GlTexture searches_;  // RGBA32F, a layer per area emitter: the blockers' point sum (xyz) and count (w)
   GlFramebuffer searchTarget_;
   LightShadowMaps shadows_;

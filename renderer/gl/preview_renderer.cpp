@@ -176,7 +176,8 @@ struct PreviewRenderer::Targets {
     downscale = s;
     downscaled.reset();
     if (s > 1) {
-      downscaled = std::make_unique<ScreenGrid>((width + s - 1) / s, (height + s - 1) / s);
+      const glm::ivec2 size = indirectGridSize(width, height, s);
+      downscaled = std::make_unique<ScreenGrid>(size.x, size.y);
       downscaled->g.framebuffer.finalize(6);
     }
   }
@@ -256,8 +257,8 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
   if (!vplMaps.problem.empty()) return vplMaps.problem;
   // The screen targets (Targets: G-buffer, interleaved and merged results, compensation mips and rings), counted as 40
   // RGBA32F-sized texels per pixel, an upper bound, and as many again per texel of the indirect light's own grid.
-  const double gridTexels = std::ceil(static_cast<double>(settings.width) / settings.indirectDownscale) *
-                            std::ceil(static_cast<double>(settings.height) / settings.indirectDownscale);
+  const glm::ivec2 grid = indirectGridSize(settings.width, settings.height, settings.indirectDownscale);
+  const double gridTexels = static_cast<double>(grid.x) * grid.y;
   const double targetBytes =
       40.0 * 16.0 *
       (settings.width * static_cast<double>(settings.height) + (settings.indirectDownscale > 1 ? gridTexels : 0.0));

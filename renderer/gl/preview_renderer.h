@@ -37,6 +37,12 @@
 
 namespace vplab {
 
+/// The grid the indirect light is gathered on for a width x height image at Settings::indirectDownscale s: one pixel
+/// per s x s block, the last ones partial.
+inline glm::ivec2 indirectGridSize(int width, int height, int downscale) {
+  return {(width + downscale - 1) / downscale, (height + downscale - 1) / downscale};
+}
+
 /// GPU time per pass in milliseconds (GL_TIME_ELAPSED); 0 for a pass that was skipped because nothing it depends on
 /// changed.
 struct PreviewTimings {

@@ -20,18 +20,16 @@ void drawFullscreen(ShaderProgram& program, const GlVertexArray& vao) {
   drawProceduralTriangles(3);
 }
 
-BrdfVariants::BrdfVariants(std::string fragmentShader, std::vector<std::string> defines)
-    : fragmentShader_(std::move(fragmentShader)), defines_(std::move(defines)) {}
-
-ShaderProgram& BrdfVariants::operator[](bool lambert) {
-  ShaderProgram& program = lambert ? lambertOnly_ : general_;
-  if (!program.valid()) {
-    std::vector<std::string> defines = defines_;
-    if (lambert) defines.push_back("BRDF_LAMBERT_ONLY 1");
-    program = ShaderProgram({"preview/fullscreen.vert.glsl", fragmentShader_}, std::move(defines));
-  }
-  return program;
+namespace {
+std::vector<std::string> withDefine(std::vector<std::string> defines, std::string define) {
+  defines.push_back(std::move(define));
+  return defines;
 }
+}  // namespace
+
+BrdfVariants::BrdfVariants(const std::string& fragmentShader, std::vector<std::string> defines)
+    : general_({"preview/fullscreen.vert.glsl", fragmentShader}, defines),
+      lambertOnly_({"preview/fullscreen.vert.glsl", fragmentShader}, withDefine(defines, "BRDF_LAMBERT_ONLY 1")) {}
 
 void BandCost::measured(int rows, double ms) {
   // Two bands of clearly different heights give both parts (a time that did not grow with the rows is all fixed cost);

@@ -28,13 +28,11 @@ void drawFullscreen(ShaderProgram& program, const GlVertexArray& vao);
 /// even from Mesa's shader cache (a compile error is thrown then, as ShaderError).
 class BrdfVariants {
  public:
-  BrdfVariants(std::string fragmentShader, std::vector<std::string> defines = {});
-  ShaderProgram& operator[](bool lambert);
+  BrdfVariants(const std::string& fragmentShader, std::vector<std::string> defines = {});
+  ShaderProgram& operator[](bool lambert) { return lambert ? lambertOnly_.get() : general_.get(); }
 
  private:
-  std::string fragmentShader_;
-  std::vector<std::string> defines_;
-  ShaderProgram general_, lambertOnly_;
+  DeferredProgram general_, lambertOnly_;
 };
 
 /// Interleaved sampling (common/interleaved.glsl): the width x height image is drawn as k x k blocks of
