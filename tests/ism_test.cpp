@@ -68,7 +68,7 @@ TEST(Ism, TilesAnswerVisibilityLikeRayCasting) {
   Scene scene = floorWithOccluder();
   IsmPoints points = sampleIsmPoints(scene, 1 << 18);
   // Casters 0.9 m above the floor facing down see the floor; the occluder hides a square of it from each.
-  std::vector<IsmCaster> casters;
+  std::vector<VplCaster> casters;
   for (int i = 0; i < 16; ++i)
     casters.push_back({glm::vec3(-0.3f + 0.04f * i, 0.9f, 0.05f * (i % 3)), glm::vec3(0, -1, 0)});
   IsmLayout layout = ismLayout(16, 64, 4096);

@@ -40,6 +40,9 @@ std::vector<uint32_t> gatherOrder(const Scene& scene, const VplSet& vpls, int* l
   };
   auto glossy = std::stable_partition(order.begin(), order.end(), lambert);
   *lambertCount = static_cast<int>(glossy - order.begin());
+  // Medium VPLs before surface ones: cube visibility gives them whole cubes and surface VPLs hemicubes, and finds a
+  // VPL's maps from how many whole cubes come before it (shadow_maps.h).
+  std::stable_partition(order.begin(), glossy, [&](uint32_t i) { return vpls.vpls[i].inMedium; });
   return order;
 }
 

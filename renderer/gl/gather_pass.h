@@ -16,10 +16,10 @@
 
 namespace vplab {
 
-/// The order the gather takes the VPLs in (also the order of their maps): those on Lambert materials first, each group
-/// in the set's order. For VSLs the Lambert ones are drawn by a variant without the lobe at the VPL's end, the costlier
-/// half of the cone integral (common/vsl.glsl, vslLambertVplTransfer). Returns the indices into vpls.vpls;
-/// *lambertCount receives how many lead.
+/// The order the gather takes the VPLs in (also the order of their maps): medium VPLs, then those on Lambert
+/// materials, then the rest, each group in the set's order. For VSLs the first two groups are drawn by a variant
+/// without the lobe at the VPL's end, the costlier half of the cone integral (common/vsl.glsl, vslLambertVplTransfer).
+/// Returns the indices into vpls.vpls; *lambertCount receives how many VPLs the first two groups hold.
 std::vector<uint32_t> gatherOrder(const Scene& scene, const VplSet& vpls, int* lambertCount);
 
 // VPLs a gather draw evaluates per pixel at most (per interleaving subset): the unit a frame budget can stop after.

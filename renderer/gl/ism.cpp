@@ -182,14 +182,14 @@ void splatRow(const SplatDisc& d, int y, int x0, int x1, const float* dirX, cons
 
 }  // namespace
 
-std::vector<uint16_t> splatIsmTiles(const IsmPoints& points, const std::vector<IsmCaster>& casters,
+std::vector<uint16_t> splatIsmTiles(const IsmPoints& points, const std::vector<VplCaster>& casters,
                                     const IsmLayout& layout, float far, int fillLevels, int threads) {
   std::vector<uint16_t> atlas(static_cast<std::size_t>(layout.atlasSize()) * layout.atlasSize() * layout.layers, 65535);
   splatIsmTileRange(points, casters, layout, far, fillLevels, threads, 0, static_cast<int>(casters.size()), atlas);
   return atlas;
 }
 
-void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& casters, const IsmLayout& layout,
+void splatIsmTileRange(const IsmPoints& points, const std::vector<VplCaster>& casters, const IsmLayout& layout,
                        float far, int fillLevels, int threads, int firstCaster, int endCaster,
                        std::vector<uint16_t>& atlas) {
   const int side = layout.atlasSize();
@@ -219,7 +219,7 @@ void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& ca
     }
   parallelFor(endCaster - firstCaster, threads, [&](int64_t index, int) {
     const int i = firstCaster + static_cast<int>(index);
-    const IsmCaster& c = casters[static_cast<std::size_t>(i)];
+    const VplCaster& c = casters[static_cast<std::size_t>(i)];
     const Frame frame(c.normal);
     const auto [begin, end] = points.casterRange(i, casterCount);
     if (end == begin) return;
@@ -278,7 +278,7 @@ void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& ca
   });
 }
 
-float ismVisibility(const std::vector<uint16_t>& tiles, const IsmLayout& layout, int caster, const IsmCaster& c,
+float ismVisibility(const std::vector<uint16_t>& tiles, const IsmLayout& layout, int caster, const VplCaster& c,
                     glm::vec3 x, glm::vec3 geoNormal, float far, float bias) {
   const Frame frame(c.normal);
   const float texelAngle = 4.0f / static_cast<float>(layout.tileSize);

@@ -70,9 +70,15 @@ struct IsmLayout {
 /// that holds `tiles` tiles, in as many layers as needed.
 IsmLayout ismLayout(int tiles, int tileSize, int maxTextureSize);
 
-struct IsmCaster {
-  glm::vec3 position, normal;
-  bool operator==(const IsmCaster&) const = default;
+/// A VPL as the visibility techniques see it (vpl_visibility.h): where its maps are drawn from and which way they face.
+struct VplCaster {
+  glm::vec3 position;
+  /// A surface VPL's geometric normal: it lights only the half-space this points into. A medium VPL's direction of
+  /// travel of its light, which a paraboloid tile faces.
+  glm::vec3 normal;
+  /// A medium VPL lights every direction.
+  bool inMedium = false;
+  bool operator==(const VplCaster&) const = default;
 };
 
 /// Splats each caster's run of points (IsmPoints::casterRange over the casters) into its 16-bit depth tile (depth =
@@ -80,18 +86,18 @@ struct IsmCaster {
 /// subtends, then fills holes by pull-push over at most `fillLevels` levels of the tile's pyramid (holes up to about
 /// 2^fillLevels texels wide: larger empty regions are directions where no surface lies and stay empty). Returns layers
 /// x atlasSize^2 texels, row 0 first (GL's texture row 0), tile by tile in parallel on `threads`.
-std::vector<uint16_t> splatIsmTiles(const IsmPoints& points, const std::vector<IsmCaster>& casters,
+std::vector<uint16_t> splatIsmTiles(const IsmPoints& points, const std::vector<VplCaster>& casters,
                                     const IsmLayout& layout, float far, int fillLevels, int threads);
 /// The same for casters [firstCaster, endCaster) only, into their tiles of `atlas` (layers x atlasSize^2 texels): an
 /// update can be spread over several calls, and gives the same tiles.
-void splatIsmTileRange(const IsmPoints& points, const std::vector<IsmCaster>& casters, const IsmLayout& layout,
+void splatIsmTileRange(const IsmPoints& points, const std::vector<VplCaster>& casters, const IsmLayout& layout,
                        float far, int fillLevels, int threads, int firstCaster, int endCaster,
                        std::vector<uint16_t>& atlas);
 
 /// Visibility of x (geometric normal geoNormal) from caster i through its tile: the lookup of
 /// shaders/common/visibility_ism.glsl without its 2x2 filter, the same normal offset and texel-footprint bias on top of
 /// `bias`. For tests against exact visibility.
-float ismVisibility(const std::vector<uint16_t>& tiles, const IsmLayout& layout, int caster, const IsmCaster& c,
+float ismVisibility(const std::vector<uint16_t>& tiles, const IsmLayout& layout, int caster, const VplCaster& c,
                     glm::vec3 x, glm::vec3 geoNormal, float far, float bias);
 
 }  // namespace vplab

@@ -377,12 +377,12 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // The gather's order (Lambert VPLs first, gather_pass.h) is also the maps'.
   int lambertVpls = 0;
   const std::vector<uint32_t> order = gatherOrder(scene, vpls, &lambertVpls);
-  std::vector<IsmCaster> casters(vpls.vpls.size());
+  std::vector<VplCaster> casters(vpls.vpls.size());
   // A medium VPL lights every direction; a technique that orients its map (a paraboloid) faces the way its light
   // travelled, where the phase function of a forward-scattering medium sends most of it.
   for (std::size_t i = 0; i < casters.size(); ++i) {
     const Vpl& v = vpls.vpls[order[i]];
-    casters[i] = {v.position, v.inMedium ? -v.incoming : v.geometricNormal};
+    casters[i] = {v.position, v.inMedium ? -v.incoming : v.geometricNormal, v.inMedium};
   }
   if (stale.vplShadowMaps || vplDataChanged) stale.vplShadowMaps = vplVisibility_->stale(casters, settings);
   stale.gather |= vplDataChanged;

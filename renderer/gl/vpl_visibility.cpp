@@ -65,6 +65,7 @@ VisibilityFootprint visibilityFootprint(VisibilityMethod method, int casters, co
     fit.problem = why.str();
     return fit;
   }
+  // Whole cubes: an upper bound, as surface VPLs have hemicubes of half the size (shadow_maps.h).
   fit.bytes = 2.0 * 6.0 * face * face * static_cast<double>(casters);
   fit.what =
       std::to_string(casters) + " VPLs with cube shadow maps of " + std::to_string(settings.shadowMapSize) + " texels";
@@ -73,30 +74,37 @@ VisibilityFootprint visibilityFootprint(VisibilityMethod method, int casters, co
 
 // --- cube shadow maps -------------------------------------------------------------------------------------------
 
-bool CubeVisibility::stale(const std::vector<IsmCaster>& casters, const Settings& settings) const {
-  if (!valid_ || settings.shadowMapSize != mapSize_ || casters.size() != positions_.size()) return true;
-  // A cube map depends on its caster's position only: flux, normal or material edits keep it.
+namespace {
+// A cube map depends on its caster's position, a hemicube also on its normal: flux or material edits keep them.
+bool sameMap(const VplCaster& a, const VplCaster& b) {
+  return a.inMedium == b.inMedium && a.position == b.position && (a.inMedium || a.normal == b.normal);
+}
+}  // namespace
+
+bool CubeVisibility::stale(const std::vector<VplCaster>& casters, const Settings& settings) const {
+  if (!valid_ || settings.shadowMapSize != mapSize_ || casters.size() != casters_.size()) return true;
   for (std::size_t i = 0; i < casters.size(); ++i)
-    if (casters[i].position != positions_[i]) return true;
+    if (!sameMap(casters[i], casters_[i])) return true;
   return false;
 }
 
-bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vector<IsmCaster>& casters,
+bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vector<VplCaster>& casters,
                             const Settings& settings, float far, const std::function<bool()>& outOfTime) {
-  std::vector<glm::vec3> positions(casters.size());
-  for (std::size_t i = 0; i < casters.size(); ++i) positions[i] = casters[i].position;
   // A caster per draw under a budget: on a large scene one cube can take tens of milliseconds.
-  const bool same = updatePositions_ == positions && updateMapSize_ == settings.shadowMapSize && updateFar_ == far;
+  const bool same = updateCasters_ == casters && updateMapSize_ == settings.shadowMapSize && updateFar_ == far;
   if (!(same && (nextCaster_ >= 0 || nextMoved_ >= 0))) {
     // A set as large as the last whose casters mostly stayed (the preview's representatives after a camera move,
-    // representative_lights.h): only the maps of the casters that moved are drawn again.
+    // representative_lights.h): only the maps of the casters that moved are drawn again, unless one changed between a
+    // cube and a hemicube (which moves the others' layers).
     moved_.clear();
-    const bool comparable =
-        valid_ && mapSize_ == settings.shadowMapSize && maps_.far() == far && positions.size() == positions_.size();
-    for (std::size_t i = 0; comparable && i < positions.size(); ++i)
-      if (positions[i] != positions_[i]) moved_.push_back(static_cast<int>(i));
-    const bool partial = comparable && 2 * moved_.size() <= positions.size();
-    updatePositions_ = std::move(positions);
+    bool comparable =
+        valid_ && mapSize_ == settings.shadowMapSize && maps_.far() == far && casters.size() == casters_.size();
+    for (std::size_t i = 0; comparable && i < casters.size(); ++i) {
+      comparable = casters[i].inMedium == casters_[i].inMedium;
+      if (!sameMap(casters[i], casters_[i])) moved_.push_back(static_cast<int>(i));
+    }
+    const bool partial = comparable && 2 * moved_.size() <= casters.size();
+    updateCasters_ = casters;
     updateMapSize_ = settings.shadowMapSize;
     updateFar_ = far;
     nextCaster_ = partial ? -1 : 0;
@@ -104,20 +112,21 @@ bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vec
     valid_ = false;
   }
   if (nextMoved_ >= 0) {
-    nextMoved_ = maps_.renderMoved(glScene, updatePositions_, moved_, nextMoved_, outOfTime);
+    nextMoved_ = maps_.renderMoved(glScene, updateCasters_, moved_, nextMoved_, outOfTime);
     if (nextMoved_ >= 0) return false;
   } else {
-    nextCaster_ = maps_.render(glScene, updatePositions_, std::max(8, updateMapSize_ / 2), far, nextCaster_, outOfTime);
+    nextCaster_ = maps_.render(glScene, updateCasters_, std::max(8, updateMapSize_ / 2), far, nextCaster_, outOfTime);
     if (nextCaster_ >= 0) return false;
   }
-  positions_ = updatePositions_;
+  casters_ = updateCasters_;
   mapSize_ = updateMapSize_;
   valid_ = true;
   return true;
 }
 
-void CubeVisibility::bindChunk(int chunk, ShaderProgram&) const {
+void CubeVisibility::bindChunk(int chunk, ShaderProgram& program) const {
   maps_.chunkTexture(chunk).bind(unit(TextureUnit::Visibility));
+  program.set("uWholeCubes", maps_.chunkWholeCubes(chunk));
 }
 
 // --- imperfect shadow maps --------------------------------------------------------------------------------------
@@ -129,7 +138,7 @@ void IsmVisibility::resetScene() {
   points_ = {};
 }
 
-bool IsmVisibility::stale(const std::vector<IsmCaster>& casters, const Settings& settings) const {
+bool IsmVisibility::stale(const std::vector<VplCaster>& casters, const Settings& settings) const {
   if (!valid_ || settings.ismTileSize != tileSize_ || settings.ismPointBudget != pointBudget_ ||
       casters.size() != casters_.size())
     return true;
@@ -139,7 +148,7 @@ bool IsmVisibility::stale(const std::vector<IsmCaster>& casters, const Settings&
   return false;
 }
 
-bool IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector<IsmCaster>& casters,
+bool IsmVisibility::update(const GlScene&, const Scene& scene, const std::vector<VplCaster>& casters,
                            const Settings& settings, float far, const std::function<bool()>& outOfTime) {
   const int n = static_cast<int>(casters.size());
   const bool resume = nextCaster_ >= 0 && updateCasters_ == casters && updateTileSize_ == settings.ismTileSize &&

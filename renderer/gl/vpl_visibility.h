@@ -6,7 +6,8 @@
 // the class names. Adding a technique: a class deriving from VplVisibility, its shader, and an entry in
 // makeVplVisibility() and in the VisibilityMethod enum (renderer/settings.h).
 //
-//   cube  one cube shadow map per VPL (shadow_maps.h): exact up to the map resolution; costs VPLs x triangles.
+//   cube  one cube shadow map per VPL, a hemicube for a surface VPL (shadow_maps.h): exact up to the map resolution;
+//         costs VPLs x triangles.
 //   ism   imperfect shadow maps (ism.h): a paraboloid tile per VPL from a fixed point set; costs the point budget plus
 //         VPLs x tile texels, independent of the triangle count, at the price of light leaks and over-darkening.
 
@@ -33,13 +34,13 @@ class VplVisibility {
   virtual std::string shaderDefine() const = 0;
   /// Whether the maps built for `casters` under `settings` must be rebuilt for these (also true before the first
   /// update and after a new scene).
-  virtual bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const = 0;
+  virtual bool stale(const std::vector<VplCaster>& casters, const Settings& settings) const = 0;
   /// Rebuilds the maps; far: the largest distance stored (the same value the lookup divides by). A technique may
   /// build them a slice at a time: given outOfTime (empty: no budget), it stops after a slice once outOfTime() says
   /// so and returns false, and the next
   /// call with the same casters and settings goes on where it stopped (other casters start over). Returns true when
   /// every map is built; the maps are the same however the work was sliced.
-  virtual bool update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+  virtual bool update(const GlScene& glScene, const Scene& scene, const std::vector<VplCaster>& casters,
                       const Settings& settings, float far, const std::function<bool()>& outOfTime) = 0;
   /// The scene's geometry changed: everything derived from it is dropped.
   virtual void resetScene() = 0;
@@ -69,8 +70,8 @@ VisibilityFootprint visibilityFootprint(VisibilityMethod method, int casters, co
 class CubeVisibility final : public VplVisibility {
  public:
   std::string shaderDefine() const override { return "VISIBILITY_CUBE 1"; }
-  bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const override;
-  bool update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+  bool stale(const std::vector<VplCaster>& casters, const Settings& settings) const override;
+  bool update(const GlScene& glScene, const Scene& scene, const std::vector<VplCaster>& casters,
               const Settings& settings, float far, const std::function<bool()>& outOfTime) override;
   void resetScene() override {
     valid_ = false;
@@ -83,12 +84,12 @@ class CubeVisibility final : public VplVisibility {
 
  private:
   CubeShadowMaps maps_;
-  std::vector<glm::vec3> positions_;
+  std::vector<VplCaster> casters_;
   int mapSize_ = 0;
   bool valid_ = false;
   // The update under way (its casters, map size and far distance) and the first caster not yet rendered; or, for an
   // update of the casters that moved only, those casters and the first of them not yet rendered.
-  std::vector<glm::vec3> updatePositions_;
+  std::vector<VplCaster> updateCasters_;
   int updateMapSize_ = 0;
   float updateFar_ = 0.0f;
   int nextCaster_ = -1;
@@ -99,8 +100,8 @@ class CubeVisibility final : public VplVisibility {
 class IsmVisibility final : public VplVisibility {
  public:
   std::string shaderDefine() const override { return "VISIBILITY_ISM 1"; }
-  bool stale(const std::vector<IsmCaster>& casters, const Settings& settings) const override;
-  bool update(const GlScene& glScene, const Scene& scene, const std::vector<IsmCaster>& casters,
+  bool stale(const std::vector<VplCaster>& casters, const Settings& settings) const override;
+  bool update(const GlScene& glScene, const Scene& scene, const std::vector<VplCaster>& casters,
               const Settings& settings, float far, const std::function<bool()>& outOfTime) override;
   void resetScene() override;
   int chunkCount() const override { return count_ > 0 ? 1 : 0; }
@@ -113,12 +114,12 @@ class IsmVisibility final : public VplVisibility {
   IsmPoints points_;
   IsmLayout layout_;
   GlTexture atlas_;
-  std::vector<IsmCaster> casters_;
+  std::vector<VplCaster> casters_;
   int pointBudget_ = 0, tileSize_ = 0, count_ = 0;
   bool valid_ = false;
   // The update under way: its casters, tile size and far distance, the tiles splatted so far on the CPU and the first
   // caster not yet splatted.
-  std::vector<IsmCaster> updateCasters_;
+  std::vector<VplCaster> updateCasters_;
   int updateTileSize_ = 0;
   float updateFar_ = 0.0f;
   std::vector<uint16_t> updateTiles_;

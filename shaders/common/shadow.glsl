@@ -1,13 +1,19 @@
-// Cube shadow maps (renderer/gl/shadow_maps.h): depth = distance to the caster / far, one cube per caster, stored as
-// layers 6 caster + face of a 2D array. The face and its texture coordinates are found here with the same face
-// orientations the maps were rendered with (GL cube-map convention, shadow_maps.cpp): a 90 degree perspective view
-// looking down the major axis of the offset.
+// VPL shadow maps (renderer/gl/shadow_maps.h): depth = distance to the caster / far, from cube faces stored as layers
+// of a 2D array: a whole cube (6 layers) or a hemicube around a surface VPL's normal (3 layers). The face and its
+// texture coordinates are found here with the same orientations the maps were rendered with (shadow_maps.cpp,
+// preview/shadow.geom.glsl): a 90 degree perspective view looking down the major axis of the offset.
 // Normal-offset lookup: the receiver point moves along its geometric normal by about one shadow texel's world size
 // at that distance, which removes acne on surfaces seen at grazing angles without a large constant bias.
 // distance = |x - casterPos|, which the caller usually has already.
-float shadowVisibilityAt(sampler2DArrayShadow maps, int caster, vec3 casterPos, vec3 x, float distance, vec3 geoNormal,
-                         float far, float bias) {
-  float texelAngle = 2.0 / float(textureSize(maps, 0).x);
+#include "common/math.glsl"
+
+// The lookups return the shadow texture's coordinates (u, v, layer, depth reference), so that a caller choosing between
+// a cube and a hemicube fetches once: llvmpipe runs both sides of a branch for every lane.
+
+// A whole cube, from layer firstLayer on; size: the maps' face size in texels.
+vec4 cubeShadowCoordinates(float size, int firstLayer, vec3 casterPos, vec3 x, float distance, vec3 geoNormal,
+                           float far, float bias) {
+  float texelAngle = 2.0 / size;
   vec3 d = x + geoNormal * (1.5 * texelAngle * distance) - casterPos;
   vec3 a = abs(d);
   // Major axis m (signed), its face (+x, -x, +y, -y, +z, -z) and the face coordinates of the GL cube-map convention the
@@ -21,10 +27,30 @@ float shadowVisibilityAt(sampler2DArrayShadow maps, int caster, vec3 casterPos, 
   float inv = 0.5 / m, absInv = abs(inv);
   vec2 uv = vec2(xMajor ? -d.z * inv : d.x * (yMajor ? absInv : inv), yMajor ? d.z * inv : -d.y * absInv) + 0.5;
   float face = (xMajor ? 0.0 : yMajor ? 2.0 : 4.0) + (m > 0.0 ? 0.0 : 1.0);
-  return texture(maps, vec4(uv, float(6 * caster) + face, (length(d) - bias) / far));
+  return vec4(uv, float(firstLayer) + face, (length(d) - bias) / far);
 }
 
-float shadowVisibility(sampler2DArrayShadow maps, int caster, vec3 casterPos, vec3 x, vec3 geoNormal, float far,
-                       float bias) {
-  return shadowVisibilityAt(maps, caster, casterPos, x, length(x - casterPos), geoNormal, far, bias);
+// A hemicube around the unit normal n, from layer firstLayer on: the face along n, then the upper halves of the faces
+// along +s (upper half of layer 1) and -s (its lower half), +t and -t (layer 2), with n up, in the frame (s, t, n) of
+// orthonormalFrame. A receiver behind the caster's plane reads the map at the horizon (a VSL can reach slightly past
+// it; a point VPL's cosine is 0 there anyway).
+vec4 hemicubeShadowCoordinates(float size, int firstLayer, vec3 casterPos, vec3 n, vec3 x, float distance,
+                               vec3 geoNormal, float far, float bias) {
+  float texelAngle = 2.0 / size;
+  vec3 d = x + geoNormal * (1.5 * texelAngle * distance) - casterPos;
+  vec3 s, t;
+  orthonormalFrame(n, s, t);
+  float ls = dot(d, s), lt = dot(d, t), ln = max(dot(d, n), 0.0);
+  bool front = ln >= max(abs(ls), abs(lt));
+  bool sMajor = abs(ls) >= abs(lt);
+  float m = sMajor ? ls : lt;
+  // Front face: (s, t) / n. Side face along +-s: (t, n) / |s|; along +-t: (s, n) / |t|. Selects, not branches.
+  vec2 uv = (front ? vec2(ls, lt) : vec2(sMajor ? lt : ls, ln)) * (0.5 / (front ? ln : abs(m))) + 0.5;
+  // A side face's upper half is the upper half of its layer for +s, +t and the lower half for -s, -t; the 2x2 filter
+  // stays inside its half.
+  float halfTexel = 0.5 / size;
+  float v = m > 0.0 ? max(uv.y, 0.5 + halfTexel) : min(uv.y - 0.5, 0.5 - halfTexel);
+  uv.y = front ? uv.y : v;
+  float layer = float(firstLayer) + (front ? 0.0 : sMajor ? 1.0 : 2.0);
+  return vec4(uv, layer, (length(d) - bias) / far);
 }

@@ -1,10 +1,16 @@
 #version 450 core
-// Layered rendering of one caster's six cube faces per instance: layer-face = 6 * caster + face.
+// Layered rendering of one caster's map per instance (renderer/gl/shadow_maps.h): the six faces of a whole cube, or
+// the five of a hemicube, whose four side faces keep their upper half (clip distances) and share two layers.
 #include "common/units.glsl"
+#include "common/math.glsl"
 layout(triangles, invocations = 6) in;
 layout(triangle_strip, max_vertices = 3) out;
 
-layout(std430, binding = BINDING_SHADOW_CASTERS) readonly buffer Casters { vec4 casterPositions[]; };
+struct ShadowCaster {
+  vec4 position;  // w: first layer in the chunk
+  vec4 normal;    // xyz: a hemicube's normal; w: 1 for a hemicube
+};
+layout(std430, binding = BINDING_SHADOW_CASTERS) readonly buffer Casters { ShadowCaster casters[]; };
 
 uniform mat3 uFaceRotation[6];
 uniform mat4 uProjection;
@@ -13,14 +19,41 @@ uniform int uFirstCaster;
 in vec3 vPosition[];
 flat in int vCaster[];
 out vec3 gOffset;
+out gl_PerVertex {
+  vec4 gl_Position;
+  float gl_ClipDistance[2];
+};
 
 void main() {
-  int caster = vCaster[0];
-  vec3 origin = casterPositions[uFirstCaster + caster].xyz;
+  ShadowCaster caster = casters[uFirstCaster + vCaster[0]];
+  int face = gl_InvocationID;
+  bool hemicube = caster.normal.w > 0.5;
+  if (hemicube && face == 5) return;
+  mat3 view = uFaceRotation[face];
+  int layer = int(caster.position.w) + face;
+  // A side face of a hemicube: only its upper half, y_clip in [0, w_clip], drawn into the upper (+s, +t) or lower
+  // (-s, -t) half of its layer (common/shadow.glsl hemicubeVisibilityAt reads it back).
+  bool halfFace = hemicube && face > 0;
+  float lower = 0.0;
+  if (hemicube) {
+    vec3 n = caster.normal.xyz, s, t;
+    orthonormalFrame(n, s, t);
+    // Rows of the view: face 0 looks along n (x = s, y = t); faces 1-4 along +s, -s, +t, -t with n up.
+    float sgn = (face == 1 || face == 3) ? 1.0 : -1.0;
+    vec3 along = face <= 2 ? s : t, across = face <= 2 ? t : s;
+    view = face == 0 ? transpose(mat3(s, t, -n)) : transpose(mat3(across, n, -sgn * along));
+    layer = int(caster.position.w) + (face == 0 ? 0 : face <= 2 ? 1 : 2);
+    lower = halfFace && sgn < 0.0 ? 1.0 : 0.0;
+  }
+  vec3 origin = caster.position.xyz;
   for (int i = 0; i < 3; ++i) {
     gOffset = vPosition[i] - origin;
-    gl_Position = uProjection * vec4(uFaceRotation[gl_InvocationID] * gOffset, 1.0);
-    gl_Layer = caster * 6 + gl_InvocationID;
+    vec4 clip = uProjection * vec4(view * gOffset, 1.0);
+    gl_ClipDistance[0] = halfFace ? clip.y : 1.0;
+    gl_ClipDistance[1] = halfFace ? clip.w - clip.y : 1.0;
+    clip.y -= lower * clip.w;
+    gl_Position = clip;
+    gl_Layer = layer;
     EmitVertex();
   }
   EndPrimitive();
