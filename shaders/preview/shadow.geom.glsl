@@ -46,13 +46,29 @@ void main() {
     lower = halfFace && sgn < 0.0 ? 1.0 : 0.0;
   }
   vec3 origin = caster.position.xyz;
+  vec4 clip[3];
+  for (int i = 0; i < 3; ++i) clip[i] = uProjection * vec4(view * (vPosition[i] - origin), 1.0);
+  // A triangle wholly outside one side of the face's frustum (or below a half face's horizon) is not emitted: most
+  // triangles lie in one or two of a caster's faces, and the rasteriser's clipping and setup of the others cost more
+  // than these comparisons.
+  // Each test is one clip-space half-space (linear in the vertices), so all three vertices outside it put the whole
+  // triangle outside.
+  bvec4 allOut = bvec4(true);
+  bool allBeforeNear = true, allBelow = true;
+  for (int i = 0; i < 3; ++i) {
+    vec4 c = clip[i];
+    allOut = bvec4(allOut.x && c.x > c.w, allOut.y && c.x < -c.w, allOut.z && c.y > c.w, allOut.w && c.y < -c.w);
+    allBeforeNear = allBeforeNear && c.z < -c.w;
+    allBelow = allBelow && c.y < 0.0;
+  }
+  if (any(allOut) || allBeforeNear || (halfFace && allBelow)) return;
   for (int i = 0; i < 3; ++i) {
     gOffset = vPosition[i] - origin;
-    vec4 clip = uProjection * vec4(view * gOffset, 1.0);
-    gl_ClipDistance[0] = halfFace ? clip.y : 1.0;
-    gl_ClipDistance[1] = halfFace ? clip.w - clip.y : 1.0;
-    clip.y -= lower * clip.w;
-    gl_Position = clip;
+    vec4 c = clip[i];
+    gl_ClipDistance[0] = halfFace ? c.y : 1.0;
+    gl_ClipDistance[1] = halfFace ? c.w - c.y : 1.0;
+    c.y -= lower * c.w;
+    gl_Position = c;
     gl_Layer = layer;
     EmitVertex();
   }
