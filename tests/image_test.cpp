@@ -1,6 +1,7 @@
 #include <gtest/gtest.h>
 #include <sys/wait.h>
 
+#include <bit>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -176,6 +177,28 @@ TEST(ImageTonemap, SrgbRoundTripAndKnownValues) {
   EXPECT_NEAR(srgbFromLinear(0.002f), 0.002f * 12.92f, 1e-7f);  // linear toe
   EXPECT_FLOAT_EQ(exposureScale(-2.0f), 0.25f);
   EXPECT_EQ(tonemapPixel(glm::vec3(2.0f, -1.0f, 0.25f), 1.0f), (Rgb8{255, 0, 188}));
+}
+
+// The tonemap finds a pixel's byte by a search over the thresholds between bytes: it must give the byte of the sRGB
+// formula itself, here for every 256th float in [0, 1] and the 8 floats on either side of each byte's threshold.
+TEST(Tonemap, ThresholdSearchGivesTheFormulasBytes) {
+  auto formula = [](float v) { return quantize8(srgbFromLinear(v)); };
+  auto check = [&](std::uint32_t bits) {
+    const float v = std::bit_cast<float>(bits);
+    ASSERT_EQ(tonemapPixel(glm::vec3(v), 0.0f)[0], formula(v)) << v;
+  };
+  const std::uint32_t one = std::bit_cast<std::uint32_t>(1.0f);
+  for (std::uint32_t bits = 0; bits <= one; bits += 256) check(bits);
+  int switches = 0;
+  for (std::uint32_t bits = 1; bits <= one; bits += 1u << 10) {
+    // Where the byte changes inside a step, the floats around the change.
+    if (formula(std::bit_cast<float>(bits - 1)) == formula(std::bit_cast<float>(std::min(one, bits + (1u << 10)))))
+      continue;
+    ++switches;
+    for (std::uint32_t b = bits - 1; b <= std::min(one, bits + (1u << 10)); ++b) check(b);
+  }
+  EXPECT_GE(switches, 255);
+  EXPECT_EQ(tonemapPixel(glm::vec3(-0.0f, 1e30f, 0.5f), 0.0f), (Rgb8{0, 255, formula(0.5f)}));
 }
 
 TEST(ImageMetrics, IdenticalImagesHaveZeroError) {

@@ -38,18 +38,13 @@ GLuint createName(GlObject::Kind kind, GLenum target = 0) {
   return id;
 }
 
-std::vector<glm::vec4> flipRows(const std::vector<glm::vec4>& raw, int width, int height) {
-  std::vector<glm::vec4> out(raw.size());
-  for (int y = 0; y < height; ++y)
-    std::copy_n(raw.begin() + static_cast<std::ptrdiff_t>(height - 1 - y) * width, width,
-                out.begin() + static_cast<std::ptrdiff_t>(y) * width);
-  return out;
-}
-
-Image toImage(const std::vector<glm::vec4>& rgba, int width, int height) {
-  Image image(width, height);
-  for (std::size_t i = 0; i < rgba.size(); ++i) image.pixels[i] = glm::vec3(rgba[i]);
-  return image;
+// GL's rows run bottom-up; images' top-down. In place: a copy would be another image-sized allocation, which llvmpipe's
+// page faults make cost as much as the read itself.
+template <typename Pixel>
+void flipRows(std::vector<Pixel>& pixels, int width, int height) {
+  const auto w = static_cast<std::ptrdiff_t>(width);
+  for (int y = 0; y < height / 2; ++y)
+    std::swap_ranges(pixels.begin() + y * w, pixels.begin() + (y + 1) * w, pixels.begin() + (height - 1 - y) * w);
 }
 
 }  // namespace
@@ -285,20 +280,31 @@ std::vector<glm::vec4> readFramebufferRgba(const GlFramebuffer& framebuffer, int
   glReadnPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
                 raw.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  return flipRows(raw, width, height);
+  flipRows(raw, width, height);
+  return raw;
 }
 
 Image readFramebuffer(const GlFramebuffer& framebuffer, int index, int width, int height) {
-  return toImage(readFramebufferRgba(framebuffer, index, width, height), width, height);
+  // Straight into the image's RGB pixels (12 bytes, rows 4-aligned).
+  Image image(width, height);
+  glNamedFramebufferReadBuffer(framebuffer.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index));
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer.id());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  glReadnPixels(0, 0, width, height, GL_RGB, GL_FLOAT, static_cast<GLsizei>(image.size() * sizeof(glm::vec3)),
+                image.pixels.data());
+  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
+  flipRows(image.pixels, width, height);
+  return image;
 }
 
 Image readTexture(const GlTexture& texture, int level) {
   int w = std::max(1, texture.width() >> level), h = std::max(1, texture.height() >> level);
-  std::vector<glm::vec4> raw(static_cast<std::size_t>(w) * h);
+  Image image(w, h);
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glGetTextureImage(texture.id(), level, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
-                    raw.data());
-  return toImage(flipRows(raw, w, h), w, h);
+  glGetTextureImage(texture.id(), level, GL_RGB, GL_FLOAT, static_cast<GLsizei>(image.size() * sizeof(glm::vec3)),
+                    image.pixels.data());
+  flipRows(image.pixels, w, h);
+  return image;
 }
 
 void checkGlError(const char* what) {
