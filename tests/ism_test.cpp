@@ -149,6 +149,7 @@ TEST(TextureUnits, GlslIncludeMatchesTheEnum) {
       {"BINDING_VPLS", binding(BufferBinding::Vpls)},
       {"BINDING_MEDIA", binding(BufferBinding::Media)},
       {"BINDING_MEDIA_DENSITY_GRID", binding(BufferBinding::MediaDensityGrid)},
+      {"BINDING_LIGHT_SHADOW_SCALES", binding(BufferBinding::LightShadowScales)},
   };
   EXPECT_EQ(glsl.size(), std::size(expected));
   for (const auto& [name, number] : expected) {

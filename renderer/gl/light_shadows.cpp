@@ -94,9 +94,22 @@ int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCas
   int side = 1;
   for (const LightShadowCaster& c : casters) side = std::max(side, c.faceSize);
   if (!cubes_ || cubes_.layers() != 6 * cubes || cubes_.width() != side) {
-    cubes_ = GlTexture::cubeArray(side, cubes, TextureFormat::R32F);
+    cubes_ = GlTexture::cubeArray(side, cubes, TextureFormat::R16);
     cubes_.setLinearFiltering(false);
   }
+  // Each cube's scale: a little more than its caster's distance to the farthest corner of the triangles' bounds, so
+  // that every occluder's distance is below it.
+  std::vector<float> scales(casters.size());
+  const Bounds& b = scene.geometryBounds;
+  for (std::size_t c = 0; c < casters.size(); ++c) {
+    const float farthest =
+        b.valid() ? glm::length(glm::max(glm::abs(casters[c].position - b.lower), glm::abs(casters[c].position - b.upper)))
+                  : 0.0f;
+    scales[c] = std::isfinite(farthest) && farthest > 0.0f ? 1.01f * farthest : 1.0f;
+  }
+  // One entry at least: the buffer is bound with the (placeholder) cubes.
+  const float none = 1.0f;
+  scales_.assign(scales.empty() ? &none : scales.data(), std::max<std::size_t>(scales.size(), 1) * sizeof(float));
   if (count_ == 0) return -1;
   const int faces = 6 * count_;
   for (int face = first; face < faces; ++face) {
@@ -113,8 +126,14 @@ int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCas
     texels_.resize(static_cast<std::size_t>(size) * size);
     // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
     rasterizer_.draw(face % 6, 4.0f * 2.0f / static_cast<float>(size), threads, texels_.data());
+    // 65535 only where no triangle lies.
+    const float perScale = 65535.0f / scales[static_cast<std::size_t>(face / 6)];
+    quantized_.resize(texels_.size());
+    for (std::size_t i = 0; i < texels_.size(); ++i)
+      quantized_[i] = texels_[i] >= kNoOccluder ? std::uint16_t{65535}
+                                                : static_cast<std::uint16_t>(std::min(texels_[i] * perScale + 0.5f, 65534.0f));
     if (size == side) {
-      cubes_.uploadLayerFloat(face, texels_);
+      cubes_.uploadLayerUnorm16(face, quantized_);
     } else {
       // Texel (i, j) of the array's face takes texel (i / r, j / r) of the drawn one: a lookup of the array reads
       // what nearest sampling of the drawn map would (floor(s side) / r = floor(s size)).
@@ -122,8 +141,8 @@ int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCas
       repeated_.resize(static_cast<std::size_t>(side) * side);
       for (int j = 0; j < side; ++j)
         for (int i = 0; i < side; ++i)
-          repeated_[static_cast<std::size_t>(j) * side + i] = texels_[static_cast<std::size_t>(j / r) * size + i / r];
-      cubes_.uploadLayerFloat(face, repeated_);
+          repeated_[static_cast<std::size_t>(j) * side + i] = quantized_[static_cast<std::size_t>(j / r) * size + i / r];
+      cubes_.uploadLayerUnorm16(face, repeated_);
     }
     if (outOfTime && face + 1 < faces && outOfTime()) return face + 1;
   }
@@ -157,6 +176,7 @@ int LightShadowMaps::renderDirectional(const Scene& scene, const std::vector<glm
 
 void LightShadowMaps::bind() const {
   if (cubes_) cubes_.bind(unit(TextureUnit::LightShadows));
+  if (scales_.size() > 0) scales_.bindStorage(binding(BufferBinding::LightShadowScales));
   if (planes_) planes_.bind(unit(TextureUnit::DirectionalShadows));
 }
 

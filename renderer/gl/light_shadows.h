@@ -10,7 +10,10 @@
 //    The K area samples still give the unshadowed light (unbiased); only the visibility is approximated, the less
 //    the smaller a cell is against the distances to the blockers.
 // Maps store the radial distance to the light in a colour cube map (one value serves every face and the filter taps,
-// which cross faces), drawn on the CPU (distance_raster.h) and uploaded; each texel's distance is pushed away from the
+// which cross faces), as 16-bit fractions of the cube's scale, a little more than the distance from its caster to the
+// farthest corner of the scene's bounds (steps of 1/65535 of it: a twentieth of a texel's footprint at 512 texels a
+// face for a receiver a third of that distance away; half the memory and page faults of 32-bit floats), 1 where no
+// triangle lies, drawn on the CPU (distance_raster.h) and uploaded; each texel's distance is pushed away from the
 // light by a slope-scaled bias and the receiver is offset along its normal by a texel's footprint, which together
 // remove acne on grazing surfaces without a large constant bias.
 //  - A directional light: an orthographic map over the scene's bounding sphere, filtered over about a texel.
@@ -74,8 +77,11 @@ class LightShadowMaps {
   // The cube rasterizer_ last binned (null: none, or a directional map).
   const Scene* binnedScene_ = nullptr;
   glm::vec3 binnedOrigin_{0.0f};
-  // A face as drawn, and repeated up to the array's faces.
-  std::vector<float> texels_, repeated_;
+  // A face as drawn, quantised, and repeated up to the array's faces.
+  std::vector<float> texels_;
+  std::vector<std::uint16_t> quantized_, repeated_;
+  // Each cube's scale (LightShadowScales).
+  GlBuffer scales_;
   int count_ = 0, directionalCount_ = 0;
 };
 

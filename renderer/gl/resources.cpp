@@ -18,6 +18,7 @@ GLenum internalFormat(TextureFormat f) {
     case TextureFormat::Rgba16F: return GL_RGBA16F;
     case TextureFormat::Rg32F: return GL_RG32F;
     case TextureFormat::R32F: return GL_R32F;
+    case TextureFormat::R16: return GL_R16;
     case TextureFormat::Rgba8: return GL_RGBA8;
     case TextureFormat::Depth32F: return GL_DEPTH_COMPONENT32F;
     case TextureFormat::Depth16: return GL_DEPTH_COMPONENT16;
@@ -118,6 +119,13 @@ void GlTexture::uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels)
 void GlTexture::uploadLayerFloat(int layer, const std::vector<float>& texels) {
   assert(layers_ > 0 && layer < layers_ && texels.size() == static_cast<std::size_t>(width_) * height_);
   glTextureSubImage3D(id(), 0, 0, 0, layer, width_, height_, 1, GL_RED, GL_FLOAT, texels.data());
+}
+
+void GlTexture::uploadLayerUnorm16(int layer, const std::vector<std::uint16_t>& texels) {
+  assert(layers_ > 0 && layer < layers_ && texels.size() == static_cast<std::size_t>(width_) * height_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+  glTextureSubImage3D(id(), 0, 0, 0, layer, width_, height_, 1, GL_RED, GL_UNSIGNED_SHORT, texels.data());
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
 }
 
 void GlTexture::uploadDepth16(const std::vector<uint16_t>& texels) {

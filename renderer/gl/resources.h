@@ -13,7 +13,7 @@
 
 namespace vplab {
 
-enum class TextureFormat { Rgba32F, Rgba16F, Rg32F, R32F, Rgba8, Depth32F, Depth16 };
+enum class TextureFormat { Rgba32F, Rgba16F, Rg32F, R32F, R16, Rgba8, Depth32F, Depth16 };
 
 /// Owns one GL name and deletes it with the matching glDelete* call.
 class GlObject {
@@ -70,6 +70,8 @@ class GlTexture {
   void uploadLayerRgba(int layer, const std::vector<glm::vec4>& texels);
   /// Uploads single-channel float texels (row 0 first) into one layer (a layer-face of a cube-map array) of level 0.
   void uploadLayerFloat(int layer, const std::vector<float>& texels);
+  /// Uploads 16-bit normalised texels (0..65535 = 0..1, row 0 first) into one layer of level 0 of an R16 texture.
+  void uploadLayerUnorm16(int layer, const std::vector<std::uint16_t>& texels);
   /// Uploads 16-bit depth texels (0..65535 = 0..1, layer by layer, row 0 first) into level 0 of every layer of a
   /// Depth16 texture array.
   void uploadDepth16(const std::vector<uint16_t>& texels);

@@ -13,6 +13,14 @@ uniform float uSceneRadius;
 uniform float uDirectionalShadowTexel;  // 2 uSceneRadius / map size, metres
 uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / faceSize: a point or spot light's map
 uniform float uAreaShadowTexel;   // the same for an area-light cell's map, drawn with fewer texels
+// Each cube's distances are stored as fractions of its scale (renderer/gl/light_shadows.h); 1 where no triangle lies.
+layout(std430, binding = BINDING_LIGHT_SHADOW_SCALES) readonly buffer LightShadowScales { float lightShadowScales[]; };
+
+// The distance stored in cube `cube` in direction u (infinite where nothing lies).
+float lightShadowDistance(vec3 u, float cube) {
+  float stored = texture(uLightShadows, vec4(u, cube)).r;
+  return stored >= 1.0 ? 3.0e38 : stored * lightShadowScales[int(cube)];
+}
 
 // Taps of the filter over about one texel (punctual and directional lights): with 8 instead of 16 a point light's
 // direct light is 3 % further from the reference (relMSE 0.0180 against 0.0175 on the 10k-triangle dense scene at
@@ -51,7 +59,7 @@ float pointLightVisibility(int cube, vec3 lightPos, vec3 x, vec3 ng, float rotat
   for (int i = 0; i < kSharpShadowTaps; ++i, angle = vogelNext(angle)) {
     vec2 o = vogelTap(i, kSharpShadowTaps, angle) * uLightShadowTexel;
     vec3 u = normalize(w + o.x * s + o.y * t);
-    lit += texture(uLightShadows, vec4(u, float(cube))).r >= tapReference(u, ng, planeOffset, wn, dist) ? 1.0 : 0.0;
+    lit += lightShadowDistance(u, float(cube)) >= tapReference(u, ng, planeOffset, wn, dist) ? 1.0 : 0.0;
   }
   return lit / float(kSharpShadowTaps);
 }
@@ -101,7 +109,7 @@ AreaShadow areaShadowCell(int cube, vec3 centre, vec3 x, vec3 ng) {
 // counted any geometry along u before the plane, far from the segment the tap stands for: the ground under the
 // engine's studio light was shadowed by the engine in directions that did not reach it (7 % too dark).
 bool areaShadowOccluded(AreaShadow a, vec3 u, float reach, vec3 emitterNormal, out float stored) {
-  stored = texture(uLightShadows, vec4(u, float(a.cube))).r;
+  stored = lightShadowDistance(u, float(a.cube));
   return dot(u, emitterNormal) > 2.0 * uAreaShadowTexel &&
          stored < min(reach, tapReference(u, a.ng, a.planeOffset, a.wn, a.dist));
 }

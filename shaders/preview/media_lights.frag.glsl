@@ -41,6 +41,13 @@ uniform float uSceneRadius;
 uniform float uDirectionalShadowTexel;  // metres
 uniform float uLightShadowTexel;        // angle of a cube texel at a face's centre (point and spot lights)
 uniform float uAreaShadowTexel;         // the same for an area-light cell's map
+layout(std430, binding = BINDING_LIGHT_SHADOW_SCALES) readonly buffer LightShadowScales { float lightShadowScales[]; };
+
+// The distance stored in cube `cube` in direction u, as common/light_shadow.glsl reads it.
+float lightShadowDistance(vec3 u, float cube) {
+  float stored = texture(uLightShadows, vec4(u, cube)).r;
+  return stored >= 1.0 ? 3.0e38 : stored * lightShadowScales[int(cube)];
+}
 
 uniform int uMediaSteps;   // distances per punctual or directional light and pixel
 uniform int uAreaSteps;    // distances per area sample and pixel
@@ -103,7 +110,7 @@ vec3 scatteredLight(DirectLight l, const int kind, MediaRay r, float rotation, f
         falloff = (l.position.w == 2.0 ? s * s : 1.0) / dist2;
       }
       vec3 fromCentre = x - l.centre.xyz;
-      float stored = texture(uLightShadows, vec4(fromCentre, l.shadow.x)).r;
+      float stored = lightShadowDistance(fromCentre, l.shadow.x);
       float texel = kind == kAreaLight ? uAreaShadowTexel : uLightShadowTexel;
       visibility = stored >= length(fromCentre) * (1.0 - 2.0 * texel) ? 1.0 : 0.0;
     }
