@@ -3,24 +3,7 @@
 // about a texel, an area emitter's per sample (AreaShadow below).
 // Every tap compares against the distance to the receiver's own plane along the tap's direction (receiver-plane depth
 // bias), so a tap away from the receiver's own direction on a tilted receiver does not shadow the receiver by itself.
-layout(binding = UNIT_LIGHT_SHADOWS) uniform samplerCubeArray uLightShadows;
-// Directional lights: an orthographic map each (layer of a 2D array) over the disc of radius uSceneRadius around
-// uSceneCentre perpendicular to the light's direction, storing the distance along the direction from the plane
-// uSceneRadius behind the centre.
-layout(binding = UNIT_DIRECTIONAL_SHADOWS) uniform sampler2DArray uDirectionalShadows;
-uniform vec3 uSceneCentre;
-uniform float uSceneRadius;
-uniform float uDirectionalShadowTexel;  // 2 uSceneRadius / map size, metres
-uniform float uLightShadowTexel;  // angle of a texel at a face's centre, 2 / faceSize: a point or spot light's map
-uniform float uAreaShadowTexel;   // the same for an area-light cell's map, drawn with fewer texels
-// Each cube's distances are stored as fractions of its scale (renderer/gl/light_shadows.h); 1 where no triangle lies.
-layout(std430, binding = BINDING_LIGHT_SHADOW_SCALES) readonly buffer LightShadowScales { float lightShadowScales[]; };
-
-// The distance stored in cube `cube` in direction u (infinite where nothing lies).
-float lightShadowDistance(vec3 u, float cube) {
-  float stored = texture(uLightShadows, vec4(u, cube)).r;
-  return stored >= 1.0 ? 3.0e38 : stored * lightShadowScales[int(cube)];
-}
+#include "common/light_maps.glsl"
 
 // Taps of the filter over about one texel (punctual and directional lights): with 8 instead of 16 a point light's
 // direct light is 3 % further from the reference (relMSE 0.0180 against 0.0175 on the 10k-triangle dense scene at

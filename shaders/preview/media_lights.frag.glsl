@@ -31,23 +31,7 @@ layout(std140, binding = BINDING_DIRECT_LIGHTS) uniform DirectLights {
   DirectLight lights[DIRECT_UBO_LIGHTS];
 };
 
-// The lights' maps as the direct pass binds them (renderer/gl/light_shadows.h): a cube of radial distances around each
-// map's centre, and for a directional light an orthographic map of distances along its direction from the plane
-// uSceneRadius behind uSceneCentre, over the disc of that radius.
-layout(binding = UNIT_LIGHT_SHADOWS) uniform samplerCubeArray uLightShadows;
-layout(binding = UNIT_DIRECTIONAL_SHADOWS) uniform sampler2DArray uDirectionalShadows;
-uniform vec3 uSceneCentre;
-uniform float uSceneRadius;
-uniform float uDirectionalShadowTexel;  // metres
-uniform float uLightShadowTexel;        // angle of a cube texel at a face's centre (point and spot lights)
-uniform float uAreaShadowTexel;         // the same for an area-light cell's map
-layout(std430, binding = BINDING_LIGHT_SHADOW_SCALES) readonly buffer LightShadowScales { float lightShadowScales[]; };
-
-// The distance stored in cube `cube` in direction u, as common/light_shadow.glsl reads it.
-float lightShadowDistance(vec3 u, float cube) {
-  float stored = texture(uLightShadows, vec4(u, cube)).r;
-  return stored >= 1.0 ? 3.0e38 : stored * lightShadowScales[int(cube)];
-}
+#include "common/light_maps.glsl"
 
 uniform int uMediaSteps;   // distances per punctual or directional light and pixel
 uniform int uAreaSteps;    // distances per area sample and pixel
