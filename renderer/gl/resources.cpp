@@ -280,28 +280,32 @@ void drawProceduralTriangles(int vertexCount, int instances) {
   glDrawArraysInstanced(GL_TRIANGLES, 0, vertexCount, instances);
 }
 
-std::vector<glm::vec4> readFramebufferRgba(const GlFramebuffer& framebuffer, int index, int width, int height) {
-  std::vector<glm::vec4> raw(static_cast<std::size_t>(width) * height);
+namespace {
+// Colour attachment `index` of `framebuffer` as float texels of `format` (GL_RGBA or GL_RGB) into `pixels`, which
+// holds width x height of them, rows top-down.
+template <typename Pixel>
+void readAttachment(const GlFramebuffer& framebuffer, int index, int width, int height, GLenum format,
+                    std::vector<Pixel>& pixels) {
   glNamedFramebufferReadBuffer(framebuffer.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index));
   glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer.id());
   glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadnPixels(0, 0, width, height, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(raw.size() * sizeof(glm::vec4)),
-                raw.data());
+  glReadnPixels(0, 0, width, height, format, GL_FLOAT, static_cast<GLsizei>(pixels.size() * sizeof(Pixel)),
+                pixels.data());
   glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  flipRows(raw, width, height);
+  flipRows(pixels, width, height);
+}
+}  // namespace
+
+std::vector<glm::vec4> readFramebufferRgba(const GlFramebuffer& framebuffer, int index, int width, int height) {
+  std::vector<glm::vec4> raw(static_cast<std::size_t>(width) * height);
+  readAttachment(framebuffer, index, width, height, GL_RGBA, raw);
   return raw;
 }
 
 Image readFramebuffer(const GlFramebuffer& framebuffer, int index, int width, int height) {
   // Straight into the image's RGB pixels (12 bytes, rows 4-aligned).
   Image image(width, height);
-  glNamedFramebufferReadBuffer(framebuffer.id(), GL_COLOR_ATTACHMENT0 + static_cast<GLenum>(index));
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, framebuffer.id());
-  glPixelStorei(GL_PACK_ALIGNMENT, 4);
-  glReadnPixels(0, 0, width, height, GL_RGB, GL_FLOAT, static_cast<GLsizei>(image.size() * sizeof(glm::vec3)),
-                image.pixels.data());
-  glBindFramebuffer(GL_READ_FRAMEBUFFER, 0);
-  flipRows(image.pixels, width, height);
+  readAttachment(framebuffer, index, width, height, GL_RGB, image.pixels);
   return image;
 }
 

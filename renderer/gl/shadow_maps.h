@@ -74,6 +74,7 @@ class CubeShadowMaps {
   std::vector<int> chunkBegins_{0};
   std::vector<int> firstLayers_;
   int wholeCubes_ = 0;
+  int maxLayers_ = 1;  // GL_MAX_ARRAY_TEXTURE_LAYERS
   GlBuffer casterBuffer_;
   GlFramebuffer framebuffer_;
   GlVertexArray vao_;

@@ -2,19 +2,22 @@
 // of a 2D array: a whole cube (6 layers) or a hemicube around a surface VPL's normal (3 layers). The face and its
 // texture coordinates are found here with the same orientations the maps were rendered with (shadow_maps.cpp,
 // preview/shadow.geom.glsl): a 90 degree perspective view looking down the major axis of the offset.
-// Normal-offset lookup: the receiver point moves along its geometric normal by about one shadow texel's world size
-// at that distance, which removes acne on surfaces seen at grazing angles without a large constant bias.
-// distance = |x - casterPos|, which the caller usually has already.
 #include "common/math.glsl"
 
-// The lookups return the shadow texture's coordinates (u, v, layer, depth reference), so that a caller choosing between
-// a cube and a hemicube fetches once: llvmpipe runs both sides of a branch for every lane.
+// The offset from the caster that a lookup reads: the receiver x moved along its geometric normal by about one shadow
+// texel's world size at that distance (normal-offset lookup), which removes acne on surfaces seen at grazing angles
+// without a large constant bias. size: the maps' face size in texels; distance = |x - casterPos|, which the caller
+// usually has already.
+vec3 shadowLookupOffset(float size, vec3 casterPos, vec3 x, float distance, vec3 geoNormal) {
+  return x + geoNormal * (1.5 * (2.0 / size) * distance) - casterPos;
+}
 
-// A whole cube, from layer firstLayer on; size: the maps' face size in texels.
-vec4 cubeShadowCoordinates(float size, int firstLayer, vec3 casterPos, vec3 x, float distance, vec3 geoNormal,
-                           float far, float bias) {
-  float texelAngle = 2.0 / size;
-  vec3 d = x + geoNormal * (1.5 * texelAngle * distance) - casterPos;
+// The lookups below return the shadow texture's coordinates (u, v, layer, depth reference) for the offset d of
+// shadowLookupOffset, so that a caller choosing between a cube and a hemicube fetches once: llvmpipe runs both sides
+// of a branch for every lane.
+
+// A whole cube, from layer firstLayer on.
+vec4 cubeShadowCoordinates(vec3 d, int firstLayer, float far, float bias) {
   vec3 a = abs(d);
   // Major axis m (signed), its face (+x, -x, +y, -y, +z, -z) and the face coordinates of the GL cube-map convention the
   // maps are rendered with (shadow_maps.cpp): face f looks down the axis with view space (s, u, -target), i.e.
@@ -34,10 +37,7 @@ vec4 cubeShadowCoordinates(float size, int firstLayer, vec3 casterPos, vec3 x, f
 // along +s (upper half of layer 1) and -s (its lower half), +t and -t (layer 2), with n up, in the frame (s, t, n) of
 // orthonormalFrame. A receiver behind the caster's plane reads the map at the horizon (a VSL can reach slightly past
 // it; a point VPL's cosine is 0 there anyway).
-vec4 hemicubeShadowCoordinates(float size, int firstLayer, vec3 casterPos, vec3 n, vec3 x, float distance,
-                               vec3 geoNormal, float far, float bias) {
-  float texelAngle = 2.0 / size;
-  vec3 d = x + geoNormal * (1.5 * texelAngle * distance) - casterPos;
+vec4 hemicubeShadowCoordinates(vec3 d, float size, int firstLayer, vec3 n, float far, float bias) {
   vec3 s, t;
   orthonormalFrame(n, s, t);
   float ls = dot(d, s), lt = dot(d, t), ln = max(dot(d, n), 0.0);

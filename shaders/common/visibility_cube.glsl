@@ -13,12 +13,11 @@ float vplVisibility(int caster, vec3 casterPos, vec3 casterNormal, vec3 x, float
   float size = float(textureSize(uVisibilityMaps, 0).x);
   // Six layers per whole cube, then three per hemicube.
   int firstLayer = 3 * caster + 3 * min(caster, uWholeCubes);
-  vec4 at = hemicubeShadowCoordinates(size, firstLayer, casterPos, casterNormal, x, distance, geoNormal, uShadowFar,
-                                      uShadowBias);
+  vec3 d = shadowLookupOffset(size, casterPos, x, distance, geoNormal);
+  vec4 at = hemicubeShadowCoordinates(d, size, firstLayer, casterNormal, uShadowFar, uShadowBias);
 #if PREVIEW_MEDIA > 0
   // Only a scene with media has medium VPLs.
-  vec4 cube = cubeShadowCoordinates(size, firstLayer, casterPos, x, distance, geoNormal, uShadowFar, uShadowBias);
-  at = caster < uWholeCubes ? cube : at;
+  at = caster < uWholeCubes ? cubeShadowCoordinates(d, firstLayer, uShadowFar, uShadowBias) : at;
 #endif
   return texture(uVisibilityMaps, at);
 }
