@@ -243,6 +243,17 @@ void PreviewRenderer::ensureTargets(int width, int height) {
   haveFrame_ = false;
 }
 
+std::size_t previewFirstFrameBytes(const Settings& settings) {
+  // The screen targets (Targets) measured 250-265 bytes a pixel at 640x480 with s = 1 and s = 2; the VPL maps as
+  // visibilityFootprint counts them, for hemicubes (3 of a cube's 6 faces) of about settings.vplCount VPLs. Half as
+  // much again for the lights' maps, the read-back and the smaller textures: the Cornell box at 640x480 created 120
+  // MB of textures of a megabyte or more, and warming 160 MB left half the faults that 128 MB left.
+  const double screen = 256.0 * settings.width * static_cast<double>(settings.height);
+  const double face = std::max(8, settings.shadowMapSize / 2);
+  const double maps = 2.0 * 3.0 * face * face * std::min(settings.vplCount, settings.previewRepresentatives);
+  return static_cast<std::size_t>(1.5 * (screen + maps));
+}
+
 std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Settings& settings,
                               const GlLimits& limits) {
   std::ostringstream why;

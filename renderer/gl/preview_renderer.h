@@ -17,6 +17,7 @@
 // depend on it. A VPL shadow map depends only on its caster and the map sizes, so a new VplSet (or invalidateVpls())
 // whose positions are unchanged keeps the maps.
 
+#include <cstddef>
 #include <cstdint>
 #include <limits>
 #include <memory>
@@ -90,6 +91,11 @@ enum class PreviewOutput {
 /// render() checks it before any GL work and throws it; commands call it before generating VPLs.
 std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Settings& settings,
                               const GlLimits& limits);
+
+/// About the bytes of textures the preview's first frame creates under `settings`, from the settings alone (vplab
+/// preview warms that much heap before the scene is read, heap_warmer.h): its screen targets and its VPLs' shadow maps
+/// as hemicubes. The lights' maps, which depend on the scene, are left out.
+std::size_t previewFirstFrameBytes(const Settings& settings);
 
 /// The pixels one set of the preview's screen passes runs on (preview_renderer.cpp).
 struct ScreenGrid;
