@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <climits>
 #include <cstdlib>
+#include <system_error>
 
 #if defined(__GLIBC__)
 #include <malloc.h>
@@ -26,7 +27,7 @@ HeapWarmer::HeapWarmer(std::size_t bytes) {
     if (!block) break;  // only a speed-up: the textures fault in as before
     blocks_.push_back(block);
   }
-  thread_ = std::thread([this] {
+  auto warm = [this] {
     // Idle priority: it only runs on a core nothing else wants (Linux: SCHED_IDLE for this thread alone).
     sched_param none{};
     pthread_setschedparam(pthread_self(), SCHED_IDLE, &none);
@@ -36,7 +37,14 @@ HeapWarmer::HeapWarmer(std::size_t bytes) {
         for (std::size_t at = 0; at < kBlockBytes; at += 4096) static_cast<volatile char*>(block)[at] = 0;
       std::free(block);
     }
-  });
+  };
+  try {
+    thread_ = std::thread(warm);
+  } catch (const std::system_error&) {
+    // No thread to spare: nothing warmed, nothing lost.
+    for (void* block : blocks_) std::free(block);
+    blocks_.clear();
+  }
 #else
   (void)bytes;
 #endif
