@@ -1,8 +1,11 @@
 // HeapWarmer (renderer/gl/heap_warmer.h): the heap it warms is where the next texture-sized allocations of the same
-// thread land, and their pages are present before anything writes them.
+// thread land, and their pages are present before anything writes them. That is a property of glibc's allocator: the
+// check is built only where glibc serves malloc (not under AddressSanitizer, whose allocator is its own), rather than
+// skipped and counted as passed there.
 
 #include <gtest/gtest.h>
 
+#include <cstdint>
 #include <cstdlib>
 #include <vector>
 
@@ -30,10 +33,8 @@ double residentShare(void* p, std::size_t bytes) {
   for (unsigned char r : resident) count += r & 1;
   return static_cast<double>(count) / static_cast<double>(resident.size());
 }
-#endif
 
 TEST(HeapWarmer, LaterAllocationsLandInPresentPages) {
-#if defined(VPLAB_HEAP_WARMER_CHECKED)
   constexpr std::size_t kWarmed = 64u << 20;
   HeapWarmer warmer(kWarmed);
   warmer.wait();
@@ -47,10 +48,8 @@ TEST(HeapWarmer, LaterAllocationsLandInPresentPages) {
     textures.push_back(p);
   }
   for (void* p : textures) std::free(p);
-#else
-  GTEST_SKIP() << "glibc's allocator only";
-#endif
 }
+#endif
 
 TEST(HeapWarmer, NothingBelowABlockAndStopsWhenDestroyedEarly) {
   HeapWarmer none(HeapWarmer::kBlockBytes - 1);

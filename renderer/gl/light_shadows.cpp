@@ -98,18 +98,21 @@ int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCas
     cubes_.setLinearFiltering(false);
   }
   // Each cube's scale: a little more than its caster's distance to the farthest corner of the triangles' bounds, so
-  // that every occluder's distance is below it.
-  std::vector<float> scales(casters.size());
-  const Bounds& b = scene.geometryBounds;
-  for (std::size_t c = 0; c < casters.size(); ++c) {
-    const float farthest =
-        b.valid() ? glm::length(glm::max(glm::abs(casters[c].position - b.lower), glm::abs(casters[c].position - b.upper)))
-                  : 0.0f;
-    scales[c] = std::isfinite(farthest) && farthest > 0.0f ? 1.01f * farthest : 1.0f;
+  // that every occluder's distance is below it. Set when the maps start; a resumed render has the same casters.
+  if (first == 0 || scales_.size() != casters.size()) {
+    scales_.resize(casters.size());
+    const Bounds& b = scene.geometryBounds;
+    for (std::size_t c = 0; c < casters.size(); ++c) {
+      const float farthest = b.valid() ? glm::length(glm::max(glm::abs(casters[c].position - b.lower),
+                                                              glm::abs(casters[c].position - b.upper)))
+                                       : 0.0f;
+      scales_[c] = std::isfinite(farthest) && farthest > 0.0f ? 1.01f * farthest : 1.0f;
+    }
+    // One entry at least: the buffer is bound with the (placeholder) cubes.
+    const float none = 1.0f;
+    scalesBuffer_.assign(scales_.empty() ? &none : scales_.data(),
+                         std::max<std::size_t>(scales_.size(), 1) * sizeof(float));
   }
-  // One entry at least: the buffer is bound with the (placeholder) cubes.
-  const float none = 1.0f;
-  scales_.assign(scales.empty() ? &none : scales.data(), std::max<std::size_t>(scales.size(), 1) * sizeof(float));
   if (count_ == 0) return -1;
   const int faces = 6 * count_;
   for (int face = first; face < faces; ++face) {
@@ -127,7 +130,7 @@ int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCas
     // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
     rasterizer_.draw(face % 6, 4.0f * 2.0f / static_cast<float>(size), threads, texels_.data());
     // 65535 only where no triangle lies.
-    const float perScale = 65535.0f / scales[static_cast<std::size_t>(face / 6)];
+    const float perScale = 65535.0f / scales_[static_cast<std::size_t>(face / 6)];
     quantized_.resize(texels_.size());
     for (std::size_t i = 0; i < texels_.size(); ++i)
       quantized_[i] = texels_[i] >= kNoOccluder ? std::uint16_t{65535}
@@ -176,7 +179,7 @@ int LightShadowMaps::renderDirectional(const Scene& scene, const std::vector<glm
 
 void LightShadowMaps::bind() const {
   if (cubes_) cubes_.bind(unit(TextureUnit::LightShadows));
-  if (scales_.size() > 0) scales_.bindStorage(binding(BufferBinding::LightShadowScales));
+  if (scalesBuffer_.size() > 0) scalesBuffer_.bindStorage(binding(BufferBinding::LightShadowScales));
   if (planes_) planes_.bind(unit(TextureUnit::DirectionalShadows));
 }
 

@@ -80,8 +80,9 @@ class LightShadowMaps {
   // A face as drawn, quantised, and repeated up to the array's faces.
   std::vector<float> texels_;
   std::vector<std::uint16_t> quantized_, repeated_;
-  // Each cube's scale (LightShadowScales).
-  GlBuffer scales_;
+  // Each cube's scale, and the buffer that holds it (LightShadowScales).
+  std::vector<float> scales_;
+  GlBuffer scalesBuffer_;
   int count_ = 0, directionalCount_ = 0;
 };
 

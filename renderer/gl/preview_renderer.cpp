@@ -249,7 +249,7 @@ std::size_t previewFirstFrameBytes(const Settings& settings) {
   // much again for the lights' maps, the read-back and the smaller textures: the Cornell box at 640x480 created 120
   // MB of textures of a megabyte or more, and warming 160 MB left half the faults that 128 MB left.
   const double screen = 256.0 * settings.width * static_cast<double>(settings.height);
-  const double face = std::max(8, settings.shadowMapSize / 2);
+  const double face = vplCubeFaceSize(settings.shadowMapSize);
   const double maps = 2.0 * 3.0 * face * face * std::min(settings.vplCount, settings.previewRepresentatives);
   return static_cast<std::size_t>(1.5 * (screen + maps));
 }

@@ -60,7 +60,7 @@ enum class BufferBinding : int {
   /// The density grids of the scene's grid media that no 3D texture holds, as NanoVDB grids (storage block of
   /// common/medium.glsl, renderer/gl/density_grids_gpu.h).
   MediaDensityGrid = 10,
-  /// Each light cube map's distance scale (renderer/gl/light_shadows.h, common/light_shadow.glsl).
+  /// Each light cube map's distance scale (renderer/gl/light_shadows.h, common/light_maps.glsl).
   LightShadowScales = 11,
 };
 

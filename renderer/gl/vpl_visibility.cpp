@@ -58,7 +58,7 @@ VisibilityFootprint visibilityFootprint(VisibilityMethod method, int casters, co
     }
     return fit;
   }
-  const int face = std::max(8, settings.shadowMapSize / 2);
+  const int face = vplCubeFaceSize(settings.shadowMapSize);
   if (face > limits.maxTextureSize) {
     why << "shadowMapSize " << settings.shadowMapSize << " exceeds this GL context's texture size "
         << limits.maxTextureSize << ": lower --shadow-map-size";
@@ -115,7 +115,7 @@ bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vec
     nextMoved_ = maps_.renderMoved(glScene, updateCasters_, moved_, nextMoved_, outOfTime);
     if (nextMoved_ >= 0) return false;
   } else {
-    nextCaster_ = maps_.render(glScene, updateCasters_, std::max(8, updateMapSize_ / 2), far, nextCaster_, outOfTime);
+    nextCaster_ = maps_.render(glScene, updateCasters_, vplCubeFaceSize(updateMapSize_), far, nextCaster_, outOfTime);
     if (nextCaster_ >= 0) return false;
   }
   casters_ = updateCasters_;

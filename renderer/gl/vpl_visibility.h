@@ -11,6 +11,7 @@
 //   ism   imperfect shadow maps (ism.h): a paraboloid tile per VPL from a fixed point set; costs the point budget plus
 //         VPLs x tile texels, independent of the triangle count, at the price of light leaks and over-darkening.
 
+#include <algorithm>
 #include <functional>
 #include <memory>
 #include <string>
@@ -52,6 +53,10 @@ class VplVisibility {
   /// Binds a chunk's texture to TextureUnit::VplVisibility and sets the technique's uniforms on `program`.
   virtual void bindChunk(int chunk, ShaderProgram& program) const = 0;
 };
+
+/// The texels per side of a VPL's cube or hemicube faces under Settings::shadowMapSize S: S / 2, at least 8
+/// (shadow_maps.h).
+inline int vplCubeFaceSize(int shadowMapSize) { return std::max(8, shadowMapSize / 2); }
 
 /// The technique a VisibilityMethod names.
 std::unique_ptr<VplVisibility> makeVplVisibility(VisibilityMethod method);
