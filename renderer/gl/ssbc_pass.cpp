@@ -25,7 +25,12 @@ struct SsbcPass::Targets {
   Target flat;
   GlTexture flatRowPlanes, flatRowStates;
   GlFramebuffer flatRows;
-  // Whether taps/area and flat were made from the current G-buffer (flat: only made with the coarse rings).
+  // Where the fine and the fallback passes run (ssbc_mask.frag.glsl): depth-only framebuffers that make the masks,
+  // and the framebuffers the passes draw through, a step's output with the pass's mask (the fine pass's per step).
+  GlTexture fineMask, fallbackMask;
+  GlFramebuffer fineMaskDraw, fallbackMaskDraw, fineInto[2], fallbackInto;
+  // Whether taps/area, and flat with the masks, were made from the current G-buffer (flat: only made with the coarse
+  // rings).
   bool tapsCurrent = false, flatCurrent = false;
 
   Targets(int w, int h)
@@ -38,7 +43,15 @@ struct SsbcPass::Targets {
         coarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F),
         flat((w + 3) / 4, (h + 3) / 4),
         flatRowPlanes((w + 3) / 4, h, TextureFormat::Rgba32F),
-        flatRowStates((w + 3) / 4, h, TextureFormat::Rgba32F) {
+        flatRowStates((w + 3) / 4, h, TextureFormat::Rgba32F),
+        fineMask(w, h, TextureFormat::Depth32F),
+        fallbackMask(w, h, TextureFormat::Depth32F) {
+    fineMaskDraw.attachDepth(fineMask);
+    fineMaskDraw.finalize(0);
+    fallbackMaskDraw.attachDepth(fallbackMask);
+    fallbackMaskDraw.finalize(0);
+    for (GlFramebuffer& into : fineInto) into.attachDepth(fineMask);
+    fallbackInto.attachDepth(fallbackMask);
     flatRows.attachColor(0, flatRowPlanes);
     flatRows.attachColor(1, flatRowStates);
     flatRows.finalize(2);
@@ -65,6 +78,8 @@ SsbcPass::SsbcPass()
       fine_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1"}),
       flatRows_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}, {"SSBC_FLAT_ROWS 1"}),
       flatColumns_({"preview/fullscreen.vert.glsl", "preview/ssbc_flat.frag.glsl"}, {"SSBC_FLAT_ROWS 0"}),
+      fineMask_({"preview/fullscreen.vert.glsl", "preview/ssbc_mask.frag.glsl"}, {"SSBC_MASK_FINE 1"}),
+      fallbackMask_({"preview/fullscreen.vert.glsl", "preview/ssbc_mask.frag.glsl"}),
       fallback_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FALLBACK_PASS 1"}),
       upsample_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_UPSAMPLE_PASS 1"}) {}
 
@@ -127,14 +142,28 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   auto drawWhole = [&](ShaderProgram& program, int w, int h) {
     slices.bands(glm::ivec4(0, 0, w, h), [&] { drawFullscreen(program, vao); });
   };
-  // Multi-resolution rings: adds (blending) the fine rings where they are not zero, and (withFallback) the coarse rings
-  // where the pass before could not interpolate them from the coarse grid.
-  auto addSplitPasses = [&](bool withFallback) {
+  // Multi-resolution rings: adds (blending) the fine rings into `output` where they are not zero, and (withFallback)
+  // the coarse rings where the pass before could not interpolate them from the coarse grid; each pass runs where its
+  // mask holds 1, drawn at a smaller depth.
+  auto addSplitPasses = [&](Target& output, GlFramebuffer& fineInto, bool withFallback) {
     if (!split) return;
     glEnable(GL_BLEND);
     glBlendFunc(GL_ONE, GL_ONE);
+    glEnable(GL_DEPTH_TEST);
+    glDepthMask(GL_FALSE);
+    glDepthFunc(GL_LESS);
+    fineInto.attachColor(0, output.texture);
+    fineInto.finalize(1);
+    fineInto.bind(width, height);
     drawWhole(fine, width, height);
-    if (withFallback) drawWhole(fallback, width, height);
+    if (withFallback) {
+      tg.fallbackInto.attachColor(0, output.texture);
+      tg.fallbackInto.finalize(1);
+      tg.fallbackInto.bind(width, height);
+      drawWhole(fallback, width, height);
+    }
+    glDepthMask(GL_TRUE);
+    glDisable(GL_DEPTH_TEST);
     glDisable(GL_BLEND);
   };
   if (redoFlat_) {
@@ -145,6 +174,14 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     tg.flatRowStates.bind(unit(TextureUnit::PassInput6));
     tg.flat.framebuffer.bind(tg.flat.texture.width(), tg.flat.texture.height());
     drawWhole(flatColumns_.get(), tg.flat.texture.width(), tg.flat.texture.height());
+    tg.flat.texture.bind(unit(TextureUnit::PassInput7));
+    glEnable(GL_DEPTH_TEST);  // writes depth, which GL does only with the test on
+    glDepthFunc(GL_ALWAYS);
+    tg.fineMaskDraw.bind(width, height);
+    drawWhole(fineMask_.get(), width, height);
+    tg.fallbackMaskDraw.bind(width, height);
+    drawWhole(fallbackMask_.get(), width, height);
+    glDisable(GL_DEPTH_TEST);
     slices.step([&] { tg.flatCurrent = true; });
   }
   if (split) tg.flat.texture.bind(unit(TextureUnit::PassInput7));
@@ -177,7 +214,7 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     // surface where they cannot be interpolated, instead of being evaluated at those pixels.
     const bool extrapolate = split && step == 1;
     drawWhole(extrapolate ? upsample : ssbc, width, height);
-    addSplitPasses(!extrapolate);
+    addSplitPasses(*outputs[step], tg.fineInto[step], !extrapolate);
     input = outputs[step];
   }
   return steps;

@@ -48,6 +48,7 @@ class SsbcPass {
   // (SSBC_UPSAMPLE_PASS).
   BrdfVariants split_, coarse_, fine_;
   DeferredProgram flatRows_, flatColumns_;
+  DeferredProgram fineMask_, fallbackMask_;  // where the fine and the fallback passes run (ssbc_mask.frag.glsl)
   BrdfVariants fallback_, upsample_;
   // What the run under way redoes of what depends on the G-buffer alone: taken when it starts, since its own steps
   // make these current.

@@ -20,9 +20,10 @@
 // pixel whose fine taps are not all coplanar with it (SSBC_FINE_PASS, ssbc_flat.frag.glsl). A pixel whose
 // interpolation would need a sample from another surface evaluates the coarse rings itself.
 //
-// llvmpipe runs an if under a lane mask and a loop's body at least once for the whole SIMD group; only a discard
-// ends the shader early (once every lane of the group has discarded). The tap is therefore branch-free, and work
-// that only some pixels need goes to a pass that discards the others (SSBC_FALLBACK_PASS).
+// llvmpipe runs an if under a lane mask and a loop's body at least once for the whole SIMD group; only a failed early
+// depth test or a discard ends the shader early (once every lane of the group has failed). The tap is therefore
+// branch-free, and work that only some pixels need goes to a pass drawn through a depth mask of those pixels
+// (SSBC_FINE_PASS, SSBC_FALLBACK_PASS; ssbc_mask.frag.glsl), which costs far less than discarding the others.
 // Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included before it.
 #include "common/units.glsl"
 

@@ -12,9 +12,6 @@
 #include "common/ssbc.glsl"
 
 uniform int uScale;
-#ifdef SSBC_FINE_PASS
-layout(binding = UNIT_PASS_INPUT7) uniform sampler2D uFlat;  // per coarse block: 1 where every fine tap is coplanar with its pixel
-#endif
 layout(location = 0) out vec4 outColor;
 #ifdef SSBC_COARSE_PASS
 layout(location = 1) out vec4 outFar;  // the far rings alone (levels >= kSsbcFallbackExactLevels)
@@ -38,24 +35,21 @@ void main() {
   value = receiver ? value : vec3(0.0);
   outFar = vec4(receiver && all(lessThan(px, size)) ? far : vec3(0.0), 1.0);
 #elif defined(SSBC_FALLBACK_PASS)
-  // Added (blending) to the SSBC_SPLIT pass's output where it lacks the coarse rings. A discarded fragment ends the
-  // shader for its SIMD group once every lane has discarded (llvmpipe), so only groups at creases and silhouettes
-  // evaluate the coarse rings; a branch or loop would run for every group.
+  // Added (blending) to the SSBC_SPLIT pass's output where it lacks the coarse rings. Drawn through a depth mask
+  // (ssbc_mask.frag.glsl), so that only SIMD groups at creases and silhouettes evaluate the coarse rings; a branch or
+  // loop would run for every group (llvmpipe).
   SsbcReceiver r;
-  vec3 coarse;
-  if (any(greaterThanEqual(px, size)) || !ssbcReceiver(pc, r) || ssbcCoarseInterpolated(r, pc, coarse)) discard;
+  ssbcReceiver(pc, r);
   // The near coarse rings exactly, the far ones from the samples on p's surface.
   vec3 value = ssbcRings(r, pc, kSsbcFineLevels, min(r.topLevel, kSsbcFallbackExactLevels - 1)) +
                ssbcFromCoarseSamples(uCoarseFar, r, pc);
   alpha = 0.0;
 #elif defined(SSBC_FINE_PASS)
-  // Added (blending) to the SSBC_SPLIT pass's output: the fine rings, only at pixels whose block is not flat
-  // (ssbc_flat.frag.glsl); elsewhere every fine tap is coplanar with p and adds nothing. Discarding ends the shader
-  // early for a SIMD group whose pixels are all flat (llvmpipe).
+  // Added (blending) to the SSBC_SPLIT pass's output: the fine rings, drawn through a depth mask
+  // (ssbc_mask.frag.glsl) that holds only the pixels whose block is not flat (ssbc_flat.frag.glsl); elsewhere every
+  // fine tap is coplanar with p and adds nothing.
   SsbcReceiver r;
-  if (any(greaterThanEqual(px, size)) || texelFetch(uFlat, px / kSsbcCoarseSpacing, 0).x > 0.5 ||
-      !ssbcReceiver(pc, r))
-    discard;
+  ssbcReceiver(pc, r);
   vec3 value = ssbcLevel0(r, pc) + ssbcLevel1(r, pc);
   alpha = 0.0;
 #elif defined(SSBC_SPLIT)

@@ -2,9 +2,9 @@
 // Per block of kSsbcCoarseSpacing x kSsbcCoarseSpacing pixels (common/ssbc.glsl), once per camera: 1 when every
 // surface texel that a fine-ring tap of a pixel in the block can reach (the pixels within 5 of the block, the reach
 // of the level-1 ring) lies on the plane of one surface, else 0. For such a pixel every fine tap is coplanar with it,
-// so cos theta_1 = 0 and the fine rings add exactly nothing (G = 0 <= b): the fine pass (SSBC_FINE_PASS) discards
-// those pixels, and only the ones near creases, silhouettes and curved surfaces pay for the fine rings. Background
-// and off-screen texels do not take part in a tap, so they do not break a plane.
+// so cos theta_1 = 0 and the fine rings add exactly nothing (G = 0 <= b): the fine pass (SSBC_FINE_PASS) skips
+// those pixels (its mask, ssbc_mask.frag.glsl), and only the ones near creases, silhouettes and curved surfaces pay
+// for the fine rings. Background and off-screen texels do not take part in a tap, so they do not break a plane.
 // Separable, because the windows of neighbouring blocks overlap (14 x 14 pixels at a stride of 4): SSBC_FLAT_ROWS
 // summarises each 14-pixel row segment of a block's window (its first surface texel's plane, and whether the others
 // lie on it); the column pass then checks that a block's 14 segments lie on one plane.
