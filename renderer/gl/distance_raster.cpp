@@ -216,7 +216,8 @@ void DistanceRasterizer::bin(const Scene& scene, int threads) {
   });
 }
 
-void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* out) const {
+void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* out,
+                              const std::function<void(int rowBegin, int rowEnd)>& bandDone) const {
   const Scene& scene = *scene_;
   const View& v = views_[static_cast<std::size_t>(view)];
   const int size = size_;
@@ -284,6 +285,7 @@ void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* 
           if (coveredSpan(edges, y, e.i0, e.i1, size, first, last)) span(first, last);
         }
       }
+    if (bandDone) bandDone(rowBegin, rowEnd);
   });
 }
 

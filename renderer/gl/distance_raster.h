@@ -14,6 +14,7 @@
 // the maps are the same at any thread count.
 
 #include <cstdint>
+#include <functional>
 #include <glm/glm.hpp>
 #include <vector>
 
@@ -39,7 +40,10 @@ class DistanceRasterizer {
   /// row 0): the distance d to the nearest triangle along the texel's ray plus min(|dd/di| + |dd/dj|, maxSlopeBias d)
   /// for a cube face (maxSlopeBias for the plane), the change of the triangle's distance to the neighbouring texels
   /// (GL's fwidth), bounded where the triangle grazes the ray; kNoOccluder where no triangle lies.
-  void draw(int view, float maxSlopeBias, int threads, float* out) const;
+  /// bandDone(rowBegin, rowEnd), if given, is called on the thread that drew rows [rowBegin, rowEnd) once they are
+  /// final, so that what is made of them (quantized copies) is made on every core too.
+  void draw(int view, float maxSlopeBias, int threads, float* out,
+            const std::function<void(int rowBegin, int rowEnd)>& bandDone = {}) const;
   int views() const { return static_cast<int>(views_.size()); }
   int size() const { return size_; }
 

@@ -127,14 +127,17 @@ int LightShadowMaps::render(const Scene& scene, const std::vector<LightShadowCas
       binnedOrigin_ = caster.position;
     }
     texels_.resize(static_cast<std::size_t>(size) * size);
-    // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
-    rasterizer_.draw(face % 6, 4.0f * 2.0f / static_cast<float>(size), threads, texels_.data());
-    // 65535 only where no triangle lies.
-    const float perScale = 65535.0f / scales_[static_cast<std::size_t>(face / 6)];
     quantized_.resize(texels_.size());
-    for (std::size_t i = 0; i < texels_.size(); ++i)
-      quantized_[i] = texels_[i] >= kNoOccluder ? std::uint16_t{65535}
-                                                : static_cast<std::uint16_t>(std::min(texels_[i] * perScale + 0.5f, 65534.0f));
+    // 65535 only where no triangle lies; quantized band by band as the bands are drawn, on every core.
+    const float perScale = 65535.0f / scales_[static_cast<std::size_t>(face / 6)];
+    auto quantize = [&](int rowBegin, int rowEnd) {
+      for (std::size_t i = static_cast<std::size_t>(rowBegin) * size; i < static_cast<std::size_t>(rowEnd) * size; ++i)
+        quantized_[i] = texels_[i] >= kNoOccluder
+                            ? std::uint16_t{65535}
+                            : static_cast<std::uint16_t>(std::min(texels_[i] * perScale + 0.5f, 65534.0f));
+    };
+    // Slope bias of the stored distance, at most this many texels' worth of distance (grazing triangles).
+    rasterizer_.draw(face % 6, 4.0f * 2.0f / static_cast<float>(size), threads, texels_.data(), quantize);
     if (size == side) {
       cubes_.uploadLayerUnorm16(face, quantized_);
     } else {
