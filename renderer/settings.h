@@ -246,7 +246,8 @@ struct Settings {
   /// pixel [1, 4]. Both passes' work scales with their pixels, so s = 2 does about a quarter of it. Default 1 (2 in
   /// `vplab preview` and the editor: previewDefaultSettings).
   int indirectDownscale = 1;
-  /// Resolution of each VPL's shadow map, in texels per side [16, 2048]. Default 256.
+  /// Resolution of each VPL's shadow map, in texels per side [16, 2048]. Default 256 (128 in `vplab preview` and the
+  /// editor: previewDefaultSettings).
   int shadowMapSize = 256;
   /// Texels per side of a point or spot light's shadow-map face in the preview, a power of two [16, 4096]; an
   /// area-light cell's faces have half as many, a directional light's map twice (LightMapSizes,

@@ -345,6 +345,7 @@ TEST(CliFlags, HelpListsOnlyWhatActsOnTheCommandWithItsOwnDefaults) {
   // The preview's own defaults (previewDefaultSettings), not the Settings struct's k = s = 1.
   EXPECT_TRUE(contains(preview.out, "1 = off (default 4)")) << preview.out;
   EXPECT_TRUE(contains(preview.out, "upsampled along surfaces (default 2)")) << preview.out;
+  EXPECT_TRUE(contains(preview.out, "VPL shadow-map resolution in texels (default 128)")) << preview.out;
   CliRun reference = vplab("reference --help");
   EXPECT_TRUE(contains(reference.out, "(default 64)"));
   EXPECT_FALSE(contains(reference.out, "--vpl-count"));

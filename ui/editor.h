@@ -15,10 +15,10 @@ struct EditorOptions {
   std::string scriptPath;      ///< empty: interactive
   std::string screenshotPath;  ///< written (PNG, whole window) after the script, then the editor exits
   /// Initial settings (CLI options and --settings applied). Where they say nothing, those of `vplab preview`
-  /// (previewDefaultSettings): interleaved over 4 x 4 subsets, the indirect light on the half-resolution grid. At the
-  /// fitted size they make an edit show in about a tenth of a second on llvmpipe, where k = s = 1 takes 0.2-0.8 s on
-  /// the Cornell boxes and seconds in the smoke (docs/benchmarks.md, "Editing in the editor"). The settings panel, a
-  /// settings file or --interleave 1 --indirect-downscale 1 give the full gather.
+  /// (previewDefaultSettings): interleaved over 4 x 4 subsets, the indirect light on the half-resolution grid, VPL
+  /// maps of 64^2 texels per face. At the fitted size they make an edit show in about a tenth of a second on llvmpipe,
+  /// where k = s = 1 takes 0.2-0.8 s on the Cornell boxes and seconds in the smoke (docs/benchmarks.md, "Editing in
+  /// the editor"). The settings panel, a settings file or --interleave 1 --indirect-downscale 1 give the full gather.
   Settings settings = previewDefaultSettings();
   /// The preview's size follows the view area (times the resolution scale) instead of settings.width x height;
   /// an explicit image size (--size, the offline panel's image size, a script's `set width`) turns it off.
