@@ -115,13 +115,15 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   ShaderProgram& fallback = fallback_[lambertOnly];
   ShaderProgram& fine = fine_[lambertOnly];
   ShaderProgram& upsample = upsample_[lambertOnly];
-  for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine, &upsample}) {
-    program->set("uCameraPosition", camera.position);
-    program->set("uCameraForward", camera.forward);
-    program->set("uClampBound", settings.clampBound);
-    program->set("uFocalPixels", focal);
-    program->set("uMaxLevel", images.gPosition.levels() - 1);
-  }
+  // What ssbcReceiver reads.
+  auto setReceiver = [&](ShaderProgram& program) {
+    program.set("uCameraPosition", camera.position);
+    program.set("uCameraForward", camera.forward);
+    program.set("uClampBound", settings.clampBound);
+    program.set("uFocalPixels", focal);
+    program.set("uMaxLevel", images.gPosition.levels() - 1);
+  };
+  for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine, &upsample}) setReceiver(*program);
   ssbc.set("uScale", 1);
   coarse.set("uScale", 4);
   fallback.set("uScale", 1);
@@ -175,6 +177,8 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     tg.flat.framebuffer.bind(tg.flat.texture.width(), tg.flat.texture.height());
     drawWhole(flatColumns_.get(), tg.flat.texture.width(), tg.flat.texture.height());
     tg.flat.texture.bind(unit(TextureUnit::PassInput7));
+    setReceiver(fineMask_.get());
+    setReceiver(fallbackMask_.get());
     glEnable(GL_DEPTH_TEST);  // writes depth, which GL does only with the test on
     glDepthFunc(GL_ALWAYS);
     tg.fineMaskDraw.bind(width, height);

@@ -2,9 +2,9 @@
 
 #include <algorithm>
 #include <array>
-#include <cstdint>
 #include <bit>
 #include <cmath>
+#include <cstdint>
 
 namespace vplab {
 
