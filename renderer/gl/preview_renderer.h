@@ -185,7 +185,10 @@ class PreviewRenderer {
   /// The media media_ holds, to notice an edit in place.
   std::vector<Medium> uploadedMedia_;
   VplGatherPass gather_;
-  ShaderProgram deinterleaveRows_, deinterleaveColumns_;
+  /// The de-interleave (preview/deinterleave.frag.glsl): its row pass merging both components, or one alone (the
+  /// direct light at full resolution and the gather on the grid when s > 1, a component read back), and its columns.
+  DeferredProgram deinterleaveRows_, deinterleaveRowsOneInput_;
+  ShaderProgram deinterleaveColumns_;
   SsbcPass ssbc_;
   /// The indirect light's grid at 1/s resolution: its G-buffer and its I0 (preview/indirect_grid.frag.glsl).
   DeferredProgram gridGbuffer_, gridInput_;

@@ -3,7 +3,9 @@
 // neighbours on the same surface (relative depth and normal tests), renormalised by the accepted weight so that
 // rejected neighbours do not darken the result. The direct light and the VPL gather are interleaved alike, so the
 // merge is linear in them: the row pass reads both and merges uWeights.x direct + uWeights.y indirect (1, 1 per frame:
-// I0, the input of the compensation; one of them alone when a component is read back).
+// I0, the input of the compensation; one of them alone when a component is read back). A component alone
+// (DEINTERLEAVE_ONE_INPUT: the direct light at full resolution and the gather on its grid when s > 1, a component read
+// back) is merged by a variant that reads only it.
 // The window is filtered separably, rows then columns (DEINTERLEAVE_COLUMNS 0 / 1): 2k instead of k^2 neighbours per
 // pixel. The row pass writes each row segment's weighted sum with its accepted weight in w, so on a surface the column
 // pass divides the weighted sum by the total weight; at a discontinuity a diagonal neighbour counts only when the row's
@@ -24,6 +26,9 @@
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uRows;        // row sums, accepted count in w
 layout(binding = UNIT_PASS_INPUT1) uniform sampler2D uPunctualDirect;  // per pixel, reflected radiance
 uniform float uPunctualWeight;                                     // uWeights.x of the row pass
+#elif DEINTERLEAVE_ONE_INPUT
+layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uIn;  // deinterleaved blocks of one component
+uniform float uWeight;                                     // its weight
 #else
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uDirectIn;    // deinterleaved blocks of the direct light
 layout(binding = UNIT_PASS_INPUT1) uniform sampler2D uIndirectIn;  // same for the gather
@@ -45,6 +50,8 @@ ivec2 rawTexel(ivec2 q) {
 vec4 inputAt(ivec2 q) {
 #if DEINTERLEAVE_COLUMNS
   return texelFetch(uRows, q, 0);
+#elif DEINTERLEAVE_ONE_INPUT
+  return vec4(uWeight * texelFetch(uIn, rawTexel(q), 0).rgb, 1.0);
 #else
   ivec2 t = rawTexel(q);
   vec3 value = uWeights.x * texelFetch(uDirectIn, t, 0).rgb + uWeights.y * texelFetch(uIndirectIn, t, 0).rgb;
