@@ -305,8 +305,8 @@ Settings previewDefaultSettings() {
   s.interleave = 4;
   s.indirectDownscale = 2;
   // VPL maps of 64^2 per cube face instead of 128^2: a quarter of the texels, which were most of the maps' cost, and
-  // on seven bundled scenes the same error against the reference within 0.5 % (docs/benchmarks.md "VPL maps of 64^2
-  // per face in the preview").
+  // on seven bundled scenes the same error against the reference within 0.6 % (docs/benchmarks.md "Depth masks for
+  // the compensation's sparse passes; VPL maps of 64^2 per face in the preview").
   s.shadowMapSize = 128;
   return s;
 }

@@ -669,17 +669,18 @@ void PreviewRenderer::mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFr
   grid.g.bind();
   // A component with weight 0 is not read at all: llvmpipe would fetch it at every tap, whatever its weight (the
   // direct light's merge at 640x480, s = 2: 9.0-9.3 -> 5.9-6.1 ms). A grid without a direct light of its own merges
-  // the gather alone (weights.x = 0).
+  // the gather alone (weights.x = 0); its gather stands in for the direct light's input otherwise, so that nothing
+  // undefined is bound.
   Target& direct = grid.directRaw ? *grid.directRaw : *grid.indirectRaw;
-  const bool both = weights.x != 0.0f && weights.y != 0.0f;
+  const bool both = weights.x != 0.0f && weights.y != 0.0f, directAlone = !both && weights.x != 0.0f;
   ShaderProgram& rows = both ? deinterleaveRows_.get() : deinterleaveRowsOneInput_.get();
   if (both) {
     direct.texture.bind(unit(TextureUnit::PassInput0));
     grid.indirectRaw->texture.bind(unit(TextureUnit::PassInput1));
     rows.set("uWeights", weights);
   } else {
-    (weights.x != 0.0f ? direct : *grid.indirectRaw).texture.bind(unit(TextureUnit::PassInput0));
-    rows.set("uWeight", weights.x != 0.0f ? weights.x : weights.y);
+    (directAlone ? direct : *grid.indirectRaw).texture.bind(unit(TextureUnit::PassInput0));
+    rows.set("uWeight", directAlone ? weights.x : weights.y);
   }
   rows.set("uInterleave", k);
   rows.set("uBlockSize", glm::ivec2(grid.blockWidth, grid.blockHeight));

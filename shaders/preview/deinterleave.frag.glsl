@@ -3,9 +3,8 @@
 // neighbours on the same surface (relative depth and normal tests), renormalised by the accepted weight so that
 // rejected neighbours do not darken the result. The direct light and the VPL gather are interleaved alike, so the
 // merge is linear in them: the row pass reads both and merges uWeights.x direct + uWeights.y indirect (1, 1 per frame:
-// I0, the input of the compensation; one of them alone when a component is read back). A component alone
-// (DEINTERLEAVE_ONE_INPUT: the direct light at full resolution and the gather on its grid when s > 1, a component read
-// back) is merged by a variant that reads only it.
+// I0, the input of the compensation). A component alone (the direct light at full resolution and the gather on its
+// grid when s > 1, a component read back) is merged by the variant DEINTERLEAVE_ONE_INPUT, which reads only it.
 // The window is filtered separably, rows then columns (DEINTERLEAVE_COLUMNS 0 / 1): 2k instead of k^2 neighbours per
 // pixel. The row pass writes each row segment's weighted sum with its accepted weight in w, so on a surface the column
 // pass divides the weighted sum by the total weight; at a discontinuity a diagonal neighbour counts only when the row's
