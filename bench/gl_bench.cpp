@@ -115,6 +115,7 @@ int main(int argc, char** argv) {
   std::string csvPath = "gl_bench.csv";
   GlBackend backend = GlBackend::Auto;
   int width = 640, height = 480, frames = 5, ssbc = 2, ssbcCoarseRings = 1, downscale = 1;
+  int shadowMapSize = Settings{}.shadowMapSize;
   float clamp = 20.0f;
   bool quick = false;
   std::vector<VisibilityMethod> methods = {VisibilityMethod::Cube, VisibilityMethod::Ism};
@@ -141,6 +142,10 @@ int main(int argc, char** argv) {
     } else if (a == "--indirect-downscale") {
       downscale = std::atoi(next().c_str());
       if (downscale < 1 || downscale > 4) return std::fprintf(stderr, "gl_bench: --indirect-downscale is 1 to 4\n"), 2;
+    } else if (a == "--shadow-map-size") {
+      shadowMapSize = std::atoi(next().c_str());
+      if (shadowMapSize < 16 || shadowMapSize > 4096)
+        return std::fprintf(stderr, "gl_bench: --shadow-map-size is 16 to 4096\n"), 2;
     } else if (a == "--quick") {
       quick = true;
     } else if (a == "--visibility") {
@@ -155,8 +160,8 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: %s [--gl auto|egl|osmesa] [--size WxH] [--frames F] [--csv F] [--scene F] "
-                   "[--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--indirect-downscale s] [--visibility cube,ism] "
-                   "[--quick]\n",
+                   "[--ssbc S] [--clamp b] [--ssbc-coarse-rings 0|1] [--indirect-downscale s] [--shadow-map-size S] "
+                   "[--visibility cube,ism] [--quick]\n",
                    argv[0]);
       return a == "--help" ? 0 : 2;
     }
@@ -166,10 +171,10 @@ int main(int argc, char** argv) {
   OfflineScene offline(scene);
   HeadlessGlContext context(backend);
   std::printf(
-      "gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (coarse rings %s), indirect light on a 1/%d grid, median of "
-      "%d frames after warm-up\n\n",
+      "gl      %s\nscene   %s, %dx%d, b = %g, ssbc %d (coarse rings %s), indirect light on a 1/%d grid, VPL "
+      "maps %d (%d^2 per face), median of %d frames after warm-up\n\n",
       context.description().c_str(), scene.sourcePath.c_str(), width, height, clamp, ssbc,
-      ssbcCoarseRings != 0 ? "on" : "off", downscale, frames);
+      ssbcCoarseRings != 0 ? "on" : "off", downscale, shadowMapSize, shadowMapSize / 2, frames);
 
   std::ofstream csv(csvPath);
   csv << "visibility,vpls,k,frame_ms,fps,gbuffer_ms,direct_ms,gather_ms,ssbc_ms,vpl_shadow_ms,frame_wall_ms,"
@@ -195,6 +200,7 @@ int main(int argc, char** argv) {
       settings.ssbcSteps = ssbc;
       settings.ssbcCoarseRings = ssbcCoarseRings != 0;
       settings.indirectDownscale = downscale;
+      settings.shadowMapSize = shadowMapSize;
       VplSet vpls = generateVpls(offline, settings);
       PreviewRenderer renderer;
       double shadowMs = 0.0;  // VPL shadow maps are rendered once per VPL set, with the first k

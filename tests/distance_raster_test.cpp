@@ -125,6 +125,45 @@ TEST(DistanceRaster, CubeFacesHoldTheNearestTriangleAlongEveryTexel) {
   EXPECT_GT(compared, 6 * size * size * 95 / 100);
 }
 
+TEST(DistanceRaster, RotatedViewsHoldTheNearestTriangleAlongEveryTexelOfTheirRows) {
+  // The views of a hemicube around a tilted normal (renderer/gl/shadow_maps.cpp): one along the normal, and side views
+  // with the normal up that keep their upper half only.
+  const Scene scene = scatteredTriangles();
+  const glm::vec3 origin(-0.2f, 0.1f, 0.3f);
+  const Frame frame(glm::normalize(glm::vec3(0.3f, 0.9f, -0.2f)));
+  const int size = 40;
+  const std::vector<DistanceRasterizer::Perspective> views = {
+      {frame.s, frame.t, frame.n, 0}, {frame.t, frame.n, frame.s, size / 2}, {frame.s, frame.n, -frame.t, size / 2}};
+  DistanceRasterizer rasterizer;
+  rasterizer.binPerspective(scene, origin, views, size, 2);
+  ASSERT_EQ(rasterizer.views(), 3);
+  std::vector<float> map(static_cast<std::size_t>(size) * size);
+  int compared = 0;
+  for (std::size_t v = 0; v < views.size(); ++v) {
+    rasterizer.draw(static_cast<int>(v), 0.0f, 2, map.data());
+    const DistanceRasterizer::Perspective& view = views[v];
+    for (int j = 0; j < view.firstRow; ++j)
+      for (int i = 0; i < size; ++i)
+        EXPECT_EQ(map[static_cast<std::size_t>(j) * size + i], kNoOccluder) << "view " << v << " row " << j;
+    int failures = 0;
+    for (int j = view.firstRow; j < size; ++j)
+      for (int i = 0; i < size; ++i) {
+        const double x = 2.0 * (i + 0.5) / size - 1.0, y = 2.0 * (j + 0.5) / size - 1.0;
+        const glm::dvec3 dir =
+            glm::normalize(glm::dvec3(view.axis) + x * glm::dvec3(view.s) + y * glm::dvec3(view.t));
+        const Nearest n = nearestHit(scene, glm::dvec3(origin), dir);
+        if (n.ambiguous) continue;
+        ++compared;
+        const float stored = map[static_cast<std::size_t>(j) * size + i];
+        const bool right = std::isfinite(n.t) ? std::abs(stored - n.t) <= 1e-4 * n.t : stored == kNoOccluder;
+        if (!right && ++failures <= 5)
+          ADD_FAILURE() << "view " << v << " texel " << i << "," << j << ": nearest hit at " << n.t << ", stored "
+                        << stored;
+      }
+  }
+  EXPECT_GT(compared, 2 * size * size * 95 / 100);
+}
+
 TEST(DistanceRaster, PlaneHoldsTheNearestTriangleAlongEveryTexel) {
   const Scene scene = scatteredTriangles();
   const glm::vec3 direction = glm::normalize(glm::vec3(0.3f, -1.0f, 0.2f)), centre(0.2f, 0.1f, 0.0f);

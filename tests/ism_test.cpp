@@ -144,7 +144,6 @@ TEST(TextureUnits, GlslIncludeMatchesTheEnum) {
       {"BINDING_SCENE_UVS", binding(BufferBinding::SceneUvs)},
       {"BINDING_SCENE_TRIANGLES", binding(BufferBinding::SceneTriangles)},
       {"BINDING_SCENE_MATERIALS", binding(BufferBinding::SceneMaterials)},
-      {"BINDING_SHADOW_CASTERS", binding(BufferBinding::ShadowCasters)},
       {"BINDING_DIRECT_LIGHTS", binding(BufferBinding::DirectLights)},
       {"BINDING_VPLS", binding(BufferBinding::Vpls)},
       {"BINDING_MEDIA", binding(BufferBinding::Media)},

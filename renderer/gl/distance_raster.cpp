@@ -76,20 +76,22 @@ inline bool texelRange(float cmin, float cmax, int size, int& lo, int& hi) {
 // d ln(dist) / dx = x / |r|^2 - sumSlope.x / sum (y likewise). Branch-free, so that it runs on SIMD lanes (the file is
 // built without errno and traps from floating point).
 void faceSpan(float* row, int first, int last, float step, float y, float sumAtY, glm::vec2 sumSlope, float absDet,
-              float dmax, float maxSlopeBias) {
+              float dmax, float maxSlopeBias, float near) {
   for (int i = first; i <= last; ++i) {
     const float x = (static_cast<float>(i) + 0.5f) * step - 1.0f;
     const float sum = sumAtY + sumSlope.x * x;
     const float inverseSum = 1.0f / (sum > 1e-30f ? sum : 1e-30f);
     const float r2 = 1.0f + x * x + y * y, inverseR2 = 1.0f / r2;
-    const float along = absDet * inverseSum * std::sqrt(r2);
+    // The hit lies absDet / sum along the face's axis (r's axis component is 1).
+    const float axial = absDet * inverseSum;
+    const float along = axial * std::sqrt(r2);
     const float dist = along < dmax ? along : dmax;
     const float slope =
         step * dist *
         (std::fabs(x * inverseR2 - sumSlope.x * inverseSum) + std::fabs(y * inverseR2 - sumSlope.y * inverseSum));
     const float bound = maxSlopeBias * dist;
     const float value = dist + (slope < bound ? slope : bound);
-    row[i] = value < row[i] ? value : row[i];
+    row[i] = value < row[i] && axial >= near ? value : row[i];
   }
 }
 
@@ -107,7 +109,7 @@ void planeSpan(float* row, int first, int last, float step, float zAtY, float sl
 
 }  // namespace
 
-void DistanceRasterizer::binCube(const Scene& scene, glm::vec3 origin, int size, int threads) {
+void DistanceRasterizer::binCube(const Scene& scene, glm::vec3 origin, int size, int threads, float near) {
   // GL 4.6 table 8.19: face f's texel at (sc, tc) in [-1, 1]^2 looks along axis + sc s + tc t.
   static const glm::vec3 kFaces[6][3] = {{{1, 0, 0}, {0, 0, -1}, {0, -1, 0}}, {{-1, 0, 0}, {0, 0, 1}, {0, -1, 0}},
                                          {{0, 1, 0}, {1, 0, 0}, {0, 0, 1}},   {{0, -1, 0}, {1, 0, 0}, {0, 0, -1}},
@@ -115,9 +117,10 @@ void DistanceRasterizer::binCube(const Scene& scene, glm::vec3 origin, int size,
   perspective_ = true;
   origin_ = origin;
   size_ = size;
+  near_ = near;
   views_.clear();
   for (const auto& face : kFaces) {
-    View view{face[1], face[2], face[0], {}, {}};
+    View view{face[1], face[2], face[0], {}, {}, true, 0};
     // Each of s, t, axis is a signed unit axis: the local coordinates are signed components.
     for (int c = 0; c < 3; ++c) {
       const glm::vec3& unitAxis = face[(c + 1) % 3];
@@ -129,6 +132,17 @@ void DistanceRasterizer::binCube(const Scene& scene, glm::vec3 origin, int size,
   bin(scene, threads);
 }
 
+void DistanceRasterizer::binPerspective(const Scene& scene, glm::vec3 origin, const std::vector<Perspective>& views,
+                                        int size, int threads, float near) {
+  perspective_ = true;
+  origin_ = origin;
+  size_ = size;
+  near_ = near;
+  views_.clear();
+  for (const Perspective& v : views) views_.push_back({v.s, v.t, v.axis, {}, {}, false, v.firstRow});
+  bin(scene, threads);
+}
+
 void DistanceRasterizer::binPlane(const Scene& scene, glm::vec3 direction, glm::vec3 centre, float radius, int size,
                                   int threads) {
   const Frame frame(direction);
@@ -136,7 +150,7 @@ void DistanceRasterizer::binPlane(const Scene& scene, glm::vec3 direction, glm::
   origin_ = centre - direction * radius;
   radius_ = radius;
   size_ = size;
-  views_ = {{frame.s / radius, frame.t / radius, direction, {}, {}}};
+  views_ = {{frame.s / radius, frame.t / radius, direction, {}, {}, false, 0}};
   bin(scene, threads);
 }
 
@@ -207,6 +221,8 @@ void DistanceRasterizer::bin(const Scene& scene, int threads) {
         }
         int i0, i1, j0, j1;
         if (!texelRange(xmin, xmax, size_, i0, i1) || !texelRange(ymin, ymax, size_, j0, j1)) continue;
+        j0 = std::max(j0, view.firstRow);
+        if (j0 > j1) continue;
         const Entry entry{static_cast<uint32_t>(tri), static_cast<uint16_t>(i0), static_cast<uint16_t>(i1),
                           static_cast<uint16_t>(j0), static_cast<uint16_t>(j1)};
         for (int band = j0 / kBandRows; band <= j1 / kBandRows; ++band)
@@ -271,7 +287,7 @@ void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* 
           auto span = [&](int first, int last) {
             if (perspective_)
               faceSpan(row, first, last, step, y, edgeSum.x + edgeSum.z * y, glm::vec2(edgeSum.y, edgeSum.z), absDet,
-                       dmax, maxSlopeBias);
+                       dmax, maxSlopeBias, near_);
             else
               planeSpan(row, first, last, step, z0 + gradient.y * y, gradient.x, zmin, zmax, planeBias);
           };

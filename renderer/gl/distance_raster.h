@@ -1,7 +1,8 @@
 #pragma once
-// The lights' shadow maps drawn on the CPU (docs/methods.md "Direct light in the preview"): the six faces of a cube map
-// of radial distances around a light, or one orthographic map of distances along a directional light. Each texel holds
-// the distance to the nearest triangle along its centre's ray, plus a slope-scaled bias.
+// Shadow maps drawn on the CPU (docs/methods.md "Direct light in the preview"): the six faces of a cube map of radial
+// distances around a light, or one orthographic map of distances along a directional light; and the VPLs' cube and
+// hemicube maps (renderer/gl/shadow_maps.h), whose faces are perspective views in any orientation. Each texel holds
+// the distance to the nearest triangle along its centre's ray, plus a slope-scaled bias (none for the VPLs' maps).
 //
 // Why on the CPU: measured on llvmpipe (docs/benchmarks.md "Preview at scale"), GL spends about 150 ns per
 // triangle on one thread setting up triangles that mostly cover no texel centre, so a million triangles took ~220 ms
@@ -30,7 +31,19 @@ class DistanceRasterizer {
   /// Sorts the scene's triangles into the rows of the six faces of a cube map of size^2 texels around `origin`, faces
   /// in GL's order (+x, -x, +y, -y, +z, -z). Texel (i, j) of face f is the ray along the direction a samplerCube lookup
   /// maps to it (GL 4.6 table 8.19, s = (i + 0.5) / size, t = (j + 0.5) / size).
-  void binCube(const Scene& scene, glm::vec3 origin, int size, int threads);
+  /// near: what lies nearer than this along a face's axis is left out, as GL's near plane clips it (a VPL map's own
+  /// surface, which passes through its origin up to rounding, would otherwise cover a whole face at distance 0).
+  void binCube(const Scene& scene, glm::vec3 origin, int size, int threads, float near = 0.0f);
+  /// A perspective map around an origin in any orientation: texel (i, j) is the ray along axis + x s + y t, x = 2 (i +
+  /// 0.5) / size - 1 (y from j likewise), as a 90 degree GL projection looking down `axis` with `s` right and `t` up
+  /// draws it. Rows below firstRow are not drawn (a hemicube's side face keeps its upper half).
+  struct Perspective {
+    glm::vec3 s, t, axis;
+    int firstRow = 0;
+  };
+  /// Sorts the scene's triangles into the rows of each of `views`, size^2 texels each, around `origin`.
+  void binPerspective(const Scene& scene, glm::vec3 origin, const std::vector<Perspective>& views, int size,
+                      int threads, float near = 0.0f);
   /// Sorts them into the rows of one orthographic map of size^2 texels: texel (i, j) is the ray along `direction`
   /// through centre + radius (x s + y t), x = 2 (i + 0.5) / size - 1 (y from j likewise), (s, t, direction) the Frame
   /// of renderer/core/sampling.h; distances are measured from the plane `radius` behind the centre (the sphere of
@@ -48,16 +61,18 @@ class DistanceRasterizer {
   int size() const { return size_; }
 
  private:
-  // A map's rays in its local coordinates (d.s, d.t, d.axis) of an offset d from origin_: a cube face's through the
-  // origin along (x, y, 1); the plane's (s and t divided by its radius) from (x, y, 0) along (0, 0, 1). A cube face's
-  // s, t and axis are signed unit axes: its local coordinates are sign[c] d[index[c]].
+  // A map's rays in its local coordinates (d.s, d.t, d.axis) of an offset d from origin_: a perspective view's through
+  // the origin along (x, y, 1); the plane's (s and t divided by its radius) from (x, y, 0) along (0, 0, 1). A GL cube
+  // face's s, t and axis are signed unit axes (signedAxes): its local coordinates are sign[c] d[index[c]].
   struct View {
     glm::vec3 s, t, axis;
-    glm::ivec3 index;
-    glm::vec3 sign;
+    glm::ivec3 index{0};
+    glm::vec3 sign{0.0f};
+    bool signedAxes = false;
+    int firstRow = 0;
   };
   glm::vec3 local(const View& v, glm::vec3 d) const {
-    if (perspective_) return {v.sign.x * d[v.index.x], v.sign.y * d[v.index.y], v.sign.z * d[v.index.z]};
+    if (v.signedAxes) return {v.sign.x * d[v.index.x], v.sign.y * d[v.index.y], v.sign.z * d[v.index.z]};
     return {glm::dot(d, v.s), glm::dot(d, v.t), glm::dot(d, v.axis)};
   }
   // A triangle of one view's band, with the texels its bounding box covers there.
@@ -79,6 +94,7 @@ class DistanceRasterizer {
   bool perspective_ = true;
   glm::vec3 origin_{0.0f};
   float radius_ = 1.0f;
+  float near_ = 0.0f;  // of a perspective view
   int size_ = 0, chunks_ = 0, bands_ = 0;
   std::vector<View> views_;
   // Per vertex, 4 bits per view: which side of the view's four edges (x, y = -1 or +1) it lies beyond.

@@ -510,8 +510,9 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // The lights' shadow maps, a cube face at a time when a budget is given.
   if (pending_.directMaps && !outOfBudget) {
     bool built = false;
-    t.directShadowMs = timed(timer_, t.directShadowWallMs,
-                             [&] { built = direct_.renderMaps(scene, settings, sceneRadius, outOfTime); });
+    // Drawn on the CPU and uploaded (distance_raster.h): the wall time is the pass's time.
+    timed(timer_, t.directShadowWallMs, [&] { built = direct_.renderMaps(scene, settings, sceneRadius, outOfTime); });
+    t.directShadowMs = t.directShadowWallMs;
     ended(built, counters_.directShadowMaps, pending_.directMaps);
   }
 
@@ -521,8 +522,10 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
   // on in the next call.
   if (pending_.vplMaps && !outOfBudget) {
     bool built = false;
-    t.vplShadowMs = timed(timer_, t.vplShadowWallMs,
-                          [&] { built = vplVisibility_->update(*glScene_, scene, casters, settings, far, outOfTime); });
+    // Drawn (cube maps) or splatted (ISM tiles) on the CPU and uploaded: the wall time is the pass's time.
+    timed(timer_, t.vplShadowWallMs,
+          [&] { built = vplVisibility_->update(*glScene_, scene, casters, settings, far, outOfTime); });
+    t.vplShadowMs = t.vplShadowWallMs;
     ended(built, counters_.vplShadowMaps, pending_.vplMaps);
   }
   shadowsValid_ = true;

@@ -45,7 +45,7 @@ inline glm::ivec2 indirectGridSize(int width, int height, int downscale) {
 }
 
 /// GPU time per pass in milliseconds (GL_TIME_ELAPSED); 0 for a pass that was skipped because nothing it depends on
-/// changed.
+/// changed. The lights' and the VPLs' maps are drawn on the CPU and uploaded: their time is their wall time.
 struct PreviewTimings {
   double gbufferMs = 0, directShadowMs = 0, directMs = 0, vplShadowMs = 0, gatherMs = 0, ssbcMs = 0;
   /// The media's scattering along camera rays with its merge (media_pass.h; 0 in a scene without media).

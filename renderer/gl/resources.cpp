@@ -138,6 +138,23 @@ void GlTexture::uploadDepth16(const std::vector<uint16_t>& texels) {
   glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
 }
 
+void GlTexture::uploadDepth16Layers(int first, int count, const uint16_t* texels) {
+  assert(format_ == TextureFormat::Depth16 && layers_ > 0 && first >= 0 && first + count <= layers_);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 2);
+  glTextureSubImage3D(id(), 0, 0, 0, first, width_, height_, count, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT, texels);
+  glPixelStorei(GL_UNPACK_ALIGNMENT, 4);
+}
+
+std::vector<uint16_t> GlTexture::readDepth16() const {
+  assert(format_ == TextureFormat::Depth16);
+  std::vector<uint16_t> texels(static_cast<std::size_t>(width_) * height_ * std::max(layers_, 1));
+  glPixelStorei(GL_PACK_ALIGNMENT, 2);
+  glGetTextureImage(id(), 0, GL_DEPTH_COMPONENT, GL_UNSIGNED_SHORT, static_cast<GLsizei>(texels.size() * 2),
+                    texels.data());
+  glPixelStorei(GL_PACK_ALIGNMENT, 4);
+  return texels;
+}
+
 void GlTexture::bind(int unit) const {
   glBindTextureUnit(static_cast<GLuint>(unit), id());
 }

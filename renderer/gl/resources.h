@@ -75,6 +75,10 @@ class GlTexture {
   /// Uploads 16-bit depth texels (0..65535 = 0..1, layer by layer, row 0 first) into level 0 of every layer of a
   /// Depth16 texture array.
   void uploadDepth16(const std::vector<uint16_t>& texels);
+  /// Writes `count` whole layers from layer `first` on (a Depth16 array), width x height texels each, row 0 first.
+  void uploadDepth16Layers(int first, int count, const uint16_t* texels);
+  /// Every layer of a Depth16 texture, row 0 first (tests and diagnostics).
+  std::vector<uint16_t> readDepth16() const;
   void generateMipmaps();
   /// Copies level 0 of `source`, a 2D texture of the same size and format, into level 0 of this one.
   void copyFrom(const GlTexture& source);

@@ -2,20 +2,47 @@
 
 #include <glad/gl.h>
 
-#include <glm/gtc/matrix_transform.hpp>
+#include <cmath>
 #include <stdexcept>
 
-#include "renderer/gl/gl_scene.h"
-#include "renderer/gl/texture_units.h"
+#include "renderer/core/parallel.h"
+#include "renderer/gl/distance_raster.h"
 
 namespace vplab {
 
 namespace {
-// A caster as shaders/preview/shadow.geom.glsl reads it.
-struct CasterGpu {
-  glm::vec4 position;  // w: its first layer in its chunk
-  glm::vec4 normal;    // w: 1 for a hemicube, whose frame the lookup builds from the same normal (the VPL table's)
-};
+
+// Casters drawn between two looks at the budget (outOfTime), per thread: a hemicube of 64^2 takes about 0.1 ms.
+constexpr int kBatchPerThread = 8;
+// What lies nearer than this fraction of `far` along a face's axis is not drawn.
+constexpr float kNearFraction = 1e-5f;
+
+// The frame (s, t) around a hemicube's normal that shaders/common/math.glsl orthonormalFrame builds from the same
+// normal at the lookup, written the same way (its sign test included: Frame's copysign differs at z = -0).
+void hemicubeFrame(glm::vec3 n, glm::vec3& s, glm::vec3& t) {
+  const float sgn = n.z >= 0.0f ? 1.0f : -1.0f;
+  const float a = -1.0f / (sgn + n.z);
+  const float b = n.x * n.y * a;
+  s = glm::vec3(1.0f + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
+  t = glm::vec3(b, sgn + n.y * n.y * a, -n.y);
+}
+
+// A hemicube's five views in the order of its layers (shaders/common/shadow.glsl hemicubeShadowCoordinates): along the
+// normal (x = s, y = t), then along +s, -s (x = t) and +t, -t (x = s), each with the normal up and only its upper half.
+std::vector<DistanceRasterizer::Perspective> hemicubeViews(glm::vec3 n, int size) {
+  glm::vec3 s, t;
+  hemicubeFrame(n, s, t);
+  const int half = size / 2;
+  return {{s, t, n, 0}, {t, n, s, half}, {t, n, -s, half}, {s, n, t, half}, {s, n, -t, half}};
+}
+
+// Distance / far as a 16-bit depth, as GL stores a fragment depth in a DEPTH_COMPONENT16 texture; 1 where nothing lies
+// (kNoOccluder), as the cleared map held.
+inline uint16_t depth16(float distance, float inverseFar) {
+  const float depth = std::min(distance * inverseFar, 1.0f);
+  return static_cast<uint16_t>(depth * 65535.0f + 0.5f);
+}
+
 }  // namespace
 
 void CubeShadowMaps::layOut(const std::vector<VplCaster>& casters) {
@@ -42,10 +69,8 @@ void CubeShadowMaps::layOut(const std::vector<VplCaster>& casters) {
   if (!casters.empty()) chunkBegins_.push_back(static_cast<int>(casters.size()));
 }
 
-int CubeShadowMaps::render(const GlScene& scene, const std::vector<VplCaster>& casters, int faceSize, float far,
-                           int first, const std::function<bool()>& outOfTime) {
-  if (!program_.valid())
-    program_ = ShaderProgram({"preview/shadow.vert.glsl", "preview/shadow.geom.glsl", "preview/shadow.frag.glsl"});
+int CubeShadowMaps::render(const Scene& scene, const std::vector<VplCaster>& casters, int faceSize, float far,
+                           int threads, int first, const std::function<bool()>& outOfTime) {
   // The layers each chunk needs now, against what its texture holds.
   std::vector<int> held;
   for (const GlTexture& t : chunks_) held.push_back(t.layers());
@@ -77,103 +102,97 @@ int CubeShadowMaps::render(const GlScene& scene, const std::vector<VplCaster>& c
     faceSize_ = faceSize;
   }
   if (casters.empty()) return -1;
-  beginDraws(scene, casters, far);
-  int next = -1;
-  for (int c = 0; c < chunkCount() && next < 0; ++c) {
-    if (chunkEnd(c) <= first) continue;
-    framebuffer_.attachDepth(chunks_[static_cast<std::size_t>(c)]);
-    framebuffer_.finalize(0);
-    framebuffer_.bind(faceSize, faceSize);
-    // A chunk is cleared once, when its first caster is drawn; a resumed update goes on drawing into it.
-    if (first <= chunkBegin(c)) framebuffer_.clearDepth(1.0f);
-    program_.set("uFirstCaster", chunkBegin(c));
-    if (!outOfTime) {
-      program_.set("uInstanceOffset", 0);
-      drawProceduralTriangles(3 * scene.triangleCount(), chunkEnd(c) - chunkBegin(c));
-      continue;
-    }
-    for (int i = std::max(first, chunkBegin(c)); i < chunkEnd(c); ++i) {
-      program_.set("uInstanceOffset", i - chunkBegin(c));
-      drawProceduralTriangles(3 * scene.triangleCount(), 1);
-      if (i + 1 < casterCount() && outOfTime()) {
-        next = i + 1;
-        break;
-      }
-    }
-  }
-  endDraws();
-  return next;
+  std::vector<int> order(casters.size());
+  for (std::size_t i = 0; i < order.size(); ++i) order[i] = static_cast<int>(i);
+  const int next = drawCasters(scene, casters, order, std::max(first, 0), casterCount(), threads, outOfTime);
+  return next < casterCount() ? next : -1;
 }
 
-int CubeShadowMaps::renderMoved(const GlScene& scene, const std::vector<VplCaster>& casters,
-                                const std::vector<int>& moved, int first, const std::function<bool()>& outOfTime) {
-  if (static_cast<int>(casters.size()) != casterCount() || !program_.valid())
+int CubeShadowMaps::renderMoved(const Scene& scene, const std::vector<VplCaster>& casters,
+                                const std::vector<int>& moved, int threads, int first,
+                                const std::function<bool()>& outOfTime) {
+  if (static_cast<int>(casters.size()) != casterCount() || chunks_.empty())
     throw std::logic_error("CubeShadowMaps::renderMoved: the casters of the last render are not those");
   for (int c = 0; c < casterCount(); ++c)
     if (casters[static_cast<std::size_t>(c)].inMedium != (c < wholeCubes_))
       throw std::logic_error("CubeShadowMaps::renderMoved: a caster's map changed between a cube and a hemicube");
-  beginDraws(scene, casters, far_);
-  const float cleared = 1.0f;
-  int next = -1;
-  for (int k = std::max(0, first); k < static_cast<int>(moved.size()); ++k) {
-    const int caster = moved[static_cast<std::size_t>(k)];
-    int c = 0;
-    while (caster >= chunkEnd(c)) ++c;
-    const GlTexture& chunk = chunks_[static_cast<std::size_t>(c)];
-    // Only this caster's layers are cleared and drawn.
-    glClearTexSubImage(chunk.id(), 0, 0, 0, firstLayers_[static_cast<std::size_t>(caster)], faceSize_, faceSize_,
-                       layersOf(caster), GL_DEPTH_COMPONENT, GL_FLOAT, &cleared);
-    framebuffer_.attachDepth(chunk);
-    framebuffer_.finalize(0);
-    framebuffer_.bind(faceSize_, faceSize_);
-    program_.set("uFirstCaster", chunkBegin(c));
-    program_.set("uInstanceOffset", caster - chunkBegin(c));
-    drawProceduralTriangles(3 * scene.triangleCount(), 1);
-    if (outOfTime && k + 1 < static_cast<int>(moved.size()) && outOfTime()) {
-      next = k + 1;
-      break;
+  const int count = static_cast<int>(moved.size());
+  const int next = drawCasters(scene, casters, moved, std::max(first, 0), count, threads, outOfTime);
+  return next < count ? next : -1;
+}
+
+int CubeShadowMaps::drawCasters(const Scene& scene, const std::vector<VplCaster>& casters, const std::vector<int>& order,
+                                int begin, int end, int threads, const std::function<bool()>& outOfTime) {
+  const int size = faceSize_;
+  const std::size_t layerTexels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
+  const float inverseFar = 1.0f / far_;
+  // The near plane of the GL projection these maps were first drawn with: a surface VPL lies on its own triangle up to
+  // rounding, and that triangle must not cover its map at distance 0.
+  const float near = kNearFraction * far_;
+  threads = std::max(1, threads);
+  // Without a budget, every caster in one batch.
+  const int batch = outOfTime ? kBatchPerThread * threads : std::max(1, end - begin);
+  // Each thread's rasterizer and one view's distances.
+  std::vector<DistanceRasterizer> rasterizers(static_cast<std::size_t>(threads));
+  std::vector<std::vector<float>> views(static_cast<std::size_t>(threads), std::vector<float>(layerTexels));
+  while (begin < end) {
+    const int batchEnd = std::min(end, begin + batch);
+    // Caster order[begin + k]'s layers start at layer offset[k] of the batch: casters whose layers follow each other
+    // in a chunk are uploaded together.
+    std::vector<std::size_t> offset(static_cast<std::size_t>(batchEnd - begin) + 1, 0);
+    for (int k = 0; k < batchEnd - begin; ++k)
+      offset[static_cast<std::size_t>(k) + 1] =
+          offset[static_cast<std::size_t>(k)] + static_cast<std::size_t>(layersOf(order[static_cast<std::size_t>(begin + k)]));
+    staging_.resize(offset.back() * layerTexels);
+    parallelFor(batchEnd - begin, threads, [&](int64_t k, int thread) {
+      const int c = order[static_cast<std::size_t>(begin + k)];
+      const VplCaster& caster = casters[static_cast<std::size_t>(c)];
+      DistanceRasterizer& raster = rasterizers[static_cast<std::size_t>(thread)];
+      float* distances = views[static_cast<std::size_t>(thread)].data();
+      uint16_t* layers = staging_.data() + offset[static_cast<std::size_t>(k)] * layerTexels;
+      // Rows [rowBegin, size) of the view just drawn into `layer`, from row `toRow` on.
+      auto store = [&](int layer, int rowBegin, int toRow) {
+        uint16_t* out = layers + static_cast<std::size_t>(layer) * layerTexels + static_cast<std::size_t>(toRow) * size;
+        const float* in = distances + static_cast<std::size_t>(rowBegin) * size;
+        const std::size_t n = static_cast<std::size_t>(size - rowBegin) * size;
+        for (std::size_t i = 0; i < n; ++i) out[i] = depth16(in[i], inverseFar);
+      };
+      if (c < wholeCubes_) {
+        // GL's cube faces (distance_raster.h binCube), as shaders/common/shadow.glsl cubeShadowCoordinates reads them.
+        raster.binCube(scene, caster.position, size, 1, near);
+        for (int f = 0; f < 6; ++f) {
+          raster.draw(f, 0.0f, 1, distances);
+          store(f, 0, 0);
+        }
+      } else {
+        raster.binPerspective(scene, caster.position, hemicubeViews(caster.normal, size), size, 1, near);
+        const int half = size / 2;
+        raster.draw(0, 0.0f, 1, distances);
+        store(0, 0, 0);
+        // The upper halves of the side faces: +s (+t) into the upper half of layer 1 (2), -s (-t) into its lower half.
+        for (int side = 0; side < 4; ++side) {
+          raster.draw(1 + side, 0.0f, 1, distances);
+          store(1 + side / 2, half, side % 2 == 0 ? half : 0);
+        }
+      }
+    });
+    for (int k = 0; k < batchEnd - begin;) {
+      const int c = order[static_cast<std::size_t>(begin + k)];
+      int chunk = 0;
+      while (c >= chunkEnd(chunk)) ++chunk;
+      int run = 1;
+      while (k + run < batchEnd - begin && order[static_cast<std::size_t>(begin + k + run)] == c + run &&
+             c + run < chunkEnd(chunk))
+        ++run;
+      const int layers = static_cast<int>(offset[static_cast<std::size_t>(k + run)] - offset[static_cast<std::size_t>(k)]);
+      chunks_[static_cast<std::size_t>(chunk)].uploadDepth16Layers(
+          firstLayers_[static_cast<std::size_t>(c)], layers, staging_.data() + offset[static_cast<std::size_t>(k)] * layerTexels);
+      k += run;
     }
+    begin = batchEnd;
+    if (outOfTime && begin < end && outOfTime()) break;
   }
-  endDraws();
-  return next;
-}
-
-void CubeShadowMaps::beginDraws(const GlScene& scene, const std::vector<VplCaster>& casters, float far) {
-  std::vector<CasterGpu> gpu(casters.size());
-  for (std::size_t i = 0; i < casters.size(); ++i) {
-    const bool hemicube = static_cast<int>(i) >= wholeCubes_;
-    gpu[i] = {glm::vec4(casters[i].position, static_cast<float>(firstLayers_[i])),
-              glm::vec4(hemicube ? casters[i].normal : glm::vec3(0.0f), hemicube ? 1.0f : 0.0f)};
-  }
-  casterBuffer_.assign(gpu.data(), gpu.size() * sizeof(CasterGpu));
-  casterBuffer_.bindStorage(binding(BufferBinding::ShadowCasters));
-
-  // Cube face orientations of the GL specification (table 8.19), as rotations of the offset from the caster;
-  // shaders/common/shadow.glsl inverts exactly these.
-  static const glm::vec3 kTargets[6] = {{1, 0, 0}, {-1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}};
-  static const glm::vec3 kUps[6] = {{0, -1, 0}, {0, -1, 0}, {0, 0, 1}, {0, 0, -1}, {0, -1, 0}, {0, -1, 0}};
-  glm::mat3 rotations[6];
-  for (int f = 0; f < 6; ++f) rotations[f] = glm::mat3(glm::lookAt(glm::vec3(0.0f), kTargets[f], kUps[f]));
-  glProgramUniformMatrix3fv(program_.id(), program_.location("uFaceRotation"), 6, GL_FALSE, &rotations[0][0][0]);
-  program_.set("uProjection", glm::perspective(glm::radians(90.0f), 1.0f, far * 1e-5f, far));
-  program_.set("uShadowFar", far);
-
-  scene.bind();
-  program_.use();
-  vao_.bind();
-  glEnable(GL_DEPTH_TEST);
-  glDepthFunc(GL_LESS);
-  glDisable(GL_CULL_FACE);
-  glDisable(GL_BLEND);
-  // A hemicube's side faces keep their upper half (shadow.geom.glsl).
-  glEnable(GL_CLIP_DISTANCE0);
-  glEnable(GL_CLIP_DISTANCE1);
-}
-
-void CubeShadowMaps::endDraws() {
-  glDisable(GL_CLIP_DISTANCE0);
-  glDisable(GL_CLIP_DISTANCE1);
-  glDisable(GL_DEPTH_TEST);
+  return begin;
 }
 
 }  // namespace vplab

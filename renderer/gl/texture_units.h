@@ -49,8 +49,6 @@ enum class BufferBinding : int {
   SceneUvs = 2,
   SceneTriangles = 3,
   SceneMaterials = 4,
-  /// The casters of a layered cube shadow-map draw (renderer/gl/shadow_maps.h, preview/shadow.geom.glsl).
-  ShadowCasters = 6,
   /// The direct-light table (uniform block of preview/direct.frag.glsl).
   DirectLights = 7,
   /// The VPL table (uniform block of common/gather.glsl).

@@ -88,9 +88,9 @@ bool CubeVisibility::stale(const std::vector<VplCaster>& casters, const Settings
   return false;
 }
 
-bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vector<VplCaster>& casters,
+bool CubeVisibility::update(const GlScene&, const Scene& scene, const std::vector<VplCaster>& casters,
                             const Settings& settings, float far, const std::function<bool()>& outOfTime) {
-  // A caster per draw under a budget: on a large scene one cube can take tens of milliseconds.
+  const int threads = resolveThreadCount(settings.threads);
   const bool same = updateCasters_ == casters && updateMapSize_ == settings.shadowMapSize && updateFar_ == far;
   if (!(same && (nextCaster_ >= 0 || nextMoved_ >= 0))) {
     // A set as large as the last whose casters mostly stayed (the preview's representatives after a camera move,
@@ -112,10 +112,11 @@ bool CubeVisibility::update(const GlScene& glScene, const Scene&, const std::vec
     valid_ = false;
   }
   if (nextMoved_ >= 0) {
-    nextMoved_ = maps_.renderMoved(glScene, updateCasters_, moved_, nextMoved_, outOfTime);
+    nextMoved_ = maps_.renderMoved(scene, updateCasters_, moved_, threads, nextMoved_, outOfTime);
     if (nextMoved_ >= 0) return false;
   } else {
-    nextCaster_ = maps_.render(glScene, updateCasters_, vplCubeFaceSize(updateMapSize_), far, nextCaster_, outOfTime);
+    nextCaster_ =
+        maps_.render(scene, updateCasters_, vplCubeFaceSize(updateMapSize_), far, threads, nextCaster_, outOfTime);
     if (nextCaster_ >= 0) return false;
   }
   casters_ = updateCasters_;

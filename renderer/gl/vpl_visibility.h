@@ -54,9 +54,9 @@ class VplVisibility {
   virtual void bindChunk(int chunk, ShaderProgram& program) const = 0;
 };
 
-/// The texels per side of a VPL's cube or hemicube faces under Settings::shadowMapSize S: S / 2, at least 8
-/// (shadow_maps.h).
-inline int vplCubeFaceSize(int shadowMapSize) { return std::max(8, shadowMapSize / 2); }
+/// The texels per side of a VPL's cube or hemicube faces under Settings::shadowMapSize S: S / 2 rounded down to an
+/// even number, at least 8 (shadow_maps.h), so that a hemicube's two half faces fill the halves of their layer.
+inline int vplCubeFaceSize(int shadowMapSize) { return std::max(8, shadowMapSize / 4 * 2); }
 
 /// The technique a VisibilityMethod names.
 std::unique_ptr<VplVisibility> makeVplVisibility(VisibilityMethod method);

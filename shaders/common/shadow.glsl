@@ -1,7 +1,7 @@
 // VPL shadow maps (renderer/gl/shadow_maps.h): depth = distance to the caster / far, from cube faces stored as layers
 // of a 2D array: a whole cube (6 layers) or a hemicube around a surface VPL's normal (3 layers). The face and its
-// texture coordinates are found here with the same orientations the maps were rendered with (shadow_maps.cpp,
-// preview/shadow.geom.glsl): a 90 degree perspective view looking down the major axis of the offset.
+// texture coordinates are found here with the same orientations the maps were drawn with (shadow_maps.cpp): a 90
+// degree perspective view looking down the major axis of the offset.
 #include "common/math.glsl"
 
 // The offset from the caster that a lookup reads: the receiver x moved along its geometric normal by about one shadow
