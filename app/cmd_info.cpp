@@ -136,7 +136,7 @@ int cmdInfo(const Args& args) {
   const Settings defaults;
   const auto cubeUpTo = static_cast<long long>(kAutoCubeTriangleVpls / std::max<std::size_t>(scene.triangles.size(), 1));
   std::printf("preview    visibility auto: %s at the default %d VPLs (cube maps up to %lld VPLs here: triangles x "
-              "VPLs <= 2^20); --clamp-bound-relative B is b = B x %.4g (1 / geometry diagonal^2)\n",
+              "VPLs <= " VPLAB_AUTO_CUBE_LIMIT "); --clamp-bound-relative B is b = B x %.4g (1 / geometry diagonal^2)\n",
               toString(resolveVisibility(VisibilityMethod::Auto, scene.triangles.size(),
                                          static_cast<std::size_t>(defaults.vplCount))),
               defaults.vplCount, cubeUpTo,

@@ -111,7 +111,7 @@ int cmdPreview(const Args& args) {
   if (settings.visibility == VisibilityMethod::Auto)
     visibility += " (auto: " + std::to_string(scene.triangles.size()) + " triangles x " +
                   std::to_string(lights.vpls.size()) + " VPLs " +
-                  (renderer.visibilityInUse() == VisibilityMethod::Cube ? "<=" : ">") + " 2^20)";
+                  (renderer.visibilityInUse() == VisibilityMethod::Cube ? "<=" : ">") + " " VPLAB_AUTO_CUBE_LIMIT ")";
   std::printf("visibility  %s\n", visibility.c_str());
   // Where each density grid went (renderer/gl/density_grid_storage.h): a 3D texture, or a NanoVDB buffer.
   for (const std::string& grid : renderer.densityGridsInUse()) std::printf("density     %s\n", grid.c_str());

@@ -133,7 +133,8 @@ const std::vector<SettingInfo>& settingsTable() {
       {"shadowBias", &Settings::shadowBias, 0, 0.1, "B", "VPL shadow depth bias, fraction of the scene diagonal",
        kUseGl},
       {"visibility", choice<VisibilityMethod, 3, &Settings::visibility>(), 0, 0, "cube|ism|auto",
-       "VPL visibility: cube shadow maps, imperfect shadow maps, or auto: cube maps while triangles x VPLs <= 2^20",
+       "VPL visibility: cube shadow maps, imperfect shadow maps, or auto: cube maps while triangles x VPLs <= "
+       VPLAB_AUTO_CUBE_LIMIT,
        kUseGl},
       {"ismTileSize", &Settings::ismTileSize, 16, 512, "T", "imperfect shadow map tile, texels per side", kUseGl, true,
        SettingBound::PowerOfTwo},

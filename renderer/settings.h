@@ -38,8 +38,14 @@ enum class VisibilityMethod {
 
 /// The largest triangles x VPLs for which `auto` keeps cube maps: there the first preview with cube maps costs about
 /// what it costs with ISM, and above it the cube maps' cost, which grows with the product, soon dominates
-/// (docs/benchmarks.md "VPL visibility: auto").
-inline constexpr double kAutoCubeTriangleVpls = 1 << 20;
+/// (docs/benchmarks.md "VPL visibility: auto"). VPLAB_AUTO_CUBE_LIMIT is the same number as help texts print it.
+inline constexpr double kAutoCubeTriangleVpls = 1 << 23;
+#define VPLAB_AUTO_CUBE_LIMIT "2^23"
+static_assert([] {
+  int exponent = 0;
+  for (const char* c = VPLAB_AUTO_CUBE_LIMIT + 2; *c; ++c) exponent = 10 * exponent + (*c - '0');
+  return static_cast<double>(1LL << exponent) == kAutoCubeTriangleVpls;
+}(), "VPLAB_AUTO_CUBE_LIMIT names kAutoCubeTriangleVpls");
 
 /// The technique the preview uses for `requested` on a scene of `triangles` triangles with `vplCount` VPLs: Cube or
 /// Ism as asked, and for Auto the one its rule picks.

@@ -8,6 +8,7 @@
 #include <limits>
 #include <string>
 
+#include "renderer/gl/gl_limits.h"
 #include "renderer/gl/shadow_maps.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "tests/gl_test_util.h"
@@ -88,6 +89,37 @@ std::vector<VplCaster> cornellCasters(const OfflineScene& offline) {
   return casters;
 }
 
+// Checks every texel of every chunk of `maps` (drawn for `casters` with faces of size^2 and `far`) against the nearest
+// hit along the direction the lookup reads there; returns how many texels were compared (those on no triangle edge).
+int expectNearestHits(const Scene& scene, const std::vector<VplCaster>& casters, const CubeShadowMaps& maps, int size,
+                      float far) {
+  int compared = 0, failures = 0;
+  for (int chunk = 0; chunk < maps.chunkCount(); ++chunk) {
+    const std::vector<uint16_t> texels = maps.chunkTexture(chunk).readDepth16();
+    int layer = 0;
+    for (int c = maps.chunkBegin(chunk); c < maps.chunkEnd(chunk); ++c) {
+      const VplCaster& caster = casters[static_cast<std::size_t>(c)];
+      for (int l = 0; l < (caster.inMedium ? 6 : 3); ++l, ++layer)
+        for (int j = 0; j < size; ++j)
+          for (int i = 0; i < size; ++i) {
+            const glm::dvec3 dir = lookupDirection(caster.inMedium, glm::dvec3(caster.normal), l, i, j, size);
+            // The caster's own surface, which a generated VPL lies on up to rounding, is not an occluder.
+            const Nearest n = nearestHit(scene, glm::dvec3(caster.position), dir, 1e-4 * far);
+            if (n.ambiguous) continue;
+            ++compared;
+            const double expected = std::isfinite(n.t) ? std::min(n.t / far, 1.0) : 1.0;
+            const double stored =
+                texels[(static_cast<std::size_t>(layer) * size + static_cast<std::size_t>(j)) * size + i] / 65535.0;
+            if (std::abs(stored - expected) > 1.0 / 65535.0 + 1e-5 * expected && ++failures <= 8)
+              ADD_FAILURE() << "caster " << c << " layer " << l << " texel " << i << "," << j << ": expected "
+                            << expected * far << ", stored " << stored * far;
+          }
+    }
+  }
+  EXPECT_EQ(failures, 0);
+  return compared;
+}
+
 TEST_P(GlVplMaps, EveryTexelHoldsTheNearestTriangleWhereTheLookupReadsIt) {
   auto offline = test::loadAssetScene("cornell-box");
   const Scene& scene = offline->scene();
@@ -99,29 +131,34 @@ TEST_P(GlVplMaps, EveryTexelHoldsTheNearestTriangleWhereTheLookupReadsIt) {
   EXPECT_EQ(maps.render(scene, casters, size, far, 2), -1);
   ASSERT_EQ(maps.chunkCount(), 1);
   EXPECT_EQ(maps.chunkWholeCubes(0), 1);
-  const std::vector<uint16_t> texels = maps.chunkTexture(0).readDepth16();
-  int layer = 0, compared = 0, failures = 0;
-  for (std::size_t c = 0; c < casters.size(); ++c) {
-    const bool whole = casters[c].inMedium;
-    for (int l = 0; l < (whole ? 6 : 3); ++l, ++layer)
-      for (int j = 0; j < size; ++j)
-        for (int i = 0; i < size; ++i) {
-          const glm::dvec3 dir = lookupDirection(whole, glm::dvec3(casters[c].normal), l, i, j, size);
-          // The caster's own surface, which a generated VPL lies on up to rounding, is not an occluder.
-          const Nearest n = nearestHit(scene, glm::dvec3(casters[c].position), dir, 1e-4 * far);
-          if (n.ambiguous) continue;
-          ++compared;
-          const double expected = std::isfinite(n.t) ? std::min(n.t / far, 1.0) : 1.0;
-          const double stored =
-              texels[(static_cast<std::size_t>(layer) * size + static_cast<std::size_t>(j)) * size + i] / 65535.0;
-          if (std::abs(stored - expected) > 1.0 / 65535.0 + 1e-5 * expected && ++failures <= 8)
-            ADD_FAILURE() << "caster " << c << " layer " << l << " texel " << i << "," << j << ": expected "
-                          << expected * far << ", stored " << stored * far;
-        }
-  }
-  EXPECT_EQ(failures, 0);
+  const int compared = expectNearestHits(scene, casters, maps, size, far);
   // Few texels lie on an edge.
   EXPECT_GT(compared, (6 + 3 * (static_cast<int>(casters.size()) - 1)) * size * size * 95 / 100);
+}
+
+// More casters than one texture array holds layers for (GL_MAX_ARRAY_TEXTURE_LAYERS, 2048 on llvmpipe): each chunk
+// holds its own casters' maps.
+TEST_P(GlVplMaps, CastersBeyondOneArraySpillIntoFurtherChunks) {
+  auto offline = test::loadAssetScene("cornell-box");
+  const Scene& scene = offline->scene();
+  const std::vector<VplCaster> some = cornellCasters(*offline);
+  std::vector<VplCaster> casters(some.begin(), some.begin() + 1);  // the whole cube first
+  const int maxLayers = queryGlLimits().maxArrayLayers;
+  ASSERT_GT(maxLayers, 0);
+  int layers = 6;
+  while (layers <= maxLayers + 6) {
+    VplCaster c = some[1 + casters.size() % (some.size() - 1)];
+    c.position += 1e-3f * static_cast<float>(casters.size() % 7) * c.normal;
+    casters.push_back(c);
+    layers += 3;
+  }
+  const int size = 8;
+  const float far = 2.0f * scene.bounds.diagonal();
+  CubeShadowMaps maps;
+  EXPECT_EQ(maps.render(scene, casters, size, far, 2), -1);
+  EXPECT_GE(maps.chunkCount(), 2);
+  EXPECT_EQ(maps.chunkEnd(maps.chunkCount() - 1), static_cast<int>(casters.size()));
+  expectNearestHits(scene, casters, maps, size, far);
 }
 
 TEST_P(GlVplMaps, TheSameMapsAtAnyThreadCountUnderABudgetAndForTheCastersThatMoved) {

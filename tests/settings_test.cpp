@@ -39,13 +39,13 @@ TEST(Settings, NamesRoundTrip) {
   EXPECT_FALSE(parseMethod("vpls", unused));
 }
 
-// auto keeps cube maps up to 2^20 triangles x VPLs (the crossover measured in docs/benchmarks.md "VPL visibility:
+// auto keeps cube maps up to 2^23 triangles x VPLs (the crossover measured in docs/benchmarks.md "VPL visibility:
 // auto") and leaves an explicit choice alone.
 TEST(Settings, AutoVisibilityPicksCubeMapsOnSmallScenesOnly) {
   EXPECT_EQ(Settings{}.visibility, VisibilityMethod::Auto);
   EXPECT_EQ(resolveVisibility(VisibilityMethod::Auto, 32, 1024), VisibilityMethod::Cube);
-  EXPECT_EQ(resolveVisibility(VisibilityMethod::Auto, 4096, 256), VisibilityMethod::Cube);  // exactly 2^20
-  EXPECT_EQ(resolveVisibility(VisibilityMethod::Auto, 4097, 256), VisibilityMethod::Ism);
+  EXPECT_EQ(resolveVisibility(VisibilityMethod::Auto, 32768, 256), VisibilityMethod::Cube);  // exactly 2^23
+  EXPECT_EQ(resolveVisibility(VisibilityMethod::Auto, 32769, 256), VisibilityMethod::Ism);
   EXPECT_EQ(resolveVisibility(VisibilityMethod::Auto, 110342, 256), VisibilityMethod::Ism);
   EXPECT_EQ(resolveVisibility(VisibilityMethod::Auto, 110342, 0), VisibilityMethod::Cube);
   EXPECT_EQ(resolveVisibility(VisibilityMethod::Cube, 110342, 256), VisibilityMethod::Cube);

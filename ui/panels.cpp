@@ -180,9 +180,9 @@ bool drawManyLightPanel(Settings& s, const VplStats& stats, double clampEnergyRe
   changed |= settingSliderInt(s, "interleave", 1, 8);
   changed |= settingSliderInt(s, "indirectDownscale", 1, 4);
   changed |= settingCombo(s, "visibility",
-                          "cube: one rasterised map per VPL, sharp, costs VPLs x triangles; ism: a point-splatted "
+                          "cube: one map per VPL, sharp, costs VPLs x triangles; ism: a point-splatted "
                           "tile per VPL, cost independent of the triangle count, leaks through thin walls; auto: cube "
-                          "maps while triangles x VPLs <= 2^20");
+                          "maps while triangles x VPLs <= " VPLAB_AUTO_CUBE_LIMIT);
   if (s.visibility == VisibilityMethod::Auto) ImGui::TextDisabled("auto picked %s", toString(visibilityInUse));
   // A power-of-two size: the slider moves its exponent.
   auto powerOfTwoSlider = [&](const char* key, int minLog, int maxLog) {
