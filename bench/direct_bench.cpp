@@ -15,7 +15,8 @@
 //   <model> studio      staged as the commands stage a model without lights (ground, backdrop, studio area light)
 //
 // usage: vplab_bench_direct_bench [--gl auto|egl|osmesa] [--size N] [--spp S] [--samples K] [--interleave k]
-//                                 [--csv out.csv] [--images DIR] [--only NAME] [--model FILE]...
+//                                 [--light-shadow-map-size S] [--csv out.csv] [--images DIR] [--only NAME]
+//                                 [--model FILE]...
 // --interleave k renders the preview with k x k interleaved samples (the editor's default k = 4: each pixel takes
 // K / k^2 of the area-light samples and the geometry-aware merge recombines them).
 
@@ -83,7 +84,7 @@ std::vector<Case> modelCases(const std::string& file) {
 
 int main(int argc, char** argv) {
   GlBackend backend = GlBackend::Auto;
-  int size = 128, spp = 256, samples = 64, interleave = 1;
+  int size = 128, spp = 256, samples = 64, interleave = 1, lightMapSize = Settings{}.lightShadowMapSize;
   std::string csvPath = "direct_bench.csv", imagesDir, only;
   std::vector<std::string> models;
   for (int i = 1; i < argc; ++i) {
@@ -101,6 +102,8 @@ int main(int argc, char** argv) {
       samples = std::stoi(benchOptionValue(argc, argv, i));
     } else if (a == "--interleave") {
       interleave = std::stoi(benchOptionValue(argc, argv, i));
+    } else if (a == "--light-shadow-map-size") {
+      lightMapSize = std::stoi(benchOptionValue(argc, argv, i));
     } else if (a == "--csv") {
       csvPath = benchOptionValue(argc, argv, i);
     } else if (a == "--images") {
@@ -112,7 +115,7 @@ int main(int argc, char** argv) {
     } else {
       std::fprintf(stderr,
                    "usage: %s [--gl auto|egl|osmesa] [--size N] [--spp S] [--samples K] [--interleave k] "
-                   "[--csv out.csv] [--images DIR] [--only NAME] [--model FILE]...\n",
+                   "[--light-shadow-map-size S] [--csv out.csv] [--images DIR] [--only NAME] [--model FILE]...\n",
                    argv[0]);
       return 2;
     }
@@ -137,6 +140,7 @@ int main(int argc, char** argv) {
     s.threads = 0;
     s.directLightSamples = samples;
     s.interleave = interleave;
+    s.lightShadowMapSize = lightMapSize;
     PreviewRenderer renderer;
     renderer.render(scene, VplSet{}, s, scene.camera);  // compiles the shaders and draws the maps
     renderer.invalidateScene();
