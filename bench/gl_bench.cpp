@@ -181,8 +181,8 @@ int main(int argc, char** argv) {
          "gather_evals,gather_gevals_per_s,probe_lights,probe_ms,probe_gevals_per_s,gather_of_ceiling,deinterleave_ms,"
          "gather_draws_of_ceiling\n";
   std::printf("%4s %6s %3s %9s %7s %8s %8s %8s %8s %10s %9s %10s %6s %9s %9s %8s %6s %7s\n", "vis", "VPLs", "k",
-              "frame ms", "fps", "gbuffer", "direct", "gather", "ssbc", "vpl shadow", "wall ms",
-              "gather G/s", "probe", "probe ms", "probe G/s", "ceiling", "merge", "draws");
+              "frame ms", "fps", "gbuffer", "direct", "gather", "ssbc", "vpl shadow", "wall ms", "gather G/s", "probe",
+              "probe ms", "probe G/s", "ceiling", "merge", "draws");
   // The gather runs on the indirect light's grid: the probe runs on as many pixels.
   const glm::ivec2 grid = indirectGridSize(width, height, downscale);
   const int gridWidth = grid.x, gridHeight = grid.y;
@@ -244,12 +244,11 @@ int main(int argc, char** argv) {
             "%4s %6zu %3d %9.1f %7.2f %8.1f %8.1f %8.1f %8.1f %10.1f %9.1f %10.3f %6d %9.1f %9.3f %7.0f%% %6.1f "
             "%6.0f%%\n",
             toString(method), vpls.vpls.size(), k, fm, 1000.0 / fm, median(gb), median(di), gm, median(ss), shadowMs,
-            median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling, mm,
-            100.0 * drawsOfCeiling);
+            median(wall), rate, probeLights, probeMs, probeRate, 100.0 * ofCeiling, mm, 100.0 * drawsOfCeiling);
         csv << toString(method) << ',' << vpls.vpls.size() << ',' << k << ',' << fm << ',' << 1000.0 / fm << ','
-            << median(gb) << ',' << median(di) << ',' << gm << ',' << median(ss) << ',' << shadowMs
-            << ',' << median(wall) << ',' << evals << ',' << rate << ',' << probeLights << ',' << probeMs << ','
-            << probeRate << ',' << ofCeiling << ',' << mm << ',' << drawsOfCeiling << '\n';
+            << median(gb) << ',' << median(di) << ',' << gm << ',' << median(ss) << ',' << shadowMs << ','
+            << median(wall) << ',' << evals << ',' << rate << ',' << probeLights << ',' << probeMs << ',' << probeRate
+            << ',' << ofCeiling << ',' << mm << ',' << drawsOfCeiling << '\n';
       }
     }
   }

@@ -149,8 +149,7 @@ TEST(DistanceRaster, RotatedViewsHoldTheNearestTriangleAlongEveryTexelOfTheirRow
     for (int j = view.firstRow; j < size; ++j)
       for (int i = 0; i < size; ++i) {
         const double x = 2.0 * (i + 0.5) / size - 1.0, y = 2.0 * (j + 0.5) / size - 1.0;
-        const glm::dvec3 dir =
-            glm::normalize(glm::dvec3(view.axis) + x * glm::dvec3(view.s) + y * glm::dvec3(view.t));
+        const glm::dvec3 dir = glm::normalize(glm::dvec3(view.axis) + x * glm::dvec3(view.s) + y * glm::dvec3(view.t));
         const Nearest n = nearestHit(scene, glm::dvec3(origin), dir);
         if (n.ambiguous) continue;
         ++compared;

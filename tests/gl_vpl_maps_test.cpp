@@ -19,8 +19,8 @@ namespace {
 
 using GlVplMaps = test::GlBackendTest;
 
-// The nearest hit along a ray beyond minT over every triangle (Moller-Trumbore in double), and whether a triangle's edge
-// passes so close to the ray that rounding may decide either way.
+// The nearest hit along a ray beyond minT over every triangle (Moller-Trumbore in double), and whether a triangle's
+// edge passes so close to the ray that rounding may decide either way.
 struct Nearest {
   double t = std::numeric_limits<double>::infinity();
   bool ambiguous = false;
@@ -70,7 +70,9 @@ glm::dvec3 lookupDirection(bool whole, glm::dvec3 n, int layer, int i, int j, in
   return glm::normalize(along + x * across + y * n);
 }
 
-std::vector<uint16_t> readLayers(const GlTexture& texture) { return texture.readDepth16(); }
+std::vector<uint16_t> readLayers(const GlTexture& texture) {
+  return texture.readDepth16();
+}
 
 // Casters in the Cornell box: a medium VPL (a whole cube) first, then surface VPLs a little off the floor, a wall, the
 // ceiling beside the light and a box with a tilted normal, then VPLs as the generator places them, on their surfaces.

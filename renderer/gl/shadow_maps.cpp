@@ -2,7 +2,6 @@
 
 #include <glad/gl.h>
 
-#include <cmath>
 #include <stdexcept>
 
 #include "renderer/core/parallel.h"
@@ -37,7 +36,7 @@ std::vector<DistanceRasterizer::Perspective> hemicubeViews(glm::vec3 n, int size
 }
 
 // Distance / far as a 16-bit depth, as GL stores a fragment depth in a DEPTH_COMPONENT16 texture; 1 where nothing lies
-// (kNoOccluder), as the cleared map held.
+// (kNoOccluder).
 inline uint16_t depth16(float distance, float inverseFar) {
   const float depth = std::min(distance * inverseFar, 1.0f);
   return static_cast<uint16_t>(depth * 65535.0f + 0.5f);
@@ -121,13 +120,14 @@ int CubeShadowMaps::renderMoved(const Scene& scene, const std::vector<VplCaster>
   return next < count ? next : -1;
 }
 
-int CubeShadowMaps::drawCasters(const Scene& scene, const std::vector<VplCaster>& casters, const std::vector<int>& order,
-                                int begin, int end, int threads, const std::function<bool()>& outOfTime) {
+int CubeShadowMaps::drawCasters(const Scene& scene, const std::vector<VplCaster>& casters,
+                                const std::vector<int>& order, int begin, int end, int threads,
+                                const std::function<bool()>& outOfTime) {
   const int size = faceSize_;
   const std::size_t layerTexels = static_cast<std::size_t>(size) * static_cast<std::size_t>(size);
   const float inverseFar = 1.0f / far_;
-  // The near plane of the GL projection these maps were first drawn with: a surface VPL lies on its own triangle up to
-  // rounding, and that triangle must not cover its map at distance 0.
+  // A near plane, as a GL projection has: a surface VPL lies on its own triangle up to rounding, and that triangle must
+  // not cover its map at distance 0.
   const float near = kNearFraction * far_;
   threads = std::max(1, threads);
   // Without a budget, every caster in one batch.
@@ -142,7 +142,8 @@ int CubeShadowMaps::drawCasters(const Scene& scene, const std::vector<VplCaster>
     std::vector<std::size_t> offset(static_cast<std::size_t>(batchEnd - begin) + 1, 0);
     for (int k = 0; k < batchEnd - begin; ++k)
       offset[static_cast<std::size_t>(k) + 1] =
-          offset[static_cast<std::size_t>(k)] + static_cast<std::size_t>(layersOf(order[static_cast<std::size_t>(begin + k)]));
+          offset[static_cast<std::size_t>(k)] +
+          static_cast<std::size_t>(layersOf(order[static_cast<std::size_t>(begin + k)]));
     staging_.resize(offset.back() * layerTexels);
     parallelFor(batchEnd - begin, threads, [&](int64_t k, int thread) {
       const int c = order[static_cast<std::size_t>(begin + k)];
@@ -184,9 +185,11 @@ int CubeShadowMaps::drawCasters(const Scene& scene, const std::vector<VplCaster>
       while (k + run < batchEnd - begin && order[static_cast<std::size_t>(begin + k + run)] == c + run &&
              c + run < chunkEnd(chunk))
         ++run;
-      const int layers = static_cast<int>(offset[static_cast<std::size_t>(k + run)] - offset[static_cast<std::size_t>(k)]);
+      const int layers =
+          static_cast<int>(offset[static_cast<std::size_t>(k + run)] - offset[static_cast<std::size_t>(k)]);
       chunks_[static_cast<std::size_t>(chunk)].uploadDepth16Layers(
-          firstLayers_[static_cast<std::size_t>(c)], layers, staging_.data() + offset[static_cast<std::size_t>(k)] * layerTexels);
+          firstLayers_[static_cast<std::size_t>(c)], layers,
+          staging_.data() + offset[static_cast<std::size_t>(k)] * layerTexels);
       k += run;
     }
     begin = batchEnd;

@@ -10,11 +10,11 @@
 // edges must curve and only come out right for finely tessellated geometry, while vplab's scenes are mostly a few
 // large quads (the Cornell box walls are two triangles each) whose paraboloid images would be badly wrong near the
 // caster, which is exactly where VPL shadows matter. Cubes also sample with hardware PCF. The faces are stored as
-// layers of a 2D texture array (not a cube-map array) and the lookup picks the face itself (shaders/common/shadow.glsl):
-// on llvmpipe a 2D-array PCF fetch is several times cheaper than seamless cube filtering, at the price of clamping the
-// 2x2 filter at face edges. Each face is shadowMapSize / 2 texels wide: 6 (S/2)^2 = 1.5 S^2 texels per whole cube,
-// close to one S x S paraboloid, and half that per hemicube. Depth stores the radial distance / far, so one comparison
-// works on every face.
+// layers of a 2D texture array (not a cube-map array) and the lookup picks the face itself
+// (shaders/common/shadow.glsl): on llvmpipe a 2D-array PCF fetch is several times cheaper than seamless cube filtering,
+// at the price of clamping the 2x2 filter at face edges. Each face is shadowMapSize / 2 texels wide: 6 (S/2)^2 = 1.5
+// S^2 texels per whole cube, close to one S x S paraboloid, and half that per hemicube. Depth stores the radial
+// distance / far, so one comparison works on every face.
 //
 // The maps are drawn on the CPU (renderer/gl/distance_raster.h: the nearest triangle along each texel's ray), a caster
 // per work item on every core, and uploaded. Drawn by GL through a geometry shader that fanned each triangle out to the
@@ -49,8 +49,8 @@ class CubeShadowMaps {
   /// Draws again only the maps of the casters `moved` names (indices into `casters`, which holds as many casters as
   /// the last render, each as large a map as before, with the same face size and far): the others keep their maps.
   /// With outOfTime it stops after a batch once it says so and returns the first entry of `moved` not drawn, else -1.
-  int renderMoved(const Scene& scene, const std::vector<VplCaster>& casters, const std::vector<int>& moved,
-                  int threads, int first = 0, const std::function<bool()>& outOfTime = {});
+  int renderMoved(const Scene& scene, const std::vector<VplCaster>& casters, const std::vector<int>& moved, int threads,
+                  int first = 0, const std::function<bool()>& outOfTime = {});
 
   /// Casters are split into chunks of at most GL_MAX_ARRAY_TEXTURE_LAYERS layers, each one texture.
   int chunkCount() const { return static_cast<int>(chunks_.size()); }
