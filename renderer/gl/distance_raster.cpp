@@ -74,7 +74,9 @@ inline bool texelRange(float cmin, float cmax, int size, int& lo, int& hi) {
 // Texels [first, last] of a cube face's row at y, covered by a triangle: along the ray r = (x, y, 1) its plane lies at
 // |det| / sum times r (sum: of the edge functions, sumAtY + sumSlope.x x along the row), |r|^2 = 1 + x^2 + y^2, and
 // d ln(dist) / dx = x / |r|^2 - sumSlope.x / sum (y likewise). Branch-free, so that it runs on SIMD lanes (the file is
-// built without errno and traps from floating point).
+// built without errno and traps from floating point). Without a slope bias (kBiased false: the VPLs' maps) the slope
+// is not computed.
+template <bool kBiased>
 void faceSpan(float* row, int first, int last, float step, float y, float sumAtY, glm::vec2 sumSlope, float absDet,
               float dmax, float maxSlopeBias, float near) {
   for (int i = first; i <= last; ++i) {
@@ -86,11 +88,14 @@ void faceSpan(float* row, int first, int last, float step, float y, float sumAtY
     const float axial = absDet * inverseSum;
     const float along = axial * std::sqrt(r2);
     const float dist = along < dmax ? along : dmax;
-    const float slope =
-        step * dist *
-        (std::fabs(x * inverseR2 - sumSlope.x * inverseSum) + std::fabs(y * inverseR2 - sumSlope.y * inverseSum));
-    const float bound = maxSlopeBias * dist;
-    const float value = dist + (slope < bound ? slope : bound);
+    float value = dist;
+    if constexpr (kBiased) {
+      const float slope =
+          step * dist *
+          (std::fabs(x * inverseR2 - sumSlope.x * inverseSum) + std::fabs(y * inverseR2 - sumSlope.y * inverseSum));
+      const float bound = maxSlopeBias * dist;
+      value += slope < bound ? slope : bound;
+    }
     row[i] = value < row[i] && axial >= near ? value : row[i];
   }
 }
@@ -285,9 +290,12 @@ void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* 
           const float y = (static_cast<float>(j) + 0.5f) * step - 1.0f;
           float* row = out + static_cast<std::size_t>(j) * size;
           auto span = [&](int first, int last) {
-            if (perspective_)
-              faceSpan(row, first, last, step, y, edgeSum.x + edgeSum.z * y, glm::vec2(edgeSum.y, edgeSum.z), absDet,
-                       dmax, maxSlopeBias, near_);
+            if (perspective_ && maxSlopeBias > 0.0f)
+              faceSpan<true>(row, first, last, step, y, edgeSum.x + edgeSum.z * y, glm::vec2(edgeSum.y, edgeSum.z),
+                             absDet, dmax, maxSlopeBias, near_);
+            else if (perspective_)
+              faceSpan<false>(row, first, last, step, y, edgeSum.x + edgeSum.z * y, glm::vec2(edgeSum.y, edgeSum.z),
+                              absDet, dmax, maxSlopeBias, near_);
             else
               planeSpan(row, first, last, step, z0 + gradient.y * y, gradient.x, zmin, zmax, planeBias);
           };
