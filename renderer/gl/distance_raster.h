@@ -41,7 +41,8 @@ class DistanceRasterizer {
     glm::vec3 s, t, axis;
     int firstRow = 0;
   };
-  /// Sorts the scene's triangles into the rows of each of `views`, size^2 texels each, around `origin`.
+  /// Sorts the scene's triangles into the rows of each of `views`, size^2 texels each, around `origin`; `near` as for
+  /// binCube.
   void binPerspective(const Scene& scene, glm::vec3 origin, const std::vector<Perspective>& views, int size,
                       int threads, float near = 0.0f);
   /// Sorts them into the rows of one orthographic map of size^2 texels: texel (i, j) is the ray along `direction`
