@@ -17,6 +17,9 @@ constexpr int kBatchPerThread = 8;
 // fresh buffer costs its size in page faults: 28 MB for 291 hemicubes of 128^2), large enough that starting the
 // threads is not what the batch costs.
 constexpr int kUnbudgetedBatchPerThread = 32;
+// Whatever the batch, its staging buffer holds at most this many bytes of maps, and a batch at least one caster per
+// thread: at the largest faces (1024^2) a whole cube is 12 MB.
+constexpr std::size_t kStagingBytes = std::size_t{16} << 20;
 // What lies nearer than this fraction of `far` along a face's axis is not drawn.
 constexpr float kNearFraction = 1e-5f;
 
@@ -134,7 +137,10 @@ int CubeShadowMaps::drawCasters(const Scene& scene, const std::vector<VplCaster>
   // not cover its map at distance 0.
   const float near = kNearFraction * far_;
   threads = std::max(1, threads);
-  const int batch = (outOfTime ? kBatchPerThread : kUnbudgetedBatchPerThread) * threads;
+  const std::size_t casterBytes = 6 * layerTexels * sizeof(uint16_t);  // a whole cube's, the most a caster has
+  const int fitting = static_cast<int>(std::min<std::size_t>(kStagingBytes / casterBytes, 1 << 20));
+  const int batch =
+      std::max(threads, std::min((outOfTime ? kBatchPerThread : kUnbudgetedBatchPerThread) * threads, fitting));
   // Each thread's rasterizer and one view's distances.
   std::vector<DistanceRasterizer> rasterizers(static_cast<std::size_t>(threads));
   std::vector<std::vector<float>> views(static_cast<std::size_t>(threads), std::vector<float>(layerTexels));
