@@ -161,8 +161,8 @@ bool runStateVerb(EditorState& state, const ScriptCommand& c, const std::string&
     const ChangeTimer& t = state.changeTimer();
     const PreviewTimings& p = t.lastPasses();
     std::snprintf(line, sizeof line,
-                  "change-cost size=%dx%d ms=%.1f first_image_ms=%.1f coarse=%d frames=%d pending=%d gpu_ms gbuffer=%.1f "
-                  "direct_shadow=%.1f direct=%.1f vpl_shadow=%.1f gather=%.1f media=%.1f ssbc=%.1f",
+                  "change-cost size=%dx%d ms=%.1f first_image_ms=%.1f coarse=%d frames=%d pending=%d pass_ms "
+                  "gbuffer=%.1f direct_shadow=%.1f direct=%.1f vpl_shadow=%.1f gather=%.1f media=%.1f ssbc=%.1f",
                   state.settings().width, state.settings().height, t.lastMs(), t.lastFirstImageMs(),
                   t.lastHadCoarseImage(), t.lastFrames(), t.pending(), p.gbufferMs, p.directShadowMs, p.directMs,
                   p.vplShadowMs, p.gatherMs, p.mediaMs, p.ssbcMs);

@@ -123,15 +123,15 @@ void drawChartSection(EditorState& state, PanelState& panels) {
     const PreviewTimings& last = state.lastPassMs();
     std::vector<PassTiming> passes = {
         {"G-buffer", t.gbufferMs, last.gbufferMs},
-        {"light shadows", t.directShadowMs, last.directShadowMs},
+        {"light shadows (CPU)", t.directShadowMs, last.directShadowMs},
         {"direct", t.directMs, last.directMs},
-        {"VPL shadows", t.vplShadowMs, last.vplShadowMs},
+        {"VPL shadows (CPU)", t.vplShadowMs, last.vplShadowMs},
         {"gather", t.gatherMs, last.gatherMs},
         {"media", t.mediaMs, last.mediaMs},
         {"SSBC", t.ssbcMs, last.ssbcMs},
         {"VPL generation (CPU)", timer.lastVplGenerationMs(), state.vpls().stats.generationSeconds * 1e3}};
     if (timer.lastMs() >= 0.0)
-      ImGui::TextDisabled("last change, %d frame%s; GPU ms per pass:", timer.lastFrames(),
+      ImGui::TextDisabled("last change, %d frame%s; ms per pass (GPU, or CPU where marked):", timer.lastFrames(),
                           timer.lastFrames() == 1 ? "" : "s");
     drawPassTimings(passes);
     // Beside the timings: the preview's representatives (past previewRepresentatives VPLs) and the last lightcuts
