@@ -42,9 +42,9 @@ Nearest nearestHit(const Scene& scene, glm::dvec3 origin, glm::dvec3 dir, double
   return n;
 }
 
-// The frame shaders/common/math.glsl orthonormalFrame builds around n.
+// The frame shaders/common/math.glsl orthonormalFrame builds around n (its sign copysign(1, n.z), as Frame's).
 void glslFrame(glm::dvec3 n, glm::dvec3& s, glm::dvec3& t) {
-  const double sgn = n.z >= 0.0 ? 1.0 : -1.0, a = -1.0 / (sgn + n.z), b = n.x * n.y * a;
+  const double sgn = std::copysign(1.0, n.z), a = -1.0 / (sgn + n.z), b = n.x * n.y * a;
   s = glm::dvec3(1.0 + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
   t = glm::dvec3(b, sgn + n.y * n.y * a, -n.y);
 }

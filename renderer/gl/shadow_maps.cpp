@@ -5,6 +5,7 @@
 #include <stdexcept>
 
 #include "renderer/core/parallel.h"
+#include "renderer/core/sampling.h"
 #include "renderer/gl/distance_raster.h"
 
 namespace vplab {
@@ -23,23 +24,13 @@ constexpr std::size_t kStagingBytes = std::size_t{16} << 20;
 // What lies nearer than this fraction of `far` along a face's axis is not drawn.
 constexpr float kNearFraction = 1e-5f;
 
-// The frame (s, t) around a hemicube's normal that shaders/common/math.glsl orthonormalFrame builds from the same
-// normal at the lookup, written the same way (its sign test included: Frame's copysign differs at z = -0).
-void hemicubeFrame(glm::vec3 n, glm::vec3& s, glm::vec3& t) {
-  const float sgn = n.z >= 0.0f ? 1.0f : -1.0f;
-  const float a = -1.0f / (sgn + n.z);
-  const float b = n.x * n.y * a;
-  s = glm::vec3(1.0f + sgn * n.x * n.x * a, sgn * b, -sgn * n.x);
-  t = glm::vec3(b, sgn + n.y * n.y * a, -n.y);
-}
-
 // A hemicube's five views in the order of its layers (shaders/common/shadow.glsl hemicubeShadowCoordinates): along the
 // normal (x = s, y = t), then along +s, -s (x = t) and +t, -t (x = s), each with the normal up and only its upper half.
+// The frame is the one the lookup builds (shaders/common/math.glsl orthonormalFrame, the same as Frame).
 std::vector<DistanceRasterizer::Perspective> hemicubeViews(glm::vec3 n, int size) {
-  glm::vec3 s, t;
-  hemicubeFrame(n, s, t);
+  const Frame f(n);
   const int half = size / 2;
-  return {{s, t, n, 0}, {t, n, s, half}, {t, n, -s, half}, {s, n, t, half}, {s, n, -t, half}};
+  return {{f.s, f.t, n, 0}, {f.t, n, f.s, half}, {f.t, n, -f.s, half}, {f.s, n, f.t, half}, {f.s, n, -f.t, half}};
 }
 
 // Distance / far as a 16-bit depth, as GL stores a fragment depth in a DEPTH_COMPONENT16 texture; 1 where nothing lies
