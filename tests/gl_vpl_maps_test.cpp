@@ -5,13 +5,13 @@
 // casters that moved.
 
 #include <cmath>
-#include <limits>
 #include <string>
 
 #include "renderer/gl/gl_limits.h"
 #include "renderer/gl/shadow_maps.h"
 #include "renderer/vpl/vpl_generation.h"
 #include "tests/gl_test_util.h"
+#include "tests/nearest_hit.h"
 #include "tests/test_scenes.h"
 
 namespace vplab {
@@ -19,28 +19,8 @@ namespace {
 
 using GlVplMaps = test::GlBackendTest;
 
-// The nearest hit along a ray beyond minT over every triangle (Moller-Trumbore in double), and whether a triangle's
-// edge passes so close to the ray that rounding may decide either way.
-struct Nearest {
-  double t = std::numeric_limits<double>::infinity();
-  bool ambiguous = false;
-};
-Nearest nearestHit(const Scene& scene, glm::dvec3 origin, glm::dvec3 dir, double minT) {
-  Nearest n;
-  for (const glm::uvec3& tri : scene.triangles) {
-    const glm::dvec3 a = scene.positions[tri.x], b = scene.positions[tri.y], c = scene.positions[tri.z];
-    const glm::dvec3 e1 = b - a, e2 = c - a, p = glm::cross(dir, e2);
-    const double det = glm::dot(e1, p);
-    if (std::abs(det) < 1e-18) continue;
-    const glm::dvec3 s = origin - a, q = glm::cross(s, e1);
-    const double u = glm::dot(s, p) / det, v = glm::dot(dir, q) / det, t = glm::dot(e2, q) / det;
-    if (t <= minT) continue;
-    const double inside = std::min({u, v, 1.0 - u - v});
-    if (std::abs(inside) < 1e-4) n.ambiguous = true;
-    if (inside >= 0.0) n.t = std::min(n.t, t);
-  }
-  return n;
-}
+using test::Nearest;
+using test::nearestHit;
 
 // The frame shaders/common/math.glsl orthonormalFrame builds around n (its sign copysign(1, n.z), as Frame's).
 void glslFrame(glm::dvec3 n, glm::dvec3& s, glm::dvec3& t) {
