@@ -628,8 +628,7 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
           {grid.g.position, grid.g.normal, grid.gbufferDerivedCurrent, results.i0, results.r1, results.r2}, vao_,
           ssbcSlices_);
       if (ownGrid) {
-        upsample(glm::vec4(1.0f, 1.0f, residualSteps_ >= 1, residualSteps_ >= 2), camera.position,
-                 tg.linear.framebuffer, ssbcSlices_);
+        upsample(glm::vec4(1.0f, 1.0f, residualSteps_ >= 1, residualSteps_ >= 2), tg.linear.framebuffer, ssbcSlices_);
       } else {
         tg.linear.framebuffer.bind(tg.width, tg.height);
         tg.full.g.bind();
@@ -637,7 +636,6 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
         tg.full.results().r1.texture.bind(unit(TextureUnit::PassInput2));
         tg.full.results().r2.texture.bind(unit(TextureUnit::PassInput3));
         compose_->set("uResidualSteps", residualSteps_);
-        compose_->set("uCameraPosition", camera.position);
         ssbcSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(compose_.get(), vao_); });
       }
       // Through media: the surfaces' image attenuated along the camera rays, plus the light scattered into them.
@@ -697,7 +695,7 @@ void PreviewRenderer::mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFr
   slices.bands(glm::ivec4(0, 0, grid.width, grid.height), [&] { drawFullscreen(deinterleaveColumns_, vao_); });
 }
 
-void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFramebuffer& out, PassSlices& slices) {
+void PreviewRenderer::upsample(glm::vec4 terms, GlFramebuffer& out, PassSlices& slices) {
   Targets& tg = *targets_;
   ScreenGrid& grid = *tg.downscaled;
   grid.g.bind();
@@ -717,7 +715,6 @@ void PreviewRenderer::upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFram
   out.bind(tg.width, tg.height);
   upsample_->set("uDownscale", tg.downscale);
   upsample_->set("uTerms", terms);
-  upsample_->set("uCameraPosition", cameraPosition);
   slices.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] { drawFullscreen(upsample_.get(), vao_); });
 }
 
@@ -744,7 +741,7 @@ Image PreviewRenderer::readLinear(PreviewOutput which) {
     const bool residual = which == PreviewOutput::Residual;
     PassSlices whole;
     upsample(glm::vec4(0.0f, !residual, residual && residualSteps_ >= 1, residual && residualSteps_ >= 2),
-             lastCamera_.position, tg.full.indirect().framebuffer, whole);
+             tg.full.indirect().framebuffer, whole);
     throughMedia(tg.full.indirect(), residual ? glm::vec4(1.0f, 0.0f, 0.0f, 0.0f) : glm::vec4(1.0f, 0.0f, 1.0f, 0.0f));
     glBindFramebuffer(GL_FRAMEBUFFER, 0);
     return readFramebuffer(tg.full.indirect().framebuffer, 0, tg.width, tg.height);

@@ -149,7 +149,7 @@ class PreviewRenderer {
   void mergeInterleaved(ScreenGrid& grid, glm::vec2 weights, GlFramebuffer& out, PassSlices& slices);
   /// Draws into `out` the full-resolution image of the indirect light's grid (preview/upsample.frag.glsl) with the
   /// terms `terms` selects: x emission and direct light, y the gather, z R1, w R2; as steps of `slices`.
-  void upsample(glm::vec4 terms, glm::vec3 cameraPosition, GlFramebuffer& out, PassSlices& slices);
+  void upsample(glm::vec4 terms, GlFramebuffer& out, PassSlices& slices);
   /// Creates the visibility technique and compiles the gather (and the media's VPL pass) for it and for the scene's
   /// media when Settings::visibility or whether the scene has media changed.
   void useVisibility(VisibilityMethod method, const MediaShaderLayout& media);

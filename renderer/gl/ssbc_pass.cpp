@@ -55,6 +55,8 @@ struct SsbcPass::Targets {
     flatRows.attachColor(0, flatRowPlanes);
     flatRows.attachColor(1, flatRowStates);
     flatRows.finalize(2);
+    // The interpolation of the coarse rings is the bilinear filter's (SSBC_SPLIT).
+    coarse.texture.setLinearFiltering(true, false);
     coarse.framebuffer.attachColor(1, coarseFar);
     coarse.framebuffer.finalize(2);
     tapLevels.resize(static_cast<std::size_t>(taps.levels()));
@@ -144,29 +146,29 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   auto drawWhole = [&](ShaderProgram& program, int w, int h) {
     slices.bands(glm::ivec4(0, 0, w, h), [&] { drawFullscreen(program, vao); });
   };
-  // Multi-resolution rings: adds (blending) the fine rings into `output` where they are not zero, and (withFallback)
-  // the coarse rings where the pass before could not interpolate them from the coarse grid; each pass runs where its
-  // mask holds 1, drawn at a smaller depth.
-  auto addSplitPasses = [&](Target& output, GlFramebuffer& fineInto, bool withFallback) {
-    if (!split) return;
-    glEnable(GL_BLEND);
-    glBlendFunc(GL_ONE, GL_ONE);
+  // Multi-resolution rings, each pass through a mask (ssbc_mask.frag.glsl) drawn at a smaller depth: where the fallback
+  // mask is 0 (p is no receiver, or every coarse sample its interpolation weighs lies on its surface) the coarse rings
+  // bilinear from the coarse grid, where it is 1 `incomplete`, both writing; then the fine rings added (blending) where
+  // the fine mask is 1.
+  auto drawSplitPasses = [&](Target& output, GlFramebuffer& fineInto, ShaderProgram& incomplete) {
     glEnable(GL_DEPTH_TEST);
     glDepthMask(GL_FALSE);
+    tg.fallbackInto.attachColor(0, output.texture);
+    tg.fallbackInto.finalize(1);
+    tg.fallbackInto.bind(width, height);
+    glDepthFunc(GL_GREATER);
+    drawWhole(ssbc, width, height);
     glDepthFunc(GL_LESS);
+    drawWhole(incomplete, width, height);
+    glEnable(GL_BLEND);
+    glBlendFunc(GL_ONE, GL_ONE);
     fineInto.attachColor(0, output.texture);
     fineInto.finalize(1);
     fineInto.bind(width, height);
     drawWhole(fine, width, height);
-    if (withFallback) {
-      tg.fallbackInto.attachColor(0, output.texture);
-      tg.fallbackInto.finalize(1);
-      tg.fallbackInto.bind(width, height);
-      drawWhole(fallback, width, height);
-    }
+    glDisable(GL_BLEND);
     glDepthMask(GL_TRUE);
     glDisable(GL_DEPTH_TEST);
-    glDisable(GL_BLEND);
   };
   if (redoFlat_) {
     // Which coarse blocks lie on one plane: depends on the G-buffer only, once for both steps and every VPL set.
@@ -213,12 +215,14 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
       tg.coarse.texture.bind(unit(TextureUnit::PassInput4));
       tg.coarseFar.bind(unit(TextureUnit::PassInput6));
     }
-    outputs[step]->framebuffer.bind(width, height);
-    // R2 = T_r(R1) carries about a tenth of the compensation: there the coarse rings are extrapolated along p's
-    // surface where they cannot be interpolated, instead of being evaluated at those pixels.
-    const bool extrapolate = split && step == 1;
-    drawWhole(extrapolate ? upsample : ssbc, width, height);
-    addSplitPasses(*outputs[step], tg.fineInto[step], !extrapolate);
+    if (split) {
+      // R2 = T_r(R1) carries about a tenth of the compensation: there the coarse rings are extrapolated along p's
+      // surface where they cannot be interpolated, instead of being evaluated at those pixels.
+      drawSplitPasses(*outputs[step], tg.fineInto[step], step == 0 ? fallback : upsample);
+    } else {
+      outputs[step]->framebuffer.bind(width, height);
+      drawWhole(ssbc, width, height);
+    }
     input = outputs[step];
   }
   return steps;

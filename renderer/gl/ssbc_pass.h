@@ -3,7 +3,8 @@
 // R1 = T_r(I0) adds back what the bound b removed, as an image filter over the pixels within 1/sqrt(b); a second step
 // R2 = T_r(R1) adds the next bounce of it. Hierarchical rings over mip levels of the G-buffer and of the step's input;
 // with Settings::ssbcCoarseRings the coarse rings are evaluated on a 4x coarser grid and interpolated where the
-// pixels' blocks are flat, and R2 extrapolates them instead.
+// samples lie on the pixel's surface (elsewhere evaluated, in R2 extrapolated) and the fine rings only where the
+// pixels' blocks are not flat.
 
 #include <memory>
 
@@ -41,11 +42,11 @@ class SsbcPass {
   std::unique_ptr<Targets> targets_;
   BrdfVariants ssbc_;
   DeferredProgram taps_, radiance_;
-  // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the step that interpolates the
-  // coarse rings, the pass that evaluates them on the coarse grid, the pass that adds the fine rings where they are
-  // not zero (SSBC_FINE_PASS, with the flat-block mask of flatRows_ and flatColumns_) and the pass that adds what could
-  // not be interpolated (SSBC_FALLBACK_PASS); in the second step, the coarse rings extrapolated instead
-  // (SSBC_UPSAMPLE_PASS).
+  // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the pass that interpolates the
+  // coarse rings, the pass that evaluates them on the coarse grid, the pass that evaluates them where they cannot be
+  // interpolated (SSBC_FALLBACK_PASS; in the second step SSBC_UPSAMPLE_PASS extrapolates them there instead) and the
+  // pass that adds the fine rings where they are not zero (SSBC_FINE_PASS, with the flat-block mask of flatRows_ and
+  // flatColumns_).
   BrdfVariants split_, coarse_, fine_;
   DeferredProgram flatRows_, flatColumns_;
   DeferredProgram fineMask_, fallbackMask_;  // where the fine and the fallback passes run (ssbc_mask.frag.glsl)

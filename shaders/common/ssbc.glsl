@@ -218,7 +218,7 @@ bool ssbcCoarseInterpolated(SsbcReceiver r, ivec2 px, out vec3 coarse) {
 // A coarse-grid quantity at p (coarseSamples: one texel per pixel kSsbcCoarseSpacing t), bilinear over the samples on
 // p's surface, renormalised (each such sample weighted at least 1/64, so that a pixel between samples of which only
 // zero-weight ones lie on its surface still gets them); 0 where none of the four does. Used for the far rings at a
-// pixel whose interpolation is incomplete, and for the coarse rings of the second step.
+// pixel whose interpolation is incomplete, and for the coarse rings of the second step at such a pixel.
 vec3 ssbcFromCoarseSamples(sampler2D coarseSamples, SsbcReceiver r, ivec2 px) {
   vec4 key = texelFetch(gMergeKey, px, 0);
   ivec2 base = px >> kSsbcFineLevels;

@@ -7,16 +7,14 @@ layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uI0;         // direct + in
 layout(binding = UNIT_PASS_INPUT2) uniform sampler2D uResidual1;  // R1 = T_r(I0)
 layout(binding = UNIT_PASS_INPUT3) uniform sampler2D uResidual2;  // R2 = T_r(R1)
 uniform int uResidualSteps;  // compensation steps whose results R1, R2 are current (0-2)
-uniform vec3 uCameraPosition;
 layout(location = 0) out vec4 outColor;
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   vec3 i0 = texelFetch(uI0, px, 0).rgb;
-  vec4 pos = texelFetch(gPosition, px, 0);
-  // One-sided emitters: Le is seen only from the side the geometric normal faces.
-  bool front = pos.w > 0.0 && dot(texelFetch(gGeoNormal, px, 0).xyz, uCameraPosition - pos.xyz) > 0.0;
-  vec3 le = front ? texelFetch(gEmission, px, 0).rgb : vec3(0.0);
+  // Le as the camera sees it (gbuffer.frag.glsl); the emission target is not cleared, so background texels hold
+  // anything.
+  vec3 le = texelFetch(gPosition, px, 0).w > 0.0 ? texelFetch(gEmission, px, 0).rgb : vec3(0.0);
   // Selects, not products: a target not written this frame may hold anything.
   vec3 r1 = uResidualSteps >= 1 ? texelFetch(uResidual1, px, 0).rgb : vec3(0.0);
   vec3 r2 = uResidualSteps >= 2 ? texelFetch(uResidual2, px, 0).rgb : vec3(0.0);

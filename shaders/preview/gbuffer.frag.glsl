@@ -27,6 +27,9 @@ void main() {
     vec2 st = vec2(dot(m.emissiveUvRow0.xyz, vec3(vUv, 1.0)), dot(m.emissiveUvRow1.xyz, vec3(vUv, 1.0)));
     emission *= texture(uSceneTextures, vec3(st, m.emission.w)).rgb;
   }
-  outEmission = vec4(emission, m.params.z);
+  // Le as the camera sees it: a one-sided emitter only from the side its geometric normal faces, so that the
+  // compositions add it without a test.
+  bool front = dot(vGeoNormal, uCameraPosition - vPosition) > 0.0;
+  outEmission = vec4(front ? emission : vec3(0.0), m.params.z);
   outGeoNormal = vec4(vGeoNormal, 0.0);
 }

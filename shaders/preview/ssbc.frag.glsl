@@ -1,11 +1,11 @@
 #version 450 core
 // Pass 5, one step of screen-space bias compensation (common/ssbc.glsl) at every uScale-th pixel: output texel t
-// holds T_r(I) at the pixel t * uScale (uScale 1: every pixel). Multi-resolution rings (common/ssbc.glsl):
-// SSBC_COARSE_PASS holds only the coarse rings, at the pixels kSsbcCoarseSpacing t (uScale kSsbcCoarseSpacing);
-// SSBC_SPLIT the interpolated coarse rings, SSBC_FINE_PASS adds the fine rings where they are not zero and
-// SSBC_FALLBACK_PASS the coarse rings where they could not be interpolated. In the second step (R2 = T_r(R1), about
-// a tenth of the compensation) SSBC_UPSAMPLE_PASS takes the coarse rings from the samples on p's surface everywhere,
-// extrapolating where it cannot interpolate, and there is no fallback pass.
+// holds T_r(I) at the pixel t * uScale (uScale 1: every pixel). Multi-resolution rings (common/ssbc.glsl), each pass
+// but the first drawn through a depth mask (ssbc_mask.frag.glsl): SSBC_COARSE_PASS holds only the coarse rings, at the
+// pixels kSsbcCoarseSpacing t (uScale kSsbcCoarseSpacing); SSBC_SPLIT writes them interpolated where p's interpolation
+// is complete (or p is no receiver) and SSBC_FALLBACK_PASS evaluates them where it is not; SSBC_FINE_PASS then adds
+// the fine rings where they are not zero. In the second step (R2 = T_r(R1), about a tenth of the compensation)
+// SSBC_UPSAMPLE_PASS takes the place of the fallback: it extrapolates the coarse rings from the samples on p's surface.
 #include "common/units.glsl"
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"
@@ -23,8 +23,8 @@ void main() {
   ivec2 pc = min(px, size - 1);
   float alpha = 1.0;
 #if defined(SSBC_UPSAMPLE_PASS)
-  // The coarse rings of the second step, from the coarse samples on p's surface; its fine rings follow
-  // (SSBC_FINE_PASS).
+  // The coarse rings of the second step where they cannot be interpolated, from the coarse samples on p's surface;
+  // its fine rings follow (SSBC_FINE_PASS).
   SsbcReceiver r;
   vec3 value = ssbcReceiver(pc, r) ? ssbcFromCoarseSamples(uCoarse, r, pc) : vec3(0.0);
 #elif defined(SSBC_COARSE_PASS)
@@ -35,17 +35,16 @@ void main() {
   value = receiver ? value : vec3(0.0);
   outFar = vec4(receiver && all(lessThan(px, size)) ? far : vec3(0.0), 1.0);
 #elif defined(SSBC_FALLBACK_PASS)
-  // Added (blending) to the SSBC_SPLIT pass's output where it lacks the coarse rings. Drawn through a depth mask
-  // (ssbc_mask.frag.glsl), so that only SIMD groups at creases and silhouettes evaluate the coarse rings; a branch or
-  // loop would run for every group (llvmpipe).
+  // Where the coarse rings cannot be interpolated. Drawn through a depth mask (ssbc_mask.frag.glsl), so that only
+  // SIMD groups at creases and silhouettes evaluate the coarse rings; a branch or loop would run for every group
+  // (llvmpipe).
   SsbcReceiver r;
   ssbcReceiver(pc, r);
   // The near coarse rings exactly, the far ones from the samples on p's surface.
   vec3 value = ssbcRings(r, pc, kSsbcFineLevels, min(r.topLevel, kSsbcFallbackExactLevels - 1)) +
                ssbcFromCoarseSamples(uCoarseFar, r, pc);
-  alpha = 0.0;
 #elif defined(SSBC_FINE_PASS)
-  // Added (blending) to the SSBC_SPLIT pass's output: the fine rings, drawn through a depth mask
+  // Added (blending) to the step's output: the fine rings, drawn through a depth mask
   // (ssbc_mask.frag.glsl) that holds only the pixels whose block is not flat (ssbc_flat.frag.glsl); elsewhere every
   // fine tap is coplanar with p and adds nothing.
   SsbcReceiver r;
@@ -53,14 +52,12 @@ void main() {
   vec3 value = ssbcLevel0(r, pc) + ssbcLevel1(r, pc);
   alpha = 0.0;
 #elif defined(SSBC_SPLIT)
-  // The coarse rings interpolated from the coarse grid (0 where incomplete: the fallback pass adds them); the fine
-  // rings come from the SSBC_FINE_PASS.
-  SsbcReceiver r;
-  vec3 value = vec3(0.0);
-  if (ssbcReceiver(pc, r)) {
-    vec3 coarse;
-    value = ssbcCoarseInterpolated(r, pc, coarse) ? coarse : vec3(0.0);
-  }
+  // The coarse rings interpolated from the coarse grid, drawn where the fallback mask is 0: there every sample with a
+  // non-zero bilinear weight lies on p's surface (ssbcCoarseInterpolated), so the interpolation is the bilinear
+  // filter's, one filtered fetch; or p sees no surface and gets 0. The fine rings come from the SSBC_FINE_PASS.
+  vec2 coarsePosition = vec2(pc) / float(kSsbcCoarseSpacing) + 0.5;
+  vec3 value = texelFetch(gPosition, pc, 0).w > 0.0 ? texture(uCoarse, coarsePosition / vec2(textureSize(uCoarse, 0))).rgb
+                                                    : vec3(0.0);
 #else
   vec3 value = ssbcFullAt(pc);
 #endif

@@ -4,7 +4,8 @@
 // llvmpipe's early depth test ends the shader for a SIMD group whose pixels all fail. A discard did the same job at
 // several times the cost: a 640x480 pass that discarded every pixel took 6 ms, one that wrote every pixel 0.7 ms.
 // SSBC_MASK_FINE: pixels whose block is not flat (ssbc_flat.frag.glsl), for SSBC_FINE_PASS. Otherwise: pixels whose
-// coarse rings cannot be interpolated from the coarse grid, for SSBC_FALLBACK_PASS.
+// coarse rings cannot be interpolated from the coarse grid, for SSBC_FALLBACK_PASS (SSBC_UPSAMPLE_PASS in the second
+// step), and where it is 0 for the bilinear interpolation (SSBC_SPLIT).
 #include "common/units.glsl"
 #include "common/brdf.glsl"
 #include "common/fullscreen.glsl"

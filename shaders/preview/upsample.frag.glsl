@@ -64,7 +64,6 @@ layout(binding = UNIT_PASS_INPUT2) uniform sampler2D uGridBlockPlane; // the fir
 layout(binding = UNIT_PASS_INPUT4) uniform sampler2D uGridPosition;   // grid G-buffer
 layout(binding = UNIT_PASS_INPUT5) uniform sampler2D uGridMergeKey;   // grid G-buffer
 uniform int uDownscale;
-uniform vec3 uCameraPosition;
 
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
@@ -72,9 +71,8 @@ void main() {
   vec3 own = vec3(0.0);
   if (uTerms.x > 0.0) {
     own = texelFetch(uDirect, px, 0).rgb;
-    // One-sided emitters: Le is seen only from the side the geometric normal faces.
-    if (pos.w > 0.0 && dot(texelFetch(gGeoNormal, px, 0).xyz, uCameraPosition - pos.xyz) > 0.0)
-      own += texelFetch(gEmission, px, 0).rgb;
+    // Le as the camera sees it (gbuffer.frag.glsl); background texels of the emission target hold anything.
+    if (pos.w > 0.0) own += texelFetch(gEmission, px, 0).rgb;
   }
   if (pos.w <= 0.0 || uTerms.yzw == vec3(0.0)) {
     outColor = vec4(own, 1.0);
