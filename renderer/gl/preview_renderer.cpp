@@ -60,7 +60,7 @@ double timed(GlTimerQuery& timer, double& wallMs, F&& body) {
 /// The G-buffer's colour textures (common/fullscreen.glsl, gbuffer.frag.glsl) at one resolution, attached to one
 /// framebuffer. Position and normal have mips: the compensation's hierarchy.
 struct GbufferTextures {
-  GlTexture position, normal, baseColor, emission, geoNormal, mergeKey;
+  GlTexture position, normal, baseColor, emission, shading, mergeKey, surface;
   GlFramebuffer framebuffer;
 
   GbufferTextures(int w, int h)
@@ -68,14 +68,16 @@ struct GbufferTextures {
         normal(w, h, TextureFormat::Rgba32F, 0),
         baseColor(w, h, TextureFormat::Rgba32F),
         emission(w, h, TextureFormat::Rgba32F),
-        geoNormal(w, h, TextureFormat::Rgba32F),
-        mergeKey(w, h, TextureFormat::Rgba32F) {
+        shading(w, h, TextureFormat::Rgba32UI),
+        mergeKey(w, h, TextureFormat::Rgba32F),
+        surface(w, h, TextureFormat::Rgba32UI) {
     framebuffer.attachColor(0, position);
     framebuffer.attachColor(1, normal);
     framebuffer.attachColor(2, baseColor);
     framebuffer.attachColor(3, emission);
-    framebuffer.attachColor(4, geoNormal);
+    framebuffer.attachColor(4, shading);
     framebuffer.attachColor(5, mergeKey);
+    framebuffer.attachColor(6, surface);
   }
 
   void bind() const {
@@ -83,8 +85,9 @@ struct GbufferTextures {
     normal.bind(unit(TextureUnit::GNormal));
     baseColor.bind(unit(TextureUnit::GBaseColor));
     emission.bind(unit(TextureUnit::GEmission));
-    geoNormal.bind(unit(TextureUnit::GGeoNormal));
+    shading.bind(unit(TextureUnit::GShading));
     mergeKey.bind(unit(TextureUnit::GMergeKey));
+    surface.bind(unit(TextureUnit::GSurface));
   }
 };
 
@@ -168,7 +171,7 @@ struct PreviewRenderer::Targets {
         direct(w, h),
         linear(w, h) {
     full.g.framebuffer.attachDepth(gDepth);
-    full.g.framebuffer.finalize(6);
+    full.g.framebuffer.finalize(7);
   }
 
   void ensureDownscale(int s) {
@@ -178,7 +181,7 @@ struct PreviewRenderer::Targets {
     if (s > 1) {
       const glm::ivec2 size = indirectGridSize(width, height, s);
       downscaled = std::make_unique<ScreenGrid>(size.x, size.y);
-      downscaled->g.framebuffer.finalize(6);
+      downscaled->g.framebuffer.finalize(7);
     }
   }
   /// Where the gather and the compensation run.
@@ -482,9 +485,11 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       gbuffer_.set("uViewProj", reversedDepthProjection(camera.yfov, aspect, camera.znear) * view);
       gbuffer_.set("uCameraPosition", camera.position);
       gbufferSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] {
-        // Background texels are marked by w = 0 in position and merge key; the normal's mips must average zeros
-        // there (a short averaged normal flags an edge). The other targets are only read where position.w > 0.
+        // Background texels are marked by w = 0 in position and merge key, and by G_NO_SURFACE in the packed surface
+        // (common/gbuffer_packing.glsl); the normal's mips must average zeros there (a short averaged normal flags an
+        // edge). The other targets are only read where position.w > 0.
         for (int i : {0, 1, 5}) gbuffer.clearColor(i, glm::vec4(0.0f));
+        gbuffer.clearColorUint(6, glm::uvec4(0u, 0u, 0u, 0x80008000u));
         gbuffer.clearDepth(0.0f);
         glEnable(GL_DEPTH_TEST);
         gbuffer_.use();

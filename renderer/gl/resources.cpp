@@ -20,6 +20,7 @@ GLenum internalFormat(TextureFormat f) {
     case TextureFormat::R32F: return GL_R32F;
     case TextureFormat::R16: return GL_R16;
     case TextureFormat::Rgba8: return GL_RGBA8;
+    case TextureFormat::Rgba32UI: return GL_RGBA32UI;
     case TextureFormat::Depth32F: return GL_DEPTH_COMPONENT32F;
     case TextureFormat::Depth16: return GL_DEPTH_COMPONENT16;
   }
@@ -231,6 +232,10 @@ void GlFramebuffer::bind(int width, int height) const {
 
 void GlFramebuffer::clearColor(int index, glm::vec4 value) const {
   glClearNamedFramebufferfv(id(), GL_COLOR, index, &value[0]);
+}
+
+void GlFramebuffer::clearColorUint(int index, glm::uvec4 value) const {
+  glClearNamedFramebufferuiv(id(), GL_COLOR, index, &value[0]);
 }
 
 void GlFramebuffer::clearDepth(float value) const {

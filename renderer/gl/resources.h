@@ -13,7 +13,7 @@
 
 namespace vplab {
 
-enum class TextureFormat { Rgba32F, Rgba16F, Rg32F, R32F, R16, Rgba8, Depth32F, Depth16 };
+enum class TextureFormat { Rgba32F, Rgba16F, Rg32F, R32F, R16, Rgba8, Rgba32UI, Depth32F, Depth16 };
 
 /// Owns one GL name and deletes it with the matching glDelete* call.
 class GlObject {
@@ -106,6 +106,8 @@ class GlFramebuffer {
   /// Binds for drawing and sets the viewport.
   void bind(int width, int height) const;
   void clearColor(int index, glm::vec4 value) const;
+  /// Clears an integer colour attachment.
+  void clearColorUint(int index, glm::uvec4 value) const;
   void clearDepth(float value = 1.0f) const;
   uint32_t id() const { return object_.id(); }
 

@@ -3,5 +3,10 @@
 layout(binding = UNIT_G_POSITION) uniform sampler2D gPosition;   // xyz world position, w 1 where a surface was hit
 layout(binding = UNIT_G_NORMAL) uniform sampler2D gNormal;     // xyz shading normal, w metallic
 layout(binding = UNIT_G_BASE_COLOR) uniform sampler2D gBaseColor;  // rgb base colour (texture included), w roughness
-layout(binding = UNIT_G_EMISSION) uniform sampler2D gEmission;   // rgb emitted radiance, w specular
-layout(binding = UNIT_G_GEO_NORMAL) uniform sampler2D gGeoNormal;  // xyz geometric normal (winding order)
+// rgb Le toward the camera (0 behind a one-sided emitter), w specular
+layout(binding = UNIT_G_EMISSION) uniform sampler2D gEmission;
+// The interleaved passes' surface, packed (common/gbuffer_packing.glsl): the position and shading normal, and the
+// geometric normal (winding order) with the base colour and the BRDF's parameters.
+layout(binding = UNIT_G_SURFACE) uniform usampler2D gSurface;
+layout(binding = UNIT_G_SHADING) uniform usampler2D gShading;
+#include "common/gbuffer_packing.glsl"

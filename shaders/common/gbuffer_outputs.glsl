@@ -4,7 +4,8 @@ layout(location = 0) out vec4 outPosition;
 layout(location = 1) out vec4 outNormal;
 layout(location = 2) out vec4 outBaseColor;
 layout(location = 3) out vec4 outEmission;
-layout(location = 4) out vec4 outGeoNormal;
+layout(location = 4) out uvec4 outShading;  // common/gbuffer_packing.glsl
 // Shading normal and distance to the camera in one texel: the geometry-aware merges (deinterleave.frag.glsl,
 // the coarse-ring interpolation of common/ssbc.glsl) test every neighbour with one fetch instead of two and no length().
 layout(location = 5) out vec4 outMergeKey;
+layout(location = 6) out uvec4 outSurface;  // common/gbuffer_packing.glsl

@@ -40,14 +40,17 @@ vec4 interleavedOutput(InterleavedSurface s, vec3 reflected) {
 bool interleavedSurface(out InterleavedSurface s) {
   ivec2 px = (ivec2(gl_FragCoord.xy) - uBlockOrigin) * uInterleave + uSubsetXY;
   if (any(greaterThanEqual(px, uImageSize))) return false;
-  vec4 pos = texelFetch(gPosition, px, 0);
-  if (pos.w <= 0.0) return false;
+  // Two fetches of the packed surface (common/gbuffer_packing.glsl) instead of five float textures.
+  uvec4 surface = texelFetch(gSurface, px, 0);
+  if (surface.w == G_NO_SURFACE) return false;
+  uvec4 shading = texelFetch(gShading, px, 0);
   s.px = px;
-  vec4 nm = texelFetch(gNormal, px, 0), bc = texelFetch(gBaseColor, px, 0), em = texelFetch(gEmission, px, 0);
-  s.x1 = pos.xyz;
-  s.n1 = nm.xyz;
-  s.ng = texelFetch(gGeoNormal, px, 0).xyz;
+  s.x1 = uintBitsToFloat(surface.xyz);
+  s.n1 = octahedralDecode(unpackSnorm2x16(surface.w));
+  s.ng = shadingGeoNormal(shading);
   s.wo = normalize(uCameraPosition - s.x1);
-  s.brdf = BrdfParams(bc.rgb, nm.w, bc.w, em.w);
+  vec2 baseRg = unpackHalf2x16(shading.y), baseBMetallic = unpackHalf2x16(shading.z);
+  vec2 roughnessSpecular = unpackHalf2x16(shading.w);
+  s.brdf = BrdfParams(vec3(baseRg, baseBMetallic.x), baseBMetallic.y, roughnessSpecular.x, roughnessSpecular.y);
   return true;
 }

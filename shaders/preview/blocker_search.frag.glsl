@@ -30,7 +30,7 @@ void main() {
   for (int j = 0; j < BLOCKER_SEARCH_TAPS; ++j) {
     ivec2 px = min(block * uInterleave + ivec2(uTapPixel[j]), uImageSize - 1);
     vec4 x1 = texelFetch(gPosition, px, 0);
-    vec3 ng = texelFetch(gGeoNormal, px, 0).xyz;
+    vec3 ng = shadingGeoNormal(texelFetch(gShading, px, 0));
     float t = 0.15 + 0.7 * fract(0.618034 * (float(j) + 0.5) + rotation);
     blockerSearchTap(search, areaShadowCell(int(uTapSample[j].w), uTapCentre[j], x1.xyz, ng), uTapSample[j].xyz,
                      uTapNormal[j], t, x1.w > 0.0);

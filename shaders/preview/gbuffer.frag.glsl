@@ -1,6 +1,7 @@
 #version 450 core
 #include "common/units.glsl"
 #include "common/scene.glsl"
+#include "common/gbuffer_packing.glsl"
 
 layout(binding = UNIT_SCENE_TEXTURES) uniform sampler2DArray uSceneTextures;  // base-colour and emissive textures
 
@@ -31,5 +32,6 @@ void main() {
   // compositions add it without a test.
   bool front = dot(vGeoNormal, uCameraPosition - vPosition) > 0.0;
   outEmission = vec4(front ? emission : vec3(0.0), m.params.z);
-  outGeoNormal = vec4(vGeoNormal, 0.0);
+  outShading = packShading(vGeoNormal, base, m.params.x, m.params.y, m.params.z);
+  outSurface = packSurface(vPosition, n);
 }

@@ -19,8 +19,9 @@ void main() {
   outNormal = texelFetch(gNormal, q, 0);
   outBaseColor = texelFetch(gBaseColor, q, 0);
   outEmission = texelFetch(gEmission, q, 0);
-  outGeoNormal = texelFetch(gGeoNormal, q, 0);
+  outShading = texelFetch(gShading, q, 0);
   outMergeKey = texelFetch(gMergeKey, q, 0);
+  outSurface = texelFetch(gSurface, q, 0);
 }
 #else
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uDirect;    // full resolution, de-interleaved
