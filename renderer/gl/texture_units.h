@@ -12,7 +12,7 @@ enum class TextureUnit : int {
   GNormal = 1,
   GBaseColor = 2,
   GEmission = 3,
-  /// Half of the interleaved passes' packed surface (shaders/common/gbuffer_packing.glsl): geometric normal, base colour
+  /// Half of the interleaved passes' packed surface (shaders/common/gbuffer_packing.glsl): shading normal, base colour
   /// and BRDF parameters.
   GShading = 4,
   SceneTextures = 5,
@@ -36,7 +36,7 @@ enum class TextureUnit : int {
   /// The first of the grid media's density textures (renderer/gl/density_grids_gpu.h, common/medium.glsl), in every
   /// pass that reads the media table: grid g's on unit MediaDensity + g, up to kPreviewMaxDensityGrids (4) units.
   MediaDensity = 19,
-  /// The other half: position and shading normal (after the media's density units).
+  /// The other half: position and geometric normal (after the media's density units).
   GSurface = 23,
 };
 

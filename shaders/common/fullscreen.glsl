@@ -5,8 +5,8 @@ layout(binding = UNIT_G_NORMAL) uniform sampler2D gNormal;     // xyz shading no
 layout(binding = UNIT_G_BASE_COLOR) uniform sampler2D gBaseColor;  // rgb base colour (texture included), w roughness
 // rgb Le toward the camera (0 behind a one-sided emitter), w specular
 layout(binding = UNIT_G_EMISSION) uniform sampler2D gEmission;
-// The interleaved passes' surface, packed (common/gbuffer_packing.glsl): the position and shading normal, and the
-// geometric normal (winding order) with the base colour and the BRDF's parameters.
+// The interleaved passes' surface, packed (common/gbuffer_packing.glsl): the position and geometric normal (winding
+// order), and the shading normal with the base colour and the BRDF's parameters.
 layout(binding = UNIT_G_SURFACE) uniform usampler2D gSurface;
 layout(binding = UNIT_G_SHADING) uniform usampler2D gShading;
 #include "common/gbuffer_packing.glsl"

@@ -2,10 +2,11 @@
 // preview/gbuffer.frag.glsl. The direct light and the gather read a subset's pixels k apart, a cache line per pixel and
 // texture: two fetches instead of five float textures took the direct light at 640x480 from 23.6 to 19.9 ms
 // (docs/benchmarks.md "The interleaved passes' surface in two texels").
-//   gSurface: the world position's three floats, bit for bit, and the shading normal, octahedral in two 16-bit snorms;
-//             G_NO_SURFACE in w where the pixel sees no surface (a code packSnorm2x16 never makes: it clamps to -32767;
-//             the G-buffer's clear writes it, renderer/gl/preview_renderer.cpp).
-//   gShading: the geometric normal (octahedral), the base colour and metallic, roughness and specular, as halves.
+//   gSurface: the world position's three floats, bit for bit, and the geometric normal, octahedral in two 16-bit
+//             snorms; G_NO_SURFACE in w where the pixel sees no surface (a code packSnorm2x16 never makes: it clamps to
+//             -32767; the G-buffer's clear writes it, renderer/gl/preview_renderer.cpp). The direct light's blocker
+//             search (preview/blocker_search.frag.glsl) reads only this one.
+//   gShading: the shading normal (octahedral), the base colour and metallic, roughness and specular, as halves.
 #define G_NO_SURFACE 0x80008000u
 
 vec2 octahedralEncode(vec3 n) {
@@ -21,15 +22,19 @@ vec3 octahedralDecode(vec2 e) {
   return normalize(n);
 }
 
-uvec4 packSurface(vec3 position, vec3 normal) {
-  return uvec4(floatBitsToUint(position), packSnorm2x16(octahedralEncode(normal)));
+uvec4 packSurface(vec3 position, vec3 geoNormal) {
+  return uvec4(floatBitsToUint(position), packSnorm2x16(octahedralEncode(geoNormal)));
 }
 
-uvec4 packShading(vec3 geoNormal, vec3 baseColor, float metallic, float roughness, float specular) {
-  return uvec4(packSnorm2x16(octahedralEncode(geoNormal)), packHalf2x16(baseColor.rg),
+uvec4 packShading(vec3 normal, vec3 baseColor, float metallic, float roughness, float specular) {
+  return uvec4(packSnorm2x16(octahedralEncode(normal)), packHalf2x16(baseColor.rg),
                packHalf2x16(vec2(baseColor.b, metallic)), packHalf2x16(vec2(roughness, specular)));
 }
 
-vec3 shadingGeoNormal(uvec4 shading) {
-  return octahedralDecode(unpackSnorm2x16(shading.x));
+vec3 surfacePosition(uvec4 surface) {
+  return uintBitsToFloat(surface.xyz);
+}
+
+vec3 surfaceGeoNormal(uvec4 surface) {
+  return octahedralDecode(unpackSnorm2x16(surface.w));
 }

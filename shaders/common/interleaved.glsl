@@ -45,9 +45,9 @@ bool interleavedSurface(out InterleavedSurface s) {
   if (surface.w == G_NO_SURFACE) return false;
   uvec4 shading = texelFetch(gShading, px, 0);
   s.px = px;
-  s.x1 = uintBitsToFloat(surface.xyz);
-  s.n1 = octahedralDecode(unpackSnorm2x16(surface.w));
-  s.ng = shadingGeoNormal(shading);
+  s.x1 = surfacePosition(surface);
+  s.n1 = octahedralDecode(unpackSnorm2x16(shading.x));
+  s.ng = surfaceGeoNormal(surface);
   s.wo = normalize(uCameraPosition - s.x1);
   vec2 baseRg = unpackHalf2x16(shading.y), baseBMetallic = unpackHalf2x16(shading.z);
   vec2 roughnessSpecular = unpackHalf2x16(shading.w);

@@ -29,11 +29,12 @@ void main() {
   BlockerSearch search = blockerSearchBegin();
   for (int j = 0; j < BLOCKER_SEARCH_TAPS; ++j) {
     ivec2 px = min(block * uInterleave + ivec2(uTapPixel[j]), uImageSize - 1);
-    vec4 x1 = texelFetch(gPosition, px, 0);
-    vec3 ng = shadingGeoNormal(texelFetch(gShading, px, 0));
+    // One fetch for the point and its geometric normal (common/gbuffer_packing.glsl).
+    uvec4 surface = texelFetch(gSurface, px, 0);
+    vec3 x1 = surfacePosition(surface), ng = surfaceGeoNormal(surface);
     float t = 0.15 + 0.7 * fract(0.618034 * (float(j) + 0.5) + rotation);
-    blockerSearchTap(search, areaShadowCell(int(uTapSample[j].w), uTapCentre[j], x1.xyz, ng), uTapSample[j].xyz,
-                     uTapNormal[j], t, x1.w > 0.0);
+    blockerSearchTap(search, areaShadowCell(int(uTapSample[j].w), uTapCentre[j], x1, ng), uTapSample[j].xyz,
+                     uTapNormal[j], t, surface.w != G_NO_SURFACE);
   }
   outSearch = vec4(search.pointSum, float(search.blockers));
 }

@@ -32,6 +32,6 @@ void main() {
   // compositions add it without a test.
   bool front = dot(vGeoNormal, uCameraPosition - vPosition) > 0.0;
   outEmission = vec4(front ? emission : vec3(0.0), m.params.z);
-  outShading = packShading(vGeoNormal, base, m.params.x, m.params.y, m.params.z);
-  outSurface = packSurface(vPosition, n);
+  outShading = packShading(n, base, m.params.x, m.params.y, m.params.z);
+  outSurface = packSurface(vPosition, vGeoNormal);
 }
