@@ -195,6 +195,7 @@ struct PreviewRenderer::Targets {
 
 PreviewRenderer::PreviewRenderer()
     : gbuffer_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}),
+      gbufferBackground_({"preview/fullscreen.vert.glsl", "preview/gbuffer_background.frag.glsl"}),
       deinterleaveRows_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}, {"DEINTERLEAVE_COLUMNS 0"}),
       deinterleaveRowsOneInput_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"},
                                 {"DEINTERLEAVE_COLUMNS 0", "DEINTERLEAVE_ONE_INPUT 1"}),
@@ -485,16 +486,17 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       gbuffer_.set("uViewProj", reversedDepthProjection(camera.yfov, aspect, camera.znear) * view);
       gbuffer_.set("uCameraPosition", camera.position);
       gbufferSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] {
-        // Background texels are marked by w = 0 in position and merge key, and by G_NO_SURFACE in the packed surface
-        // (common/gbuffer_packing.glsl); the normal's mips must average zeros there (a short averaged normal flags an
-        // edge). The other targets are only read where position.w > 0.
-        for (int i : {0, 1, 5}) gbuffer.clearColor(i, glm::vec4(0.0f));
-        gbuffer.clearColorUint(6, glm::uvec4(0u, 0u, 0u, 0x80008000u));
         gbuffer.clearDepth(0.0f);
         glEnable(GL_DEPTH_TEST);
         gbuffer_.use();
         vao_.bind();
         drawProceduralTriangles(3 * glScene_->triangleCount());
+        // Then the background, where the depth is still the clear's (preview/gbuffer_background.frag.glsl).
+        glDepthFunc(GL_EQUAL);
+        glDepthMask(GL_FALSE);
+        drawFullscreen(gbufferBackground_, vao_);
+        glDepthMask(GL_TRUE);
+        glDepthFunc(GL_GREATER);
         glDisable(GL_DEPTH_TEST);
       });
       glClipControl(GL_LOWER_LEFT, GL_NEGATIVE_ONE_TO_ONE);

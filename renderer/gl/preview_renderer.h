@@ -174,7 +174,7 @@ class PreviewRenderer {
   /// True when every material of the scene is Lambert (the passes' BRDF_LAMBERT_ONLY variants).
   bool lambertOnly_ = false;
 
-  ShaderProgram gbuffer_;
+  ShaderProgram gbuffer_, gbufferBackground_;
   DirectLightPass direct_;
   /// The VPL visibility technique of Settings::visibility.
   std::unique_ptr<VplVisibility> vplVisibility_;

@@ -234,10 +234,6 @@ void GlFramebuffer::clearColor(int index, glm::vec4 value) const {
   glClearNamedFramebufferfv(id(), GL_COLOR, index, &value[0]);
 }
 
-void GlFramebuffer::clearColorUint(int index, glm::uvec4 value) const {
-  glClearNamedFramebufferuiv(id(), GL_COLOR, index, &value[0]);
-}
-
 void GlFramebuffer::clearDepth(float value) const {
   glClearNamedFramebufferfv(id(), GL_DEPTH, 0, &value);
 }

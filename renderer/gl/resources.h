@@ -106,8 +106,6 @@ class GlFramebuffer {
   /// Binds for drawing and sets the viewport.
   void bind(int width, int height) const;
   void clearColor(int index, glm::vec4 value) const;
-  /// Clears an integer colour attachment.
-  void clearColorUint(int index, glm::uvec4 value) const;
   void clearDepth(float value = 1.0f) const;
   uint32_t id() const { return object_.id(); }
 

@@ -4,7 +4,7 @@
 // (docs/benchmarks.md "The interleaved passes' surface in two texels").
 //   gSurface: the world position's three floats, bit for bit, and the geometric normal, octahedral in two 16-bit
 //             snorms; G_NO_SURFACE in w where the pixel sees no surface (a code packSnorm2x16 never makes: it clamps to
-//             -32767; the G-buffer's clear writes it, renderer/gl/preview_renderer.cpp). The direct light's blocker
+//             -32767; preview/gbuffer_background.frag.glsl writes it). The direct light's blocker
 //             search (preview/blocker_search.frag.glsl) reads only this one.
 //   gShading: the shading normal (octahedral), the base colour and metallic, roughness and specular, as halves.
 #define G_NO_SURFACE 0x80008000u
