@@ -12,9 +12,8 @@ layout(location = 0) out vec4 outColor;
 void main() {
   ivec2 px = ivec2(gl_FragCoord.xy);
   vec3 i0 = texelFetch(uI0, px, 0).rgb;
-  // Le as the camera sees it (gbuffer.frag.glsl); the emission target is not cleared, so background texels hold
-  // anything.
-  vec3 le = texelFetch(gPosition, px, 0).w > 0.0 ? texelFetch(gEmission, px, 0).rgb : vec3(0.0);
+  // Le as the camera sees it (gbuffer.frag.glsl; 0 on the background, gbuffer_background.frag.glsl).
+  vec3 le = texelFetch(gEmission, px, 0).rgb;
   // Selects, not products: a target not written this frame may hold anything.
   vec3 r1 = uResidualSteps >= 1 ? texelFetch(uResidual1, px, 0).rgb : vec3(0.0);
   vec3 r2 = uResidualSteps >= 2 ? texelFetch(uResidual2, px, 0).rgb : vec3(0.0);

@@ -86,7 +86,7 @@ void main() {
 #if DEINTERLEAVE_COLUMNS
   // p itself always passes its own test and its row sum counts p, so w >= 1 (background: the count of 1 passed on).
   vec3 light = sum.rgb / sum.w;
-  // Background texels hold no light, and their base colour is whatever an earlier frame left.
+  // Background texels hold no light, and no base colour to take back (gbuffer_background.frag.glsl).
   light = key.w > 0.0 ? light * mergeReflectance(texelFetch(gBaseColor, px, 0).rgb) : light;
   // A grid without a direct light of its own binds some other texture here, with weight 0.
   vec3 punctual = uPunctualWeight > 0.0 ? uPunctualWeight * texelFetch(uPunctualDirect, px, 0).rgb : vec3(0.0);

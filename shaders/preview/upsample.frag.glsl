@@ -71,8 +71,8 @@ void main() {
   vec3 own = vec3(0.0);
   if (uTerms.x > 0.0) {
     own = texelFetch(uDirect, px, 0).rgb;
-    // Le as the camera sees it (gbuffer.frag.glsl); background texels of the emission target hold anything.
-    if (pos.w > 0.0) own += texelFetch(gEmission, px, 0).rgb;
+    // Le as the camera sees it (gbuffer.frag.glsl; 0 on the background, gbuffer_background.frag.glsl).
+    own += texelFetch(gEmission, px, 0).rgb;
   }
   if (pos.w <= 0.0 || uTerms.yzw == vec3(0.0)) {
     outColor = vec4(own, 1.0);
