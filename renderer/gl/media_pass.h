@@ -25,6 +25,7 @@
 #include "renderer/gl/resources.h"
 #include "renderer/gl/screen_pass.h"
 #include "renderer/gl/shader.h"
+#include "renderer/gl/texture_units.h"
 #include "renderer/gl/vpl_visibility.h"
 #include "renderer/scene/scene.h"
 #include "renderer/settings.h"
@@ -38,6 +39,8 @@ inline constexpr int kPreviewMaxMedia = 8;
 /// define (PREVIEW_MEDIA_GRID_MEDIA), and every transmittance marches each grid its segment crosses, the lights'
 /// scattering once per light and grid along a camera ray (preview/media_lights.frag.glsl).
 inline constexpr int kPreviewMaxDensityGrids = 4;
+static_assert(unit(TextureUnit::MediaDensity) + kPreviewMaxDensityGrids <= unit(TextureUnit::GSurface),
+              "the density grids' texture units must end before the next unit in use");
 /// Distances per light and pixel along a camera ray for the lights' single scattering (an area light's samples share
 /// them: areaLightSteps): with equiangular sampling and the k x k merge, 4 keep the shafts of the bundled fog scenes
 /// within 2 % of the CPU's (tests/gl_media_test.cpp).

@@ -31,10 +31,18 @@ uvec4 packShading(vec3 normal, vec3 baseColor, float metallic, float roughness, 
                packHalf2x16(vec2(baseColor.b, metallic)), packHalf2x16(vec2(roughness, specular)));
 }
 
-vec3 surfacePosition(uvec4 surface) {
-  return uintBitsToFloat(surface.xyz);
+// The inverses; a surface texel of the background (w = G_NO_SURFACE) unpacks to meaningless values.
+void unpackSurface(uvec4 surface, out vec3 position, out vec3 geoNormal) {
+  position = uintBitsToFloat(surface.xyz);
+  geoNormal = octahedralDecode(unpackSnorm2x16(surface.w));
 }
 
-vec3 surfaceGeoNormal(uvec4 surface) {
-  return octahedralDecode(unpackSnorm2x16(surface.w));
+void unpackShading(uvec4 shading, out vec3 normal, out vec3 baseColor, out float metallic, out float roughness,
+                   out float specular) {
+  normal = octahedralDecode(unpackSnorm2x16(shading.x));
+  vec2 rg = unpackHalf2x16(shading.y), bMetallic = unpackHalf2x16(shading.z), roughSpecular = unpackHalf2x16(shading.w);
+  baseColor = vec3(rg, bMetallic.x);
+  metallic = bMetallic.y;
+  roughness = roughSpecular.x;
+  specular = roughSpecular.y;
 }

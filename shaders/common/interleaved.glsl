@@ -45,12 +45,8 @@ bool interleavedSurface(out InterleavedSurface s) {
   if (surface.w == G_NO_SURFACE) return false;
   uvec4 shading = texelFetch(gShading, px, 0);
   s.px = px;
-  s.x1 = surfacePosition(surface);
-  s.n1 = octahedralDecode(unpackSnorm2x16(shading.x));
-  s.ng = surfaceGeoNormal(surface);
+  unpackSurface(surface, s.x1, s.ng);
+  unpackShading(shading, s.n1, s.brdf.baseColor, s.brdf.metallic, s.brdf.roughness, s.brdf.specular);
   s.wo = normalize(uCameraPosition - s.x1);
-  vec2 baseRg = unpackHalf2x16(shading.y), baseBMetallic = unpackHalf2x16(shading.z);
-  vec2 roughnessSpecular = unpackHalf2x16(shading.w);
-  s.brdf = BrdfParams(vec3(baseRg, baseBMetallic.x), baseBMetallic.y, roughnessSpecular.x, roughnessSpecular.y);
   return true;
 }

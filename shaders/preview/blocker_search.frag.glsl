@@ -31,7 +31,8 @@ void main() {
     ivec2 px = min(block * uInterleave + ivec2(uTapPixel[j]), uImageSize - 1);
     // One fetch for the point and its geometric normal (common/gbuffer_packing.glsl).
     uvec4 surface = texelFetch(gSurface, px, 0);
-    vec3 x1 = surfacePosition(surface), ng = surfaceGeoNormal(surface);
+    vec3 x1, ng;
+    unpackSurface(surface, x1, ng);
     float t = 0.15 + 0.7 * fract(0.618034 * (float(j) + 0.5) + rotation);
     blockerSearchTap(search, areaShadowCell(int(uTapSample[j].w), uTapCentre[j], x1, ng), uTapSample[j].xyz,
                      uTapNormal[j], t, surface.w != G_NO_SURFACE);
