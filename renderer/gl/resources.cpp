@@ -27,6 +27,8 @@ GLenum internalFormat(TextureFormat f) {
   return GL_RGBA32F;
 }
 
+constexpr std::size_t kTexelBytes = 16;  // of a GlBufferTexture's RGBA32F texels
+
 GLuint createName(GlObject::Kind kind, GLenum target = 0) {
   GLuint id = 0;
   switch (kind) {
@@ -268,6 +270,33 @@ void GlBuffer::bindUniformRange(int binding, std::size_t offset, std::size_t byt
   assert(offset + bytes <= size_);
   glBindBufferRange(GL_UNIFORM_BUFFER, static_cast<GLuint>(binding), id(), static_cast<GLintptr>(offset),
                     static_cast<GLsizeiptr>(bytes));
+}
+
+GlBufferTexture::GlBufferTexture(std::size_t texels) : texels_(texels) {
+  GLint maxTexels = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &maxTexels);
+  if (texels > static_cast<std::size_t>(maxTexels))
+    throw GlError("a buffer texture of " + std::to_string(texels) + " texels: this GL holds at most " +
+                  std::to_string(maxTexels));
+  buffer_.assign(nullptr, std::max<std::size_t>(texels, 1) * kTexelBytes);
+  texture_ = GlObject(GlObject::Kind::Texture, createName(GlObject::Kind::Texture, GL_TEXTURE_BUFFER));
+  glTextureBuffer(texture_.id(), GL_RGBA32F, buffer_.id());
+}
+
+void GlBufferTexture::bind(int unit) const {
+  glBindTextureUnit(static_cast<GLuint>(unit), texture_.id());
+}
+
+void GlBufferTexture::copyLevel(const GlTexture& texture, int level, std::size_t firstTexel) {
+  assert(texture.format() == TextureFormat::Rgba32F && level < texture.levels());
+  const std::size_t texels = static_cast<std::size_t>(std::max(1, texture.width() >> level)) *
+                             static_cast<std::size_t>(std::max(1, texture.height() >> level));
+  assert(firstTexel + texels <= texels_);
+  // Into the buffer bound for pixel packing: the driver copies between its own allocations.
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, buffer_.id());
+  glGetTextureImage(texture.id(), level, GL_RGBA, GL_FLOAT, static_cast<GLsizei>(texels * kTexelBytes),
+                    reinterpret_cast<void*>(firstTexel * kTexelBytes));
+  glBindBuffer(GL_PIXEL_PACK_BUFFER, 0);
 }
 
 GlVertexArray::GlVertexArray() : object_(GlObject::Kind::VertexArray, createName(GlObject::Kind::VertexArray)) {}

@@ -134,6 +134,24 @@ class GlBuffer {
   std::size_t size_ = 0;
 };
 
+/// A buffer read as a one-dimensional texture (GL_TEXTURE_BUFFER, texelFetch from a samplerBuffer) of `texels` RGBA32F
+/// texels, filled by copies of 2D textures' levels. llvmpipe fetches a texel from it for about half of what a 2D
+/// texture's texel costs (docs/benchmarks.md, "The compensation's taps from buffer textures").
+class GlBufferTexture {
+ public:
+  GlBufferTexture() = default;
+  explicit GlBufferTexture(std::size_t texels);
+  std::size_t texels() const { return texels_; }
+  void bind(int unit) const;
+  /// Copies level `level` of an RGBA32F 2D texture, row 0 first, to texels firstTexel on.
+  void copyLevel(const GlTexture& texture, int level, std::size_t firstTexel);
+
+ private:
+  GlBuffer buffer_;
+  GlObject texture_;
+  std::size_t texels_ = 0;
+};
+
 /// A vertex array: empty for the passes that fetch their vertices from SSBOs by gl_VertexID, or positions + indices.
 class GlVertexArray {
  public:

@@ -276,6 +276,9 @@ void ShaderProgram::set(const char* name, const glm::mat4& m) {
 void ShaderProgram::set(const char* name, const glm::mat3& m) {
   glProgramUniformMatrix3fv(id_, location(name), 1, GL_FALSE, glm::value_ptr(m));
 }
+void ShaderProgram::setArray(const char* name, const int* values, int count) {
+  glProgramUniform1iv(id_, location(name), count, values);
+}
 void ShaderProgram::setArray(const char* name, const glm::vec2* values, int count) {
   glProgramUniform2fv(id_, location(name), count, glm::value_ptr(values[0]));
 }

@@ -66,6 +66,7 @@ class ShaderProgram {
   void set(const char* name, glm::ivec2 value);
   void set(const char* name, const glm::mat4& value);
   void set(const char* name, const glm::mat3& value);
+  void setArray(const char* name, const int* values, int count);
   void setArray(const char* name, const glm::vec2* values, int count);
   void setArray(const char* name, const glm::vec3* values, int count);
   void setArray(const char* name, const glm::vec4* values, int count);

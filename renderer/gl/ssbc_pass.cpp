@@ -9,6 +9,11 @@
 
 namespace vplab {
 
+namespace {
+// The levels the taps' buffers index (uTapLevelBase, shaders/common/ssbc_levels.glsl).
+constexpr int kSsbcMaxLevels = 16;
+}  // namespace
+
 struct SsbcPass::Targets {
   int width, height;
   // Per mip texel of the G-buffer: x2 with the x of the unit normal, and dA with the code of its y, of a compensation
@@ -16,6 +21,11 @@ struct SsbcPass::Targets {
   // (ssbc_radiance.frag.glsl).
   GlTexture taps, area, radiance;
   std::vector<GlFramebuffer> tapLevels, radianceLevels;
+  // What the taps read, taps and radiance with every level copied into one buffer texture (common/ssbc_levels.glsl):
+  // level l's rows of max(1, width >> l) texels from texel levelBase[l] on. A tap fetches from a buffer for about
+  // half of what a fetch from a mip level costs on llvmpipe; the copies cost a fraction of what that saves.
+  std::vector<int> levelBase;
+  GlBufferTexture tapBuffer, radianceBuffer;
   // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
   // far rings alone (second attachment of coarse.framebuffer).
   Target coarse;
@@ -39,6 +49,9 @@ struct SsbcPass::Targets {
         taps(w, h, TextureFormat::Rgba32F, 0),
         area(w, h, TextureFormat::Rg32F, 0),
         radiance(w, h, TextureFormat::Rgba32F, 0),
+        levelBase(mipLevelBases(taps)),
+        tapBuffer(static_cast<std::size_t>(levelBase.back())),
+        radianceBuffer(static_cast<std::size_t>(levelBase.back())),
         coarse((w + 3) / 4, (h + 3) / 4),
         coarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F),
         flat((w + 3) / 4, (h + 3) / 4),
@@ -68,6 +81,21 @@ struct SsbcPass::Targets {
       radianceLevels[static_cast<std::size_t>(level)].attachColor(0, radiance, level);
       radianceLevels[static_cast<std::size_t>(level)].finalize(1);
     }
+  }
+
+  // The first texel of each of the texture's levels packed one after another, and the total after the last.
+  static std::vector<int> mipLevelBases(const GlTexture& texture) {
+    if (texture.levels() > kSsbcMaxLevels) throw GlError("the compensation takes at most 16 mip levels");
+    std::vector<int> bases = {0};
+    for (int level = 0; level < texture.levels(); ++level)
+      bases.push_back(bases.back() + std::max(1, texture.width() >> level) * std::max(1, texture.height() >> level));
+    return bases;
+  }
+
+  // Copies every level of `texture` into `buffer` as levelBase lays them out.
+  void copyLevels(const GlTexture& texture, GlBufferTexture& buffer) const {
+    for (int level = 0; level < texture.levels(); ++level)
+      buffer.copyLevel(texture, level, static_cast<std::size_t>(levelBase[static_cast<std::size_t>(level)]));
   }
 };
 
@@ -124,6 +152,7 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     program.set("uClampBound", settings.clampBound);
     program.set("uFocalPixels", focal);
     program.set("uMaxLevel", images.gPosition.levels() - 1);
+    program.setArray("uTapLevelBase", tg.levelBase.data(), tg.taps.levels());
   };
   for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine, &upsample}) setReceiver(*program);
   ssbc.set("uScale", 1);
@@ -197,9 +226,12 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     taps_->set("uCameraPosition", camera.position);
     taps_->set("uFocalPixels", focal);
     drawEveryLevel(tg.tapLevels, taps_.get());
-    slices.step([&] { tg.tapsCurrent = true; });
+    slices.step([&] {
+      tg.copyLevels(tg.taps, tg.tapBuffer);
+      tg.tapsCurrent = true;
+    });
   }
-  tg.taps.bind(unit(TextureUnit::PassInput3));
+  tg.tapBuffer.bind(unit(TextureUnit::PassInput3));
   tg.area.bind(unit(TextureUnit::PassInput5));
   Target* input = &images.i0;
   Target* outputs[2] = {&images.r1, &images.r2};
@@ -208,7 +240,8 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     slices.step([&] { input->texture.generateMipmaps(); });
     input->texture.bind(unit(TextureUnit::PassInput0));
     drawEveryLevel(tg.radianceLevels, radiance_.get());
-    tg.radiance.bind(unit(TextureUnit::PassInput0));
+    slices.step([&] { tg.copyLevels(tg.radiance, tg.radianceBuffer); });
+    tg.radianceBuffer.bind(unit(TextureUnit::PassInput0));
     if (split) {
       tg.coarse.framebuffer.bind(tg.coarse.texture.width(), tg.coarse.texture.height());
       drawWhole(coarse, tg.coarse.texture.width(), tg.coarse.texture.height());

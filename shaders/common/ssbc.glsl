@@ -11,7 +11,8 @@
 // discontinuity (mip-averaged coverage < 1 or averaged normal shorter than 0.9) add nothing; V~ = 1 inside the
 // (local) footprint. The factors of a tap that depend on q alone are precomputed per mip texel, so that a tap reads
 // two texels: x2 with the x of q's unit normal (uTaps, ssbc_taps.frag.glsl, once per frame) and L_I dA with its y and
-// the sign of its z (uTapRadiance, ssbc_radiance.frag.glsl, once per step; 0 where q does not take part).
+// the sign of its z (uTapRadiance, ssbc_radiance.frag.glsl, once per step; 0 where q does not take part), each with
+// every mip level copied into one buffer texture (common/ssbc_levels.glsl).
 //
 // Multi-resolution rings (SSBC_SPLIT, Settings::ssbcCoarseRings): the rings at and above kSsbcFineLevels (texels at
 // least kSsbcCoarseSpacing px away) vary on the scale of their own radius along a surface, so they are evaluated only
@@ -26,12 +27,15 @@
 // (SSBC_FINE_PASS, SSBC_FALLBACK_PASS; ssbc_mask.frag.glsl), which costs far less than discarding the others.
 // Needs common/brdf.glsl and common/fullscreen.glsl (the G-buffer samplers) included before it.
 #include "common/units.glsl"
+#include "common/ssbc_levels.glsl"
 
 // Per mip texel: rgb I dA (I: reflected light only, no emission; 0 where the texel does not take part), w the y of its
 // unit normal coded by ssbcNormalYCode.
-layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uTapRadiance;
+layout(binding = UNIT_PASS_INPUT0) uniform samplerBuffer uTapRadiance;
 // Per mip texel: xyz x2, w the x of its unit normal (ssbc_taps.frag.glsl).
-layout(binding = UNIT_PASS_INPUT3) uniform sampler2D uTaps;
+layout(binding = UNIT_PASS_INPUT3) uniform samplerBuffer uTaps;
+// The first texel of each level in those buffers.
+uniform int uTapLevelBase[kSsbcMaxLevels];
 uniform vec3 uCameraPosition;
 uniform vec3 uCameraForward;
 uniform float uClampBound;
@@ -103,10 +107,12 @@ vec3 ssbcNormal(float x, float yCode) {
   return vec3(x, y, below ? -z : z);
 }
 
-// One tap at texel q of `level` (levelSize texels); `use` false (outside the ring) or q off the level adds nothing.
-vec3 ssbcTap(SsbcReceiver r, ivec2 q, int level, ivec2 levelSize, bool use) {
+// One tap at texel q of a level of levelSize texels whose first is levelBase (uTapLevelBase); `use` false (outside
+// the ring) or q off the level adds nothing.
+vec3 ssbcTap(SsbcReceiver r, ivec2 q, int levelBase, ivec2 levelSize, bool use) {
   ivec2 qc = clamp(q, ivec2(0), levelSize - 1);
-  vec4 tap = texelFetch(uTaps, qc, level), radiance = texelFetch(uTapRadiance, qc, level);
+  int texel = ssbcTexel(levelBase, qc, levelSize);
+  vec4 tap = texelFetch(uTaps, texel), radiance = texelFetch(uTapRadiance, texel);
   vec3 x2 = tap.xyz, n2 = ssbcNormal(tap.w, radiance.w), radianceArea = radiance.rgb;
   vec3 d = x2 - r.x1;
   float dist2 = dot(d, d);
@@ -136,6 +142,7 @@ vec3 ssbcReflected(SsbcReceiver r, vec3 sum) {
 // Level 0: the 12 pixels with 0 < |q - p| <= 2 (p itself has x2 = x1 and adds nothing); all of them lie in the ring.
 vec3 ssbcLevel0(SsbcReceiver r, ivec2 px) {
   vec3 sum = vec3(0.0);
+  // Level 0 starts the buffers (uTapLevelBase[0] = 0).
   for (int tap = 0; tap < 12; ++tap) sum += ssbcTap(r, px + kSsbcLevel0Taps[tap], 0, r.size, true);
   return ssbcReflected(r, sum);
 }
@@ -147,7 +154,9 @@ vec3 ssbcLevel1(SsbcReceiver r, ivec2 px) {
   ivec2 levelSize = max(r.size >> 1, ivec2(1));
   bool use = r.topLevel >= 1;
   vec3 sum = vec3(0.0);
-  for (int tap = 0; tap < 10; ++tap) sum += ssbcTap(r, base + kSsbcLevel1Taps[tap] * mirror, 1, levelSize, use);
+  int levelBase = uTapLevelBase[1];
+  for (int tap = 0; tap < 10; ++tap)
+    sum += ssbcTap(r, base + kSsbcLevel1Taps[tap] * mirror, levelBase, levelSize, use);
   return ssbcReflected(r, sum);
 }
 
@@ -161,13 +170,14 @@ vec3 ssbcRings(SsbcReceiver r, ivec2 px, int first, int last) {
     ivec2 base = px >> level;
     ivec2 mirror = 1 - 2 * ((px >> (level - 1)) & 1);
     ivec2 levelSize = max(r.size >> level, ivec2(1));
+    int levelBase = uTapLevelBase[level];
     // Texel centre of `base` relative to p, in pixels.
     vec2 centre = (vec2(base) + 0.5) * scale - r.pc;
     for (int tap = 0; tap < 16; ++tap) {
       ivec2 offset = kSsbcRingTaps[tap] * mirror;
       vec2 rel = vec2(offset) * scale + centre;
       float r2 = dot(rel, rel);
-      sum += ssbcTap(r, base + offset, level, levelSize, r2 > inner * inner && r2 <= outer * outer);
+      sum += ssbcTap(r, base + offset, levelBase, levelSize, r2 > inner * inner && r2 <= outer * outer);
     }
   }
   return ssbcReflected(r, sum);

@@ -1,0 +1,13 @@
+// The compensation's per-texel tap factors (preview/ssbc_taps.frag.glsl, ssbc_radiance.frag.glsl), as common/ssbc.glsl
+// reads them: every mip level copied into one buffer texture, level l's rows of max(1, width >> l) texels one after
+// another from its first texel (uTapLevelBase[l], renderer/gl/ssbc_pass.cpp) on. llvmpipe fetches a buffer's texel
+// for about half of what a 2D texture's texel costs (docs/benchmarks.md, "The compensation's taps from buffer
+// textures").
+
+// At most this many levels: a 2D texture of GL_MAX_TEXTURE_SIZE 16384 (llvmpipe) has 15.
+const int kSsbcMaxLevels = 16;
+
+// Texel q of a level of levelSize texels whose first is levelBase.
+int ssbcTexel(int levelBase, ivec2 q, ivec2 levelSize) {
+  return levelBase + q.y * levelSize.x + q.x;
+}
