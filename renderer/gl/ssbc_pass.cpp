@@ -17,15 +17,15 @@ constexpr int kSsbcMaxLevels = 16;
 struct SsbcPass::Targets {
   int width, height;
   // Per mip texel of the G-buffer: x2 with the x of the unit normal, and dA with the code of its y, of a compensation
-  // tap (ssbc_taps.frag.glsl), one framebuffer per level; I dA with that code per mip texel of a step's input
-  // (ssbc_radiance.frag.glsl).
-  GlTexture taps, area, radiance;
+  // tap (ssbc_taps.frag.glsl); I dA with that code per mip texel of a step's input (ssbc_radiance.frag.glsl). Both are
+  // drawn into the mip chain `staging` (one framebuffer per level; the tap factors' dA beside it, in `area`) and every
+  // level copied into a buffer texture (common/ssbc_levels.glsl), level l's rows of max(1, width >> l) texels from
+  // texel levelBase[l] on: a tap fetches from a buffer for about half of what a fetch from a mip level costs on
+  // llvmpipe, and the copies cost a fraction of what that saves.
+  GlTexture staging, area;
   std::vector<GlFramebuffer> tapLevels, radianceLevels;
-  // What the taps read, taps and radiance with every level copied into one buffer texture (common/ssbc_levels.glsl):
-  // level l's rows of max(1, width >> l) texels from texel levelBase[l] on. A tap fetches from a buffer for about
-  // half of what a fetch from a mip level costs on llvmpipe; the copies cost a fraction of what that saves.
   std::vector<int> levelBase;
-  GlBufferTexture tapBuffer, radianceBuffer;
+  GlBufferTexture taps, radiance;
   // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
   // far rings alone (second attachment of coarse.framebuffer).
   Target coarse;
@@ -46,12 +46,11 @@ struct SsbcPass::Targets {
   Targets(int w, int h)
       : width(w),
         height(h),
-        taps(w, h, TextureFormat::Rgba32F, 0),
+        staging(w, h, TextureFormat::Rgba32F, 0),
         area(w, h, TextureFormat::Rg32F, 0),
-        radiance(w, h, TextureFormat::Rgba32F, 0),
-        levelBase(mipLevelBases(taps)),
-        tapBuffer(static_cast<std::size_t>(levelBase.back())),
-        radianceBuffer(static_cast<std::size_t>(levelBase.back())),
+        levelBase(mipLevelBases(staging)),
+        taps(static_cast<std::size_t>(levelBase.back())),
+        radiance(static_cast<std::size_t>(levelBase.back())),
         coarse((w + 3) / 4, (h + 3) / 4),
         coarseFar((w + 3) / 4, (h + 3) / 4, TextureFormat::Rgba32F),
         flat((w + 3) / 4, (h + 3) / 4),
@@ -72,13 +71,13 @@ struct SsbcPass::Targets {
     coarse.texture.setLinearFiltering(true, false);
     coarse.framebuffer.attachColor(1, coarseFar);
     coarse.framebuffer.finalize(2);
-    tapLevels.resize(static_cast<std::size_t>(taps.levels()));
-    radianceLevels.resize(static_cast<std::size_t>(taps.levels()));
-    for (int level = 0; level < taps.levels(); ++level) {
-      tapLevels[static_cast<std::size_t>(level)].attachColor(0, taps, level);
+    tapLevels.resize(static_cast<std::size_t>(staging.levels()));
+    radianceLevels.resize(static_cast<std::size_t>(staging.levels()));
+    for (int level = 0; level < staging.levels(); ++level) {
+      tapLevels[static_cast<std::size_t>(level)].attachColor(0, staging, level);
       tapLevels[static_cast<std::size_t>(level)].attachColor(1, area, level);
       tapLevels[static_cast<std::size_t>(level)].finalize(2);
-      radianceLevels[static_cast<std::size_t>(level)].attachColor(0, radiance, level);
+      radianceLevels[static_cast<std::size_t>(level)].attachColor(0, staging, level);
       radianceLevels[static_cast<std::size_t>(level)].finalize(1);
     }
   }
@@ -92,10 +91,10 @@ struct SsbcPass::Targets {
     return bases;
   }
 
-  // Copies every level of `texture` into `buffer` as levelBase lays them out.
-  void copyLevels(const GlTexture& texture, GlBufferTexture& buffer) const {
-    for (int level = 0; level < texture.levels(); ++level)
-      buffer.copyLevel(texture, level, static_cast<std::size_t>(levelBase[static_cast<std::size_t>(level)]));
+  // Copies every level of `staging` into `buffer` as levelBase lays them out.
+  void copyStaging(GlBufferTexture& buffer) const {
+    for (int level = 0; level < staging.levels(); ++level)
+      buffer.copyLevel(staging, level, static_cast<std::size_t>(levelBase[static_cast<std::size_t>(level)]));
   }
 };
 
@@ -152,7 +151,7 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     program.set("uClampBound", settings.clampBound);
     program.set("uFocalPixels", focal);
     program.set("uMaxLevel", images.gPosition.levels() - 1);
-    program.setArray("uTapLevelBase", tg.levelBase.data(), tg.taps.levels());
+    program.setArray("uTapLevelBase", tg.levelBase.data(), tg.staging.levels());
   };
   for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine, &upsample}) setReceiver(*program);
   ssbc.set("uScale", 1);
@@ -227,11 +226,11 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     taps_->set("uFocalPixels", focal);
     drawEveryLevel(tg.tapLevels, taps_.get());
     slices.step([&] {
-      tg.copyLevels(tg.taps, tg.tapBuffer);
+      tg.copyStaging(tg.taps);
       tg.tapsCurrent = true;
     });
   }
-  tg.tapBuffer.bind(unit(TextureUnit::PassInput3));
+  tg.taps.bind(unit(TextureUnit::PassInput3));
   tg.area.bind(unit(TextureUnit::PassInput5));
   Target* input = &images.i0;
   Target* outputs[2] = {&images.r1, &images.r2};
@@ -240,8 +239,8 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     slices.step([&] { input->texture.generateMipmaps(); });
     input->texture.bind(unit(TextureUnit::PassInput0));
     drawEveryLevel(tg.radianceLevels, radiance_.get());
-    slices.step([&] { tg.copyLevels(tg.radiance, tg.radianceBuffer); });
-    tg.radianceBuffer.bind(unit(TextureUnit::PassInput0));
+    slices.step([&] { tg.copyStaging(tg.radiance); });
+    tg.radiance.bind(unit(TextureUnit::PassInput0));
     if (split) {
       tg.coarse.framebuffer.bind(tg.coarse.texture.width(), tg.coarse.texture.height());
       drawWhole(coarse, tg.coarse.texture.width(), tg.coarse.texture.height());
