@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <string>
 
 #include "renderer/gl/texture_units.h"
 
@@ -12,7 +13,27 @@ namespace vplab {
 namespace {
 // The levels the taps' buffers index (uTapLevelBase, shaders/common/ssbc_levels.glsl).
 constexpr int kSsbcMaxLevels = 16;
+
+int glMaxTextureBufferTexels() {
+  GLint most = 0;
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &most);
+  return most;
+}
 }  // namespace
+
+std::vector<int> ssbcTapLevelBases(int width, int height, int maxTexels) {
+  std::vector<int> bases = {0};
+  long long total = 0;
+  for (int level = 0; (width >> level) > 0 || (height >> level) > 0; ++level) {
+    total += static_cast<long long>(std::max(1, width >> level)) * std::max(1, height >> level);
+    if (total > maxTexels || level >= kSsbcMaxLevels)
+      throw GlError("the compensation at " + std::to_string(width) + "x" + std::to_string(height) +
+                    " needs buffer textures of more texels than this GL holds (" + std::to_string(maxTexels) +
+                    "): lower --size, or --ssbc-steps 0");
+    bases.push_back(static_cast<int>(total));
+  }
+  return bases;
+}
 
 struct SsbcPass::Targets {
   int width, height;
@@ -22,9 +43,9 @@ struct SsbcPass::Targets {
   // level copied into a buffer texture (common/ssbc_levels.glsl), level l's rows of max(1, width >> l) texels from
   // texel levelBase[l] on: a tap fetches from a buffer for about half of what a fetch from a mip level costs on
   // llvmpipe, and the copies cost a fraction of what that saves.
+  std::vector<int> levelBase;
   GlTexture staging, area;
   std::vector<GlFramebuffer> tapLevels, radianceLevels;
-  std::vector<int> levelBase;
   GlBufferTexture taps, radiance;
   // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
   // far rings alone (second attachment of coarse.framebuffer).
@@ -46,9 +67,9 @@ struct SsbcPass::Targets {
   Targets(int w, int h)
       : width(w),
         height(h),
+        levelBase(ssbcTapLevelBases(w, h, glMaxTextureBufferTexels())),
         staging(w, h, TextureFormat::Rgba32F, 0),
         area(w, h, TextureFormat::Rg32F, 0),
-        levelBase(mipLevelBases(staging)),
         taps(static_cast<std::size_t>(levelBase.back())),
         radiance(static_cast<std::size_t>(levelBase.back())),
         coarse((w + 3) / 4, (h + 3) / 4),
@@ -80,15 +101,6 @@ struct SsbcPass::Targets {
       radianceLevels[static_cast<std::size_t>(level)].attachColor(0, staging, level);
       radianceLevels[static_cast<std::size_t>(level)].finalize(1);
     }
-  }
-
-  // The first texel of each of the texture's levels packed one after another, and the total after the last.
-  static std::vector<int> mipLevelBases(const GlTexture& texture) {
-    if (texture.levels() > kSsbcMaxLevels) throw GlError("the compensation takes at most 16 mip levels");
-    std::vector<int> bases = {0};
-    for (int level = 0; level < texture.levels(); ++level)
-      bases.push_back(bases.back() + std::max(1, texture.width() >> level) * std::max(1, texture.height() >> level));
-    return bases;
   }
 
   // Copies every level of `staging` into `buffer` as levelBase lays them out.

@@ -7,6 +7,7 @@
 // pixels' blocks are not flat.
 
 #include <memory>
+#include <vector>
 
 #include "renderer/gl/resources.h"
 #include "renderer/gl/screen_pass.h"
@@ -26,6 +27,11 @@ struct SsbcImages {
   Target& r1;  ///< T_r(I0), and the second step's input
   Target& r2;  ///< T_r(R1)
 };
+
+/// Where each mip level of a width x height image starts in the compensation's tap buffers (common/ssbc_levels.glsl):
+/// the levels packed one after another, the total after the last. Throws GlError, before anything is allocated, when
+/// the total exceeds maxTexels (GL_MAX_TEXTURE_BUFFER_SIZE; llvmpipe's 2^27 is an image of about 10000^2).
+std::vector<int> ssbcTapLevelBases(int width, int height, int maxTexels);
 
 class SsbcPass {
  public:
