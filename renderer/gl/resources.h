@@ -141,7 +141,6 @@ class GlBufferTexture {
  public:
   GlBufferTexture() = default;
   explicit GlBufferTexture(std::size_t texels);
-  std::size_t texels() const { return texels_; }
   void bind(int unit) const;
   /// Copies level `level` of an RGBA32F 2D texture, row 0 first, to texels firstTexel on.
   void copyLevel(const GlTexture& texture, int level, std::size_t firstTexel);
