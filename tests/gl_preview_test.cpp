@@ -650,6 +650,23 @@ TEST(GlPreviewFit, RefusesWhatTheLimitsCannotHold) {
   settings = smallSettings();
   settings.width = 8192;
   EXPECT_NE(previewFitProblem(scene, 1, settings, limits).find("--size"), std::string::npos);
+
+  // The compensation's tap buffers: every mip level of its grid, 32^2 + 16^2 + ... + 1 = 1365 texels here.
+  settings = smallSettings();
+  settings.clampBound = 20.0f;
+  settings.ssbcSteps = 2;
+  limits.maxTextureBufferSize = 1365;
+  EXPECT_EQ(previewFitProblem(scene, 256, settings, limits), "");
+  limits.maxTextureBufferSize = 1364;
+  std::string taps = previewFitProblem(scene, 256, settings, limits);
+  EXPECT_NE(taps.find("1365 texels"), std::string::npos) << taps;
+  EXPECT_NE(taps.find("32x32"), std::string::npos) << taps;
+  EXPECT_NE(taps.find("--ssbc-steps 0"), std::string::npos) << taps;
+  settings.indirectDownscale = 2;  // the grid of 16^2: 341 texels
+  EXPECT_EQ(previewFitProblem(scene, 256, settings, limits), "");
+  settings.indirectDownscale = 1;
+  settings.ssbcSteps = 0;
+  EXPECT_EQ(previewFitProblem(scene, 256, settings, limits), "");
 }
 
 TEST(GlPreviewFit, RenderThrowsBeforeAnyPass) {

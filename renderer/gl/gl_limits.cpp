@@ -46,6 +46,7 @@ GlLimits queryGlLimits() {
   glGetIntegerv(GL_MAX_VIEWPORT_DIMS, viewport);
   glGetIntegerv(GL_MAX_RENDERBUFFER_SIZE, &renderbuffer);
   limits.maxFramebufferSize = std::min({viewport[0], viewport[1], renderbuffer});
+  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &limits.maxTextureBufferSize);
   GLint kb[4] = {0, 0, 0, 0};
   if (hasExtension("GL_NVX_gpu_memory_info")) {
     glGetIntegerv(kNvxCurrentAvailableVidmem, kb);

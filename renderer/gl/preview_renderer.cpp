@@ -269,12 +269,22 @@ std::string previewFitProblem(const Scene& scene, std::size_t vplCount, const Se
         << " exceeds this GL context's largest render target " << largest << ": lower --size";
     return why.str();
   }
+  // The compensation's tap buffers hold every mip level of the grid it runs on (ssbc_pass.h).
+  const glm::ivec2 grid = indirectGridSize(settings.width, settings.height, settings.indirectDownscale);
+  if (ssbcCompensates(settings)) {
+    const int tapTexels = ssbcTapLevelBases(grid.x, grid.y).back();
+    if (tapTexels > limits.maxTextureBufferSize) {
+      why << "the compensation at " << grid.x << "x" << grid.y << " needs buffer textures of " << tapTexels
+          << " texels, over this GL context's " << limits.maxTextureBufferSize
+          << ": lower --size, raise --indirect-downscale, or --ssbc-steps 0";
+      return why.str();
+    }
+  }
   const VisibilityMethod visibility = resolveVisibility(settings.visibility, scene.triangles.size(), vplCount);
   VisibilityFootprint vplMaps = visibilityFootprint(visibility, static_cast<int>(vplCount), settings, limits);
   if (!vplMaps.problem.empty()) return vplMaps.problem;
   // The screen targets (Targets: G-buffer, interleaved and merged results, compensation mips and rings), counted as 40
   // RGBA32F-sized texels per pixel, an upper bound, and as many again per texel of the indirect light's own grid.
-  const glm::ivec2 grid = indirectGridSize(settings.width, settings.height, settings.indirectDownscale);
   const double gridTexels = static_cast<double>(grid.x) * grid.y;
   const double targetBytes =
       40.0 * 16.0 *

@@ -11,27 +11,22 @@
 namespace vplab {
 
 namespace {
-// The levels the taps' buffers index (uTapLevelBase, shaders/common/ssbc_levels.glsl).
+// The levels the taps' buffers index (uTapLevelBase, shaders/common/ssbc_levels.glsl): an image of at most 16384^2
+// (Settings) has 15.
 constexpr int kSsbcMaxLevels = 16;
-
-int glMaxTextureBufferTexels() {
-  GLint most = 0;
-  glGetIntegerv(GL_MAX_TEXTURE_BUFFER_SIZE, &most);
-  return most;
-}
 }  // namespace
 
-std::vector<int> ssbcTapLevelBases(int width, int height, int maxTexels) {
+bool ssbcCompensates(const Settings& settings) {
+  return settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
+}
+
+std::vector<int> ssbcTapLevelBases(int width, int height) {
   std::vector<int> bases = {0};
-  long long total = 0;
-  for (int level = 0; (width >> level) > 0 || (height >> level) > 0; ++level) {
-    total += static_cast<long long>(std::max(1, width >> level)) * std::max(1, height >> level);
-    if (total > maxTexels || level >= kSsbcMaxLevels)
-      throw GlError("the compensation at " + std::to_string(width) + "x" + std::to_string(height) +
-                    " needs buffer textures of more texels than this GL holds (" + std::to_string(maxTexels) +
-                    "): lower --size, or --ssbc-steps 0");
-    bases.push_back(static_cast<int>(total));
-  }
+  for (int level = 0; (width >> level) > 0 || (height >> level) > 0; ++level)
+    bases.push_back(bases.back() + std::max(1, width >> level) * std::max(1, height >> level));
+  if (static_cast<int>(bases.size()) - 1 > kSsbcMaxLevels)
+    throw GlError("the compensation takes images of at most 16384^2, not " + std::to_string(width) + "x" +
+                  std::to_string(height));
   return bases;
 }
 
@@ -67,7 +62,7 @@ struct SsbcPass::Targets {
   Targets(int w, int h)
       : width(w),
         height(h),
-        levelBase(ssbcTapLevelBases(w, h, glMaxTextureBufferTexels())),
+        levelBase(ssbcTapLevelBases(w, h)),
         staging(w, h, TextureFormat::Rgba32F, 0),
         area(w, h, TextureFormat::Rg32F, 0),
         taps(static_cast<std::size_t>(levelBase.back())),
@@ -128,8 +123,7 @@ SsbcPass::~SsbcPass() = default;
 
 int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settings, const SsbcImages& images,
                   const GlVertexArray& vao, PassSlices& slices) {
-  const bool compensate = settings.ssbcSteps > 0 && std::isfinite(settings.clampBound) && settings.clampBound > 0.0f;
-  if (!compensate) return 0;
+  if (!ssbcCompensates(settings)) return 0;
   const int width = images.i0.texture.width(), height = images.i0.texture.height();
   if (!targets_ || targets_->width != width || targets_->height != height)
     targets_ = std::make_unique<Targets>(width, height);

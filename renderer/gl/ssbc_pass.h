@@ -28,10 +28,14 @@ struct SsbcImages {
   Target& r2;  ///< T_r(R1)
 };
 
+/// Whether the settings compensate at all: some steps, and a finite bound b > 0.
+bool ssbcCompensates(const Settings& settings);
+
 /// Where each mip level of a width x height image starts in the compensation's tap buffers (common/ssbc_levels.glsl):
-/// the levels packed one after another, the total after the last. Throws GlError, before anything is allocated, when
-/// the total exceeds maxTexels (GL_MAX_TEXTURE_BUFFER_SIZE; llvmpipe's 2^27 is an image of about 10000^2).
-std::vector<int> ssbcTapLevelBases(int width, int height, int maxTexels);
+/// the levels packed one after another, the total after the last, which must fit a buffer texture
+/// (GlLimits::maxTextureBufferSize, checked by previewFitProblem before any rendering; llvmpipe's 2^27 texels are an
+/// image of about 10000^2).
+std::vector<int> ssbcTapLevelBases(int width, int height);
 
 class SsbcPass {
  public:
