@@ -58,14 +58,14 @@ double timed(GlTimerQuery& timer, double& wallMs, F&& body) {
 }  // namespace
 
 /// The G-buffer's colour textures (common/fullscreen.glsl, gbuffer.frag.glsl) at one resolution, attached to one
-/// framebuffer. Position and normal have mips: the compensation's hierarchy.
+/// framebuffer.
 struct GbufferTextures {
   GlTexture position, normal, baseColor, emission, shading, mergeKey, surface;
   GlFramebuffer framebuffer;
 
   GbufferTextures(int w, int h)
-      : position(w, h, TextureFormat::Rgba32F, 0),
-        normal(w, h, TextureFormat::Rgba32F, 0),
+      : position(w, h, TextureFormat::Rgba32F),
+        normal(w, h, TextureFormat::Rgba32F),
         baseColor(w, h, TextureFormat::Rgba32F),
         emission(w, h, TextureFormat::Rgba32F),
         shading(w, h, TextureFormat::Rgba32UI),
@@ -96,8 +96,8 @@ struct GbufferTextures {
 struct ScreenGrid {
   int width, height;
   GbufferTextures g;
-  // Whether what the compensation derives from the G-buffer alone (mips of position and normal, tap factors, flat
-  // blocks) was made from the current G-buffer: a VPL change does not redo it.
+  // Whether what the compensation derives from the G-buffer alone (tap factors, flat blocks) was made from the current
+  // G-buffer: a VPL change does not redo it.
   bool gbufferDerivedCurrent = false;
   // The de-interleaved gather: every frame on the indirect light's own grid; on the image's grid only when a component
   // is read back (readLinear), so it is made when first asked for (llvmpipe zero-fills what it allocates).
@@ -117,7 +117,7 @@ struct ScreenGrid {
     Target i0, r1, r2, light;
     GlTexture blockPlane;
     IndirectResults(int w, int h)
-        : i0(w, h, 0), r1(w, h, 0), r2(w, h), light(w, h), blockPlane(w, h, TextureFormat::Rgba32F) {
+        : i0(w, h), r1(w, h), r2(w, h), light(w, h), blockPlane(w, h, TextureFormat::Rgba32F) {
       light.texture.setLinearFiltering(true);
       light.texture.setRepeat(false);
       light.framebuffer.attachColor(1, blockPlane);

@@ -37,6 +37,7 @@ GLuint createName(GlObject::Kind kind, GLenum target = 0) {
     case GlObject::Kind::Buffer: glCreateBuffers(1, &id); break;
     case GlObject::Kind::VertexArray: glCreateVertexArrays(1, &id); break;
     case GlObject::Kind::Query: glCreateQueries(target, 1, &id); break;
+    case GlObject::Kind::Sampler: glCreateSamplers(1, &id); break;
   }
   if (!id) throw GlError("could not create a GL object (is a context current?)");
   return id;
@@ -62,6 +63,7 @@ void GlObject::reset() {
     case Kind::Buffer: glDeleteBuffers(1, &id); break;
     case Kind::VertexArray: glDeleteVertexArrays(1, &id); break;
     case Kind::Query: glDeleteQueries(1, &id); break;
+    case Kind::Sampler: glDeleteSamplers(1, &id); break;
   }
   id_ = 0;
 }
@@ -171,10 +173,6 @@ void GlTexture::copyFrom(const GlTexture& source) {
   assert(layers_ == 0 && source.layers_ == 0 && source.width_ == width_ && source.height_ == height_ &&
          source.format_ == format_);
   glCopyImageSubData(source.id(), GL_TEXTURE_2D, 0, 0, 0, 0, id(), GL_TEXTURE_2D, 0, 0, 0, 0, width_, height_, 1);
-}
-
-void GlTexture::generateMipmaps() {
-  glGenerateTextureMipmap(id());
 }
 
 void GlTexture::setDepthCompare(bool on) {
@@ -302,6 +300,19 @@ void GlBufferTexture::copyLevel(const GlTexture& texture, int level, std::size_t
 GlVertexArray::GlVertexArray() : object_(GlObject::Kind::VertexArray, createName(GlObject::Kind::VertexArray)) {}
 void GlVertexArray::bind() const {
   glBindVertexArray(object_.id());
+}
+
+GlLinearSampler::GlLinearSampler() : object_(GlObject::Kind::Sampler, createName(GlObject::Kind::Sampler)) {
+  glSamplerParameteri(object_.id(), GL_TEXTURE_MIN_FILTER, GL_LINEAR);
+  glSamplerParameteri(object_.id(), GL_TEXTURE_MAG_FILTER, GL_LINEAR);
+  glSamplerParameteri(object_.id(), GL_TEXTURE_WRAP_S, GL_CLAMP_TO_EDGE);
+  glSamplerParameteri(object_.id(), GL_TEXTURE_WRAP_T, GL_CLAMP_TO_EDGE);
+}
+void GlLinearSampler::bind(int unit) const {
+  glBindSampler(static_cast<GLuint>(unit), object_.id());
+}
+void GlLinearSampler::unbind(int unit) {
+  glBindSampler(static_cast<GLuint>(unit), 0);
 }
 
 GlTimerQuery::GlTimerQuery() : object_(GlObject::Kind::Query, createName(GlObject::Kind::Query, GL_TIME_ELAPSED)) {}

@@ -18,7 +18,7 @@ enum class TextureFormat { Rgba32F, Rgba16F, Rg32F, R32F, R16, Rgba8, Rgba32UI, 
 /// Owns one GL name and deletes it with the matching glDelete* call.
 class GlObject {
  public:
-  enum class Kind { Texture, Framebuffer, Buffer, VertexArray, Query };
+  enum class Kind { Texture, Framebuffer, Buffer, VertexArray, Query, Sampler };
   GlObject() = default;
   GlObject(Kind kind, uint32_t id) : kind_(kind), id_(id) {}
   ~GlObject() { reset(); }
@@ -79,7 +79,6 @@ class GlTexture {
   void uploadDepth16Layers(int first, int count, const uint16_t* texels);
   /// Every layer of a Depth16 texture, row 0 first (tests and diagnostics).
   std::vector<uint16_t> readDepth16() const;
-  void generateMipmaps();
   /// Copies level 0 of `source`, a 2D texture of the same size and format, into level 0 of this one.
   void copyFrom(const GlTexture& source);
   /// Sets depth-comparison sampling (sampler2DShadow / sampler2DArrayShadow).
@@ -156,6 +155,18 @@ class GlVertexArray {
  public:
   GlVertexArray();
   void bind() const;
+
+ private:
+  GlObject object_;
+};
+
+/// Sampler state bound to a texture unit over the texture's own: bilinear filtering of level 0, clamped to the edge.
+class GlLinearSampler {
+ public:
+  GlLinearSampler();
+  /// Binds to `unit` (the textures bound there are then filtered by it), or unbinds from it.
+  void bind(int unit) const;
+  static void unbind(int unit);
 
  private:
   GlObject object_;

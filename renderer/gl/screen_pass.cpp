@@ -9,7 +9,7 @@
 
 namespace vplab {
 
-Target::Target(int w, int h, int levels) : texture(w, h, TextureFormat::Rgba32F, levels) {
+Target::Target(int w, int h) : texture(w, h, TextureFormat::Rgba32F) {
   framebuffer.attachColor(0, texture);
   framebuffer.finalize(1);
 }

@@ -16,7 +16,7 @@ namespace vplab {
 struct Target {
   GlTexture texture;
   GlFramebuffer framebuffer;
-  Target(int w, int h, int levels = 1);
+  Target(int w, int h);
 };
 
 /// Draws the full-screen triangle (preview/fullscreen.vert.glsl makes it from gl_VertexID) with `program`.

@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <functional>
 #include <string>
 
 #include "renderer/gl/texture_units.h"
@@ -42,6 +43,11 @@ struct SsbcPass::Targets {
   GlTexture staging, area;
   std::vector<GlFramebuffer> tapLevels, radianceLevels;
   GlBufferTexture taps, radiance;
+  // Level l >= 1 (index l) of the G-buffer's position and normal and of a step's input, the means of the level below,
+  // which the draw of level l writes beside its factors and the draw of level l + 1 reads (ssbcAverageFiner): no
+  // glGenerateMipmap pass over the G-buffer or the input, which cost as much as the factors' own draws.
+  std::vector<GlTexture> averagedPosition, averagedNormal, averagedInput;
+  GlLinearSampler averaging;
   // The coarse rings of a compensation step at every 4th pixel (ssbc.frag.glsl with SSBC_COARSE_PASS), and their
   // far rings alone (second attachment of coarse.framebuffer).
   Target coarse;
@@ -87,14 +93,33 @@ struct SsbcPass::Targets {
     coarse.texture.setLinearFiltering(true, false);
     coarse.framebuffer.attachColor(1, coarseFar);
     coarse.framebuffer.finalize(2);
-    tapLevels.resize(static_cast<std::size_t>(staging.levels()));
-    radianceLevels.resize(static_cast<std::size_t>(staging.levels()));
-    for (int level = 0; level < staging.levels(); ++level) {
-      tapLevels[static_cast<std::size_t>(level)].attachColor(0, staging, level);
-      tapLevels[static_cast<std::size_t>(level)].attachColor(1, area, level);
-      tapLevels[static_cast<std::size_t>(level)].finalize(2);
-      radianceLevels[static_cast<std::size_t>(level)].attachColor(0, staging, level);
-      radianceLevels[static_cast<std::size_t>(level)].finalize(1);
+    const auto levels = static_cast<std::size_t>(staging.levels());
+    tapLevels.resize(levels);
+    radianceLevels.resize(levels);
+    averagedPosition.resize(levels);
+    averagedNormal.resize(levels);
+    averagedInput.resize(levels);
+    for (std::size_t level = 0; level < levels; ++level) {
+      const int l = static_cast<int>(level);
+      GlFramebuffer& tapLevel = tapLevels[level];
+      GlFramebuffer& radianceLevel = radianceLevels[level];
+      tapLevel.attachColor(0, staging, l);
+      tapLevel.attachColor(1, area, l);
+      radianceLevel.attachColor(0, staging, l);
+      if (level == 0) {
+        tapLevel.finalize(2);
+        radianceLevel.finalize(1);
+        continue;
+      }
+      const int w = std::max(1, width >> l), h = std::max(1, height >> l);
+      averagedPosition[level] = GlTexture(w, h, TextureFormat::Rgba32F);
+      averagedNormal[level] = GlTexture(w, h, TextureFormat::Rgba32F);
+      averagedInput[level] = GlTexture(w, h, TextureFormat::Rgba32F);
+      tapLevel.attachColor(2, averagedPosition[level]);
+      tapLevel.attachColor(3, averagedNormal[level]);
+      tapLevel.finalize(4);
+      radianceLevel.attachColor(1, averagedInput[level]);
+      radianceLevel.finalize(2);
     }
   }
 
@@ -108,7 +133,9 @@ struct SsbcPass::Targets {
 SsbcPass::SsbcPass()
     : ssbc_("preview/ssbc.frag.glsl"),
       taps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}),
+      coarserTaps_({"preview/fullscreen.vert.glsl", "preview/ssbc_taps.frag.glsl"}, {"SSBC_AVERAGE_FINER 1"}),
       radiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}),
+      coarserRadiance_({"preview/fullscreen.vert.glsl", "preview/ssbc_radiance.frag.glsl"}, {"SSBC_AVERAGE_FINER 1"}),
       split_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1"}),
       coarse_("preview/ssbc.frag.glsl", {"SSBC_COARSE_PASS 1"}),
       fine_("preview/ssbc.frag.glsl", {"SSBC_SPLIT 1", "SSBC_FINE_PASS 1"}),
@@ -130,19 +157,11 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   Targets& tg = *targets_;
   const bool split = settings.ssbcCoarseRings;
   if (slices.starting()) {
-    redoMips_ = !images.gbufferDerivedCurrent;
-    if (redoMips_) tg.tapsCurrent = tg.flatCurrent = false;
+    if (!images.gbufferDerivedCurrent) tg.tapsCurrent = tg.flatCurrent = false;
+    images.gbufferDerivedCurrent = true;
     redoFlat_ = split && !tg.flatCurrent;
     redoTaps_ = !tg.tapsCurrent;
   }
-  // Mips of position and normal feed the hierarchical compensation (coverage and normal length flag edges): made here,
-  // so that a frame without compensation does not pay for them.
-  if (redoMips_)
-    slices.step([&] {
-      images.gPosition.generateMipmaps();
-      images.gNormal.generateMipmaps();
-      images.gbufferDerivedCurrent = true;
-    });
   const int steps = std::min(settings.ssbcSteps, 2);
   float focal = 0.5f * static_cast<float>(height) / std::tan(0.5f * camera.yfov);
   ShaderProgram& ssbc = split ? split_[lambertOnly] : ssbc_[lambertOnly];
@@ -156,7 +175,7 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
     program.set("uCameraForward", camera.forward);
     program.set("uClampBound", settings.clampBound);
     program.set("uFocalPixels", focal);
-    program.set("uMaxLevel", images.gPosition.levels() - 1);
+    program.set("uMaxLevel", tg.staging.levels() - 1);
     program.setArray("uTapLevelBase", tg.levelBase.data(), tg.staging.levels());
   };
   for (ShaderProgram* program : {&ssbc, &coarse, &fallback, &fine, &upsample}) setReceiver(*program);
@@ -165,13 +184,17 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   fallback.set("uScale", 1);
   fine.set("uScale", 1);
   upsample.set("uScale", 1);
-  // Draws `program` into every mip level of a full-resolution texture (one framebuffer per level), uLevel set; a level
-  // reads the level below it only through the input's mips, made before.
-  auto drawEveryLevel = [&](std::vector<GlFramebuffer>& levels, ShaderProgram& program) {
+  // Draws `first` into level 0 and `coarser` into every level above it of a full-resolution mip chain (one framebuffer
+  // per level), uLevel set; bindFiner(l) binds what the draw of level l >= 1 averages, which the draw of level l - 1
+  // wrote.
+  auto drawEveryLevel = [&](std::vector<GlFramebuffer>& levels, ShaderProgram& first, ShaderProgram& coarser,
+                            const std::function<void(std::size_t)>& bindFiner) {
     for (std::size_t level = 0; level < levels.size(); ++level) {
       const int l = static_cast<int>(level);
       const int w = std::max(1, width >> l), h = std::max(1, height >> l);
+      ShaderProgram& program = level == 0 ? first : coarser;
       levels[level].bind(w, h);
+      if (level > 0) bindFiner(level);
       program.set("uLevel", l);
       slices.bands(glm::ivec4(0, 0, w, h), [&] { drawFullscreen(program, vao); });
     }
@@ -228,9 +251,18 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   // The tap factors depend on the camera and the G-buffer only (the camera cannot move without the G-buffer being
   // drawn again): once for both steps and every VPL set.
   if (redoTaps_) {
-    taps_->set("uCameraPosition", camera.position);
-    taps_->set("uFocalPixels", focal);
-    drawEveryLevel(tg.tapLevels, taps_.get());
+    for (ShaderProgram* program : {&taps_.get(), &coarserTaps_.get()}) {
+      program->set("uCameraPosition", camera.position);
+      program->set("uFocalPixels", focal);
+    }
+    tg.averaging.bind(unit(TextureUnit::PassInput1));
+    tg.averaging.bind(unit(TextureUnit::PassInput2));
+    drawEveryLevel(tg.tapLevels, taps_.get(), coarserTaps_.get(), [&](std::size_t level) {
+      (level == 1 ? images.gPosition : tg.averagedPosition[level - 1]).bind(unit(TextureUnit::PassInput1));
+      (level == 1 ? images.gNormal : tg.averagedNormal[level - 1]).bind(unit(TextureUnit::PassInput2));
+    });
+    GlLinearSampler::unbind(unit(TextureUnit::PassInput1));
+    GlLinearSampler::unbind(unit(TextureUnit::PassInput2));
     slices.step([&] {
       tg.copyStaging(tg.taps);
       tg.tapsCurrent = true;
@@ -242,9 +274,12 @@ int SsbcPass::run(bool lambertOnly, const Camera& camera, const Settings& settin
   Target* outputs[2] = {&images.r1, &images.r2};
   for (int step = 0; step < steps; ++step) {
     // The radiance factor of the taps, I dA, at every mip level of this step's input.
-    slices.step([&] { input->texture.generateMipmaps(); });
     input->texture.bind(unit(TextureUnit::PassInput0));
-    drawEveryLevel(tg.radianceLevels, radiance_.get());
+    tg.averaging.bind(unit(TextureUnit::PassInput0));
+    drawEveryLevel(tg.radianceLevels, radiance_.get(), coarserRadiance_.get(), [&](std::size_t level) {
+      (level == 1 ? input->texture : tg.averagedInput[level - 1]).bind(unit(TextureUnit::PassInput0));
+    });
+    GlLinearSampler::unbind(unit(TextureUnit::PassInput0));
     slices.step([&] { tg.copyStaging(tg.radiance); });
     tg.radiance.bind(unit(TextureUnit::PassInput0));
     if (split) {

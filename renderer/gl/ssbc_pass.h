@@ -17,13 +17,13 @@
 namespace vplab {
 
 /// What a compensation step reads and writes. The G-buffer must be bound at its units. What depends on it alone (the
-/// mips of its position and normal textures, the tap factors, the flat blocks) is made here when
-/// `gbufferDerivedCurrent` is false, and kept until the G-buffer is drawn again.
+/// tap factors at every mip level, the flat blocks) is made here when `gbufferDerivedCurrent` is false, and kept until
+/// the G-buffer is drawn again.
 struct SsbcImages {
   GlTexture& gPosition;
   GlTexture& gNormal;
   bool& gbufferDerivedCurrent;
-  Target& i0;  ///< direct + indirect light, the first step's input (its mips are made here)
+  Target& i0;  ///< direct + indirect light, the first step's input
   Target& r1;  ///< T_r(I0), and the second step's input
   Target& r2;  ///< T_r(R1)
 };
@@ -51,7 +51,8 @@ class SsbcPass {
   struct Targets;
   std::unique_ptr<Targets> targets_;
   BrdfVariants ssbc_;
-  DeferredProgram taps_, radiance_;
+  // The tap factors and I dA at level 0, and at the levels above it (SSBC_AVERAGE_FINER).
+  DeferredProgram taps_, coarserTaps_, radiance_, coarserRadiance_;
   // Multi-resolution rings (Settings::ssbcCoarseRings, common/ssbc.glsl SSBC_SPLIT): the pass that interpolates the
   // coarse rings, the pass that evaluates them on the coarse grid, the pass that evaluates them where they cannot be
   // interpolated (SSBC_FALLBACK_PASS; in the second step SSBC_UPSAMPLE_PASS extrapolates them there instead) and the
@@ -63,7 +64,7 @@ class SsbcPass {
   BrdfVariants fallback_, upsample_;
   // What the run under way redoes of what depends on the G-buffer alone: taken when it starts, since its own steps
   // make these current.
-  bool redoMips_ = false, redoFlat_ = false, redoTaps_ = false;
+  bool redoFlat_ = false, redoTaps_ = false;
 };
 
 }  // namespace vplab

@@ -11,3 +11,12 @@ const int kSsbcMaxLevels = 16;
 int ssbcTexel(int levelBase, ivec2 q, ivec2 levelSize) {
   return levelBase + q.y * levelSize.x + q.x;
 }
+
+// Level l >= 1 of a quantity from level l - 1 (`finer`, level 0 of the bound texture, read through a bilinear sampler
+// clamped to the edge): the mean of the 2 x 2 finer texels under texel q, one filtered fetch at their common corner. A
+// finer level of odd size leaves its last row or column out, as the mip chain's sizes do; one texel wide or high, the
+// clamp repeats it. The tap factors and each step's I dA average their own finer level this way while they are drawn,
+// instead of reading mip chains that glGenerateMipmap made first.
+vec4 ssbcAverageFiner(sampler2D finer, ivec2 q) {
+  return textureLod(finer, vec2(2 * q + 1) / vec2(textureSize(finer, 0)), 0.0);
+}
