@@ -28,6 +28,7 @@ GlScene::GlScene(const Scene& scene) : triangleCount_(static_cast<int>(scene.tri
   std::vector<MaterialGpu> m(scene.materials.size());
   for (std::size_t i = 0; i < m.size(); ++i) {
     const Material& mat = scene.materials[i];
+    textured_ = textured_ || mat.baseColorTexture >= 0 || mat.emissiveTexture >= 0;
     const glm::mat3& uv = mat.emissiveUvTransform;  // column-major: uv[column][row]
     m[i] = {glm::vec4(mat.baseColor, static_cast<float>(mat.baseColorTexture)),
             glm::vec4(mat.emission, static_cast<float>(mat.emissiveTexture)),

@@ -17,9 +17,12 @@ class GlScene {
   /// Binds the buffers and the texture array at their named bindings (renderer/gl/texture_units.h).
   void bind() const;
   int triangleCount() const { return triangleCount_; }
+  /// Whether some material has a base-colour or emissive texture.
+  bool textured() const { return textured_; }
 
  private:
   int triangleCount_ = 0;
+  bool textured_ = false;
   GlBuffer positions_, normals_, uvs_, triangles_, materials_;
   GlTexture textures_;
 };

@@ -194,7 +194,8 @@ struct PreviewRenderer::Targets {
 };
 
 PreviewRenderer::PreviewRenderer()
-    : gbuffer_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}),
+    : gbufferTextured_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}, {"SCENE_TEXTURED 1"}),
+      gbufferUntextured_({"preview/gbuffer.vert.glsl", "preview/gbuffer.frag.glsl"}, {"SCENE_TEXTURED 0"}),
       gbufferBackground_({"preview/fullscreen.vert.glsl", "preview/gbuffer_background.frag.glsl"}),
       deinterleaveRows_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"}, {"DEINTERLEAVE_COLUMNS 0"}),
       deinterleaveRowsOneInput_({"preview/fullscreen.vert.glsl", "preview/deinterleave.frag.glsl"},
@@ -493,12 +494,13 @@ PreviewTimings PreviewRenderer::render(const Scene& scene, const VplSet& vpls, c
       glDepthFunc(GL_GREATER);
       glDisable(GL_CULL_FACE);
       glScene_->bind();
-      gbuffer_.set("uViewProj", reversedDepthProjection(camera.yfov, aspect, camera.znear) * view);
-      gbuffer_.set("uCameraPosition", camera.position);
+      ShaderProgram& surfaces = glScene_->textured() ? gbufferTextured_.get() : gbufferUntextured_.get();
+      surfaces.set("uViewProj", reversedDepthProjection(camera.yfov, aspect, camera.znear) * view);
+      surfaces.set("uCameraPosition", camera.position);
       gbufferSlices_.bands(glm::ivec4(0, 0, tg.width, tg.height), [&] {
         gbuffer.clearDepth(0.0f);
         glEnable(GL_DEPTH_TEST);
-        gbuffer_.use();
+        surfaces.use();
         vao_.bind();
         drawProceduralTriangles(3 * glScene_->triangleCount());
         // Then the background, where the depth is still the clear's (preview/gbuffer_background.frag.glsl).

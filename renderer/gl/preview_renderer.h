@@ -174,7 +174,9 @@ class PreviewRenderer {
   /// True when every material of the scene is Lambert (the passes' BRDF_LAMBERT_ONLY variants).
   bool lambertOnly_ = false;
 
-  ShaderProgram gbuffer_, gbufferBackground_;
+  // The G-buffer of a scene with textures, and of one without (SCENE_TEXTURED 0, preview/gbuffer.frag.glsl).
+  DeferredProgram gbufferTextured_, gbufferUntextured_;
+  ShaderProgram gbufferBackground_;
   DirectLightPass direct_;
   /// The VPL visibility technique of Settings::visibility.
   std::unique_ptr<VplVisibility> vplVisibility_;

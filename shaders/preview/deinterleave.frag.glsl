@@ -77,10 +77,11 @@ void main() {
 #else
       ivec2 q = px + ivec2(i, 0);
 #endif
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, size))) continue;
-      vec4 qk = texelFetch(gMergeKey, q, 0);
-      if (qk.w <= 0.0 || abs(qk.w - depth) > 0.05 * depth || dot(qk.xyz, n) < 0.9) continue;
-      sum += (even && abs(i) == reach ? 0.5 : 1.0) * inputAt(q);
+      ivec2 qc = clamp(q, ivec2(0), size - 1);
+      vec4 qk = texelFetch(gMergeKey, qc, 0);
+      bool accepted = q == qc && qk.w > 0.0 && abs(qk.w - depth) <= 0.05 * depth && dot(qk.xyz, n) >= 0.9;
+      float weight = even && abs(i) == reach ? 0.5 : 1.0;
+      sum += (accepted ? weight : 0.0) * inputAt(qc);
     }
   }
 #if DEINTERLEAVE_COLUMNS
