@@ -20,6 +20,7 @@
 #include "common/units.glsl"
 #include "common/fullscreen.glsl"
 #include "common/reflectance.glsl"
+#include "common/deinterleaved_texel.glsl"
 
 #if DEINTERLEAVE_COLUMNS
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uRows;        // row sums, accepted count in w
@@ -38,21 +39,14 @@ uniform int uInterleave;
 uniform ivec2 uBlockSize;
 layout(location = 0) out vec4 outColor;
 
-// Texel of pixel q in the deinterleaved layout: block (q mod k), texel q / k inside it. The quotient comes from a float
-// multiply (exact for q < 2^22 / k): llvmpipe has no vector integer division and would run it lane by lane.
-ivec2 rawTexel(ivec2 q) {
-  ivec2 quotient = ivec2((vec2(q) + 0.5) / float(uInterleave));
-  return (q - quotient * uInterleave) * uBlockSize + quotient;
-}
-
 // The input at pixel q: the row sum (columns), or the weighted raw values with a count of 1 (rows).
 vec4 inputAt(ivec2 q) {
 #if DEINTERLEAVE_COLUMNS
   return texelFetch(uRows, q, 0);
 #elif DEINTERLEAVE_ONE_INPUT
-  return vec4(uWeight * texelFetch(uIn, rawTexel(q), 0).rgb, 1.0);
+  return vec4(uWeight * texelFetch(uIn, deinterleavedTexel(q, uInterleave, uBlockSize), 0).rgb, 1.0);
 #else
-  ivec2 t = rawTexel(q);
+  ivec2 t = deinterleavedTexel(q, uInterleave, uBlockSize);
   vec3 value = uWeights.x * texelFetch(uDirectIn, t, 0).rgb + uWeights.y * texelFetch(uIndirectIn, t, 0).rgb;
   return vec4(value, 1.0);
 #endif

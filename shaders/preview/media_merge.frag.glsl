@@ -5,6 +5,7 @@
 // single scattering to colour 0 and the VPLs' in-scattering to colour 1.
 #include "common/units.glsl"
 #include "common/fullscreen.glsl"
+#include "common/deinterleaved_texel.glsl"
 
 layout(binding = UNIT_PASS_INPUT0) uniform sampler2D uLightsRaw;  // deinterleaved block layout
 layout(binding = UNIT_PASS_INPUT1) uniform sampler2D uVplsRaw;
@@ -27,18 +28,23 @@ void main() {
   float end = rayEnd(px);
   int k = uInterleave;
   ivec2 lo = px - ivec2((k - 1) / 2);
+  ivec2 last = uImageSize - 1;
   vec3 lights = vec3(0.0), vplLight = vec3(0.0);
   float weight = 0.0;
+  // Window pixels outside the image or on another surface are fetched at a clamped pixel and left out by selects:
+  // llvmpipe would run a branch under a lane mask.
   for (int y = 0; y < k; ++y)
     for (int x = 0; x < k; ++x) {
       ivec2 q = lo + ivec2(x, y);
-      if (any(lessThan(q, ivec2(0))) || any(greaterThanEqual(q, uImageSize))) continue;
+      bool inside = all(greaterThanEqual(q, ivec2(0))) && all(lessThanEqual(q, last));
+      q = clamp(q, ivec2(0), last);
       float e = rayEnd(q);
-      if (abs(e - end) > 0.05 * min(e, end)) continue;
-      ivec2 texel = (q % k) * uBlockSize + q / k;
-      lights += texelFetch(uLightsRaw, texel, 0).rgb;
-      vplLight += texelFetch(uVplsRaw, texel, 0).rgb;
-      weight += 1.0;
+      bool accepted = inside && abs(e - end) <= 0.05 * min(e, end);
+      ivec2 texel = deinterleavedTexel(q, k, uBlockSize);
+      vec3 l = texelFetch(uLightsRaw, texel, 0).rgb, v = texelFetch(uVplsRaw, texel, 0).rgb;
+      lights += accepted ? l : vec3(0.0);
+      vplLight += accepted ? v : vec3(0.0);
+      weight += accepted ? 1.0 : 0.0;
     }
   outLights = vec4(lights / max(weight, 1.0), 1.0);
   outVpls = vec4(vplLight / max(weight, 1.0), 1.0);
