@@ -289,13 +289,13 @@ void DistanceRasterizer::draw(int view, float maxSlopeBias, int threads, float* 
         for (int j = std::max<int>(e.j0, rowBegin); j <= std::min<int>(e.j1, rowEnd - 1); ++j) {
           const float y = (static_cast<float>(j) + 0.5f) * step - 1.0f;
           float* row = out + static_cast<std::size_t>(j) * size;
+          const float sumAtY = edgeSum.x + edgeSum.z * y;
+          const glm::vec2 sumSlope(edgeSum.y, edgeSum.z);
           auto span = [&](int first, int last) {
             if (perspective_ && maxSlopeBias > 0.0f)
-              faceSpan<true>(row, first, last, step, y, edgeSum.x + edgeSum.z * y, glm::vec2(edgeSum.y, edgeSum.z),
-                             absDet, dmax, maxSlopeBias, near_);
+              faceSpan<true>(row, first, last, step, y, sumAtY, sumSlope, absDet, dmax, maxSlopeBias, near_);
             else if (perspective_)
-              faceSpan<false>(row, first, last, step, y, edgeSum.x + edgeSum.z * y, glm::vec2(edgeSum.y, edgeSum.z),
-                              absDet, dmax, maxSlopeBias, near_);
+              faceSpan<false>(row, first, last, step, y, sumAtY, sumSlope, absDet, dmax, maxSlopeBias, near_);
             else
               planeSpan(row, first, last, step, z0 + gradient.y * y, gradient.x, zmin, zmax, planeBias);
           };
